@@ -1,0 +1,19 @@
+"""usvsim: a digital twin and simulation platform for unmanned surface vehicles."""
+
+from usvsim.core.errors import ScenarioError, UsvsimError
+
+__all__ = ["Simulation", "ScenarioError", "UsvsimError", "load_scenario"]
+__version__ = "0.1.0"
+
+
+def __getattr__(name: str):
+    # Lazy imports keep `import usvsim` cheap (no MuJoCo / numba start-up).
+    if name == "Simulation":
+        from usvsim.simulation import Simulation
+
+        return Simulation
+    if name == "load_scenario":
+        from usvsim.config.loader import load_scenario
+
+        return load_scenario
+    raise AttributeError(name)

@@ -1,0 +1,1 @@
+"""Foundations shared by every layer: errors, clock, random streams, frames (numpy only)."""

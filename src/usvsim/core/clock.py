@@ -1,0 +1,55 @@
+"""The one simulation clock, in integer nanoseconds."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+NS_PER_S = 1_000_000_000
+
+
+def period_ns(rate_hz: float) -> int:
+    """Period of `rate_hz` in integer nanoseconds; raises ValueError if it is not a whole number of ns."""
+    if not rate_hz > 0:
+        raise ValueError(f"rate must be positive, got {rate_hz}")
+    period = NS_PER_S / rate_hz
+    rounded = round(period)
+    if abs(period - rounded) > 1e-6 * max(1.0, period):
+        raise ValueError(f"{rate_hz} Hz has no whole-nanosecond period ({period} ns)")
+    return rounded
+
+
+def steps_per_period(rate_hz: float, step_ns: int) -> int:
+    """How many physics steps make one period of `rate_hz`; ValueError if it is not a whole number."""
+    period = NS_PER_S / rate_hz
+    steps = round(period / step_ns)
+    if steps < 1 or abs(steps * step_ns - period) > 1e-6 * period:
+        raise ValueError(
+            f"{rate_hz} Hz is not a whole multiple of the physics step ({step_ns / 1e6:g} ms); "
+            f"use a rate whose period is a multiple of the step, e.g. {NS_PER_S / (step_ns * max(steps, 1)):g} Hz"
+        )
+    return steps
+
+
+@dataclass
+class Clock:
+    """Simulation time as an exact integer count of nanoseconds."""
+
+    step_ns: int
+    now_ns: int = 0
+    steps: int = 0
+
+    def tick(self) -> None:
+        self.steps += 1
+        self.now_ns = self.steps * self.step_ns
+
+    def reset(self) -> None:
+        self.now_ns = 0
+        self.steps = 0
+
+    @property
+    def seconds(self) -> float:
+        return self.now_ns / NS_PER_S
+
+    @property
+    def dt(self) -> float:
+        return self.step_ns / NS_PER_S

@@ -1,0 +1,31 @@
+"""Errors raised by usvsim. A user's mistake is a `UsvsimError`; the CLI prints it in one line, exit 2."""
+
+from __future__ import annotations
+
+
+class UsvsimError(Exception):
+    """Base class for errors a user can fix (bad scenario, missing file, bad command)."""
+
+
+class ScenarioError(UsvsimError):
+    """A scenario file is invalid. Names the file, the key path and what is wrong."""
+
+    def __init__(self, source: str, key_path: str, message: str):
+        self.source = source
+        self.key_path = key_path
+        self.message = message
+        where = f"{source}: {key_path}: " if key_path else f"{source}: "
+        super().__init__(where + message)
+
+
+class MeshError(UsvsimError):
+    """A mesh file is missing, unreadable or unsuitable (for example not watertight)."""
+
+
+class DivergenceError(UsvsimError):
+    """The numerical state became non-finite. Names the body and the simulation time."""
+
+    def __init__(self, body: str, time_s: float, detail: str = ""):
+        self.body = body
+        self.time_s = time_s
+        super().__init__(f"simulation diverged: body '{body}' at t = {time_s:.3f} s {detail}".rstrip())
