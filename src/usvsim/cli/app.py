@@ -1,0 +1,139 @@
+"""The `usvsim` command line: run, validate, scenarios, experiment."""
+
+from __future__ import annotations
+
+import sys
+import time
+from pathlib import Path
+from typing import Annotated
+
+import typer
+from rich.console import Console
+from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
+from rich.table import Table
+
+from usvsim.core.errors import UsvsimError
+
+app = typer.Typer(add_completion=False, no_args_is_help=True, help="usvsim: unmanned surface vehicle simulator.")
+console = Console(stderr=True)
+EXPERIMENTS = {
+    "sphere": ("usvsim.experiments.sphere", "sphere lowered through flat water: volume vs the analytic cap"),
+    "waves": ("usvsim.experiments.waves", "wave statistics, dispersion and height queries"),
+}
+
+
+def _fail(exc: Exception) -> None:
+    console.print(f"[bold red]usvsim: error:[/] {exc}", highlight=False, soft_wrap=True)
+    raise typer.Exit(2)
+
+
+@app.command()
+def run(
+    scenario: Annotated[str, typer.Argument(help="built-in scenario name or YAML file")] = "harbor",
+    duration: Annotated[float, typer.Option(help="simulated seconds", min=0.0)] = 60.0,
+    realtime: Annotated[bool, typer.Option(help="pace to the wall clock")] = False,
+    record: Annotated[Path | None, typer.Option(help="write an MCAP file (rosbag2 layout)")] = None,
+    seed: Annotated[int, typer.Option(help="random seed")] = 0,
+) -> None:
+    """Run a scenario headless, optionally recording it."""
+    from usvsim.io.mcap_recorder import McapRecorder
+    from usvsim.simulation import Simulation
+
+    try:
+        sim = Simulation.from_scenario(scenario, seed=seed)
+    except UsvsimError as exc:
+        _fail(exc)
+    path = record or (Path(sim.scenario.outputs.recording.path) if sim.scenario.outputs.recording.path else None)
+    recorder = McapRecorder(path) if path else None
+    if recorder:
+        sim.subscribe(recorder.write)
+    interrupted = False
+    start = time.perf_counter()
+    try:
+        _run_with_progress(sim, duration, realtime)
+    except KeyboardInterrupt:
+        interrupted = True
+    except UsvsimError as exc:
+        _fail(exc)
+    finally:
+        if recorder:
+            recorder.close()
+    wall = time.perf_counter() - start
+    rtf = sim.time / wall if wall > 0 else float("inf")
+    status = "stopped (Ctrl-C)" if interrupted else "done"
+    console.print(f"{status}: simulated {sim.time:.2f} s in {wall:.2f} s wall ({rtf:.1f}x real time)")
+    if recorder:
+        console.print(f"recorded {recorder.message_count} messages to {path}")
+    if interrupted:
+        raise typer.Exit(130)
+
+
+def _run_with_progress(sim, duration: float, realtime: bool) -> None:
+    start = time.perf_counter()
+    columns = (
+        TextColumn("[bold]{task.description}"),
+        BarColumn(),
+        TextColumn("t = {task.completed:.1f} / {task.total:.1f} s"),
+        TextColumn("{task.fields[rtf]}"),
+        TimeElapsedColumn(),
+    )
+    with Progress(*columns, console=console, transient=False, disable=not console.is_terminal) as progress:
+        task = progress.add_task(sim.scenario.name, total=duration, rtf="")
+        chunk = 0.5
+        while sim.time < duration - 1e-9:
+            sim.run(min(chunk, duration - sim.time), realtime=realtime)
+            wall = time.perf_counter() - start
+            progress.update(task, completed=sim.time, rtf=f"{sim.time / wall:.1f}x RT" if wall > 0 else "")
+
+
+@app.command()
+def validate(file: Annotated[str, typer.Argument(help="scenario YAML file or built-in name")]) -> None:
+    """Check a scenario: schema, files, meshes, rates; builds the world without running it."""
+    from usvsim.simulation import Simulation
+
+    try:
+        sim = Simulation.from_scenario(file)
+    except UsvsimError as exc:
+        _fail(exc)
+    sc = sim.scenario
+    typer.echo(f"OK: {file}: scenario '{sc.name}', {len(sc.vessels)} vessel(s), {len(sc.objects)} object(s)")
+
+
+@app.command()
+def scenarios() -> None:
+    """List the built-in scenarios."""
+    from usvsim.config.loader import builtin_scenarios
+
+    table = Table("name", "description", box=None)
+    for name, text in builtin_scenarios().items():
+        table.add_row(name, text)
+    Console().print(table)
+
+
+@app.command()
+def experiment(
+    name: Annotated[str, typer.Argument(help=f"one of: {', '.join(EXPERIMENTS)}")],
+    out: Annotated[Path, typer.Option(help="output directory")] = Path("out/experiments"),
+) -> None:
+    """Run a validation experiment; writes NAME.json and NAME.png under --out."""
+    import importlib
+    import json
+
+    if name not in EXPERIMENTS:
+        _fail(UsvsimError(f"unknown experiment {name!r}; choose one of: {', '.join(EXPERIMENTS)}"))
+    module = importlib.import_module(EXPERIMENTS[name][0])
+    out.mkdir(parents=True, exist_ok=True)
+    result = module.run(out)
+    passed = result.get("passed")
+    typer.echo(json.dumps(result.get("summary", {}), indent=2, default=str))
+    typer.echo(f"{name}: {'PASS' if passed else 'FAIL'}; wrote {out / (name + '.json')} and {out / (name + '.png')}")
+    if passed is False:
+        raise typer.Exit(1)
+
+
+def main() -> None:
+    try:
+        app()
+    except UsvsimError as exc:  # errors raised outside a command's own handling
+        console.print(f"usvsim: error: {exc}")
+        sys.exit(2)

@@ -1,0 +1,28 @@
+"""Base class of every scenario section and shared field types: strict, frozen, unknown keys rejected."""
+
+from __future__ import annotations
+
+from typing import Annotated
+
+from pydantic import BaseModel, BeforeValidator, ConfigDict, Field
+
+
+class Section(BaseModel):
+    """A scenario section. Unknown keys are errors; values are immutable once loaded."""
+
+    model_config = ConfigDict(extra="forbid", frozen=True, strict=True)
+
+
+def _list_to_tuple(value):
+    return tuple(value) if isinstance(value, list) else value
+
+
+Vec2 = Annotated[tuple[float, float], BeforeValidator(_list_to_tuple)]
+Vec3 = Annotated[tuple[float, float, float], BeforeValidator(_list_to_tuple)]
+PositiveFloat = Annotated[float, Field(gt=0)]
+NonNegativeFloat = Annotated[float, Field(ge=0)]
+
+
+def tuple_of(item):
+    """A strict tuple field that also accepts a YAML list."""
+    return Annotated[tuple[item, ...], BeforeValidator(_list_to_tuple)]

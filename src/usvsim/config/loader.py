@@ -1,0 +1,118 @@
+"""Loading scenarios: built-in names or YAML files, validated with errors that name file and key path."""
+
+from __future__ import annotations
+
+from importlib import resources
+from pathlib import Path
+
+import yaml
+from pydantic import ValidationError
+
+from usvsim.config.scenario import Scenario
+from usvsim.core.clock import period_ns, steps_per_period
+from usvsim.core.errors import ScenarioError
+
+BUILTIN_PACKAGE = "usvsim.scenarios"
+
+
+def builtin_scenarios() -> dict[str, str]:
+    """Built-in scenario names → one-line descriptions."""
+    out = {}
+    for entry in sorted(resources.files(BUILTIN_PACKAGE).iterdir(), key=lambda p: p.name):
+        if entry.name.endswith(".yaml"):
+            data = yaml.safe_load(entry.read_text()) or {}
+            out[entry.name[: -len(".yaml")]] = str(data.get("description", "")).strip().splitlines()[0:1]
+    return {k: (v[0] if v else "") for k, v in out.items()}
+
+
+def resolve(name_or_path: str | Path) -> tuple[str, Path | None]:
+    """(YAML text, base directory for relative paths) of a built-in name or a file path."""
+    path = Path(name_or_path)
+    if path.suffix in (".yaml", ".yml") or path.exists():
+        if not path.is_file():
+            raise ScenarioError(str(path), "", "no such scenario file")
+        return path.read_text(), path.parent.resolve()
+    entry = resources.files(BUILTIN_PACKAGE) / f"{name_or_path}.yaml"
+    if not entry.is_file():
+        known = ", ".join(builtin_scenarios())
+        raise ScenarioError(str(name_or_path), "", f"not a file and not a built-in scenario (built-ins: {known})")
+    return entry.read_text(), None
+
+
+def load_scenario(name_or_path: str | Path) -> Scenario:
+    """Parse and validate a scenario; raises ScenarioError naming the file and the key path."""
+    text, base_dir = resolve(name_or_path)
+    source = str(name_or_path)
+    try:
+        data = yaml.safe_load(text)
+    except yaml.YAMLError as exc:
+        mark = getattr(exc, "problem_mark", None)
+        where = f"line {mark.line + 1}" if mark else ""
+        raise ScenarioError(source, where, f"not valid YAML: {getattr(exc, 'problem', exc)}") from None
+    return parse_scenario(data, source, base_dir)
+
+
+def parse_scenario(data, source: str = "<scenario>", base_dir: Path | None = None) -> Scenario:
+    if not isinstance(data, dict):
+        raise ScenarioError(source, "", "a scenario must be a mapping with at least 'version: 1'")
+    if "version" not in data:
+        raise ScenarioError(source, "version", "missing; add 'version: 1' at the top of the file")
+    try:
+        scenario = Scenario.model_validate(data)
+    except ValidationError as exc:
+        raise _first_error(exc, source, data) from None
+    _check_rates(scenario, source)
+    object.__setattr__(scenario, "_base_dir", base_dir)
+    return scenario
+
+
+def base_dir(scenario: Scenario) -> Path:
+    """Directory that relative file paths in the scenario are resolved against."""
+    return getattr(scenario, "_base_dir", None) or Path.cwd()
+
+
+def _first_error(exc: ValidationError, source: str, data) -> ScenarioError:
+    err = exc.errors()[0]
+    loc = _readable_path(err["loc"], data)
+    msg = err["msg"]
+    if err["type"] == "extra_forbidden":
+        msg = "unknown key (check spelling; see the scenario reference in the README)"
+    elif err["type"] == "union_tag_invalid":
+        msg = f"unknown type {err['input'].get('type')!r}; expected one of {err['ctx']['expected_tags']}"
+    elif err["type"].endswith("_type") or err["type"] in ("literal_error",):
+        msg = f"{msg} (got {err['input']!r})"
+    more = len(exc.errors()) - 1
+    if more:
+        msg += f" (+{more} more error{'s' if more > 1 else ''})"
+    return ScenarioError(source, loc, msg)
+
+
+def _readable_path(loc, data) -> str:
+    """Key path like `vessels[0].thrusters[1].position`, skipping pydantic's union-tag segments."""
+    parts, node = [], data
+    for item in loc:
+        if isinstance(item, int):
+            parts.append(f"[{item}]")
+            node = node[item] if isinstance(node, (list, tuple)) and item < len(node) else None
+        elif isinstance(node, dict) and item in node:
+            parts.append(("." if parts else "") + item)
+            node = node[item]
+        elif isinstance(node, dict) and "type" in node and item == node.get("type"):
+            continue  # the tagged-union branch name
+        else:
+            parts.append(("." if parts else "") + str(item))
+            node = None
+    return "".join(parts)
+
+
+def _check_rates(scenario: Scenario, source: str) -> None:
+    try:
+        step = period_ns(scenario.world.physics_rate_hz)
+    except ValueError as exc:
+        raise ScenarioError(source, "world.physics_rate_hz", str(exc)) from None
+    rec = scenario.outputs.recording
+    for key in ("clock_rate_hz", "ground_truth_rate_hz"):
+        try:
+            steps_per_period(getattr(rec, key), step)
+        except ValueError as exc:
+            raise ScenarioError(source, f"outputs.recording.{key}", str(exc)) from None

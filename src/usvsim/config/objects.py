@@ -1,0 +1,110 @@
+"""Scenario keys of world objects: buoys, docks, piers, walls, U-shaped berths, mesh obstacles.
+
+Positions are world ENU metres; `yaw_deg` is CCW from east. Boxes are given by their centre and
+full size (length along the object's x, width along y, height along z).
+"""
+
+from __future__ import annotations
+
+from typing import Annotated, Literal
+
+from pydantic import Field
+
+from usvsim.config.base import PositiveFloat, Section, Vec3
+
+Name = Annotated[str, Field(pattern=r"^[A-Za-z][A-Za-z0-9_]*$")]
+Rgba = Annotated[tuple[float, float, float, float], Field()]
+
+COLORS = {
+    "red": (0.85, 0.1, 0.1, 1.0),
+    "green": (0.1, 0.7, 0.2, 1.0),
+    "yellow": (0.95, 0.8, 0.1, 1.0),
+    "orange": (1.0, 0.45, 0.0, 1.0),
+    "white": (0.95, 0.95, 0.95, 1.0),
+    "black": (0.1, 0.1, 0.1, 1.0),
+    "grey": (0.55, 0.55, 0.55, 1.0),
+    "wood": (0.55, 0.4, 0.25, 1.0),
+    "concrete": (0.7, 0.7, 0.68, 1.0),
+}
+Color = Literal["red", "green", "yellow", "orange", "white", "black", "grey", "wood", "concrete"]
+
+
+class Mooring(Section):
+    """A slack mooring line from the buoy's bottom to an anchor on the seabed straight below."""
+
+    water_depth_m: PositiveFloat = 5.0
+    scope: float = Field(1.2, ge=1.0, description="line length / water depth")
+
+
+class Buoy(Section):
+    """A floating sphere buoy (marker); moored unless `mooring` is null (then it drifts freely)."""
+
+    type: Literal["buoy"] = "buoy"
+    name: Name
+    position: Vec3
+    radius_m: PositiveFloat = 0.3
+    mass_kg: PositiveFloat = 20.0
+    color: Color = "red"
+    mooring: Mooring | None = Mooring()
+
+
+class Box(Section):
+    """A static box obstacle (dock, wall): centre position, size [length, width, height], yaw."""
+
+    type: Literal["dock", "wall", "box"]
+    name: Name
+    position: Vec3
+    size: Vec3
+    yaw_deg: float = 0.0
+    color: Color = "concrete"
+
+
+class Pier(Section):
+    """A pier: a deck on round piles. `position` is the deck's centre; piles reach down to the seabed."""
+
+    type: Literal["pier"] = "pier"
+    name: Name
+    position: Vec3
+    length_m: PositiveFloat
+    width_m: PositiveFloat
+    deck_thickness_m: PositiveFloat = 0.3
+    pile_radius_m: PositiveFloat = 0.15
+    pile_spacing_m: PositiveFloat = 4.0
+    water_depth_m: PositiveFloat = 5.0
+    yaw_deg: float = 0.0
+    color: Color = "wood"
+
+
+class Berth(Section):
+    """A U-shaped berth: two side walls and a back wall around a slot open toward the berth's +x.
+
+    `position` is the centre of the slot at the water line; the slot is `inner_length_m` long
+    (along x) and `inner_width_m` wide; walls are `wall_thickness_m` thick and `height_m` tall,
+    their top `freeboard_m` above the water.
+    """
+
+    type: Literal["berth"] = "berth"
+    name: Name
+    position: Vec3
+    inner_length_m: PositiveFloat = 7.0
+    inner_width_m: PositiveFloat = 4.0
+    wall_thickness_m: PositiveFloat = 0.6
+    height_m: PositiveFloat = 2.0
+    freeboard_m: float = 0.6
+    yaw_deg: float = 0.0
+    color: Color = "concrete"
+
+
+class MeshObstacle(Section):
+    """A static obstacle from a mesh file; non-convex meshes are decomposed into convex parts."""
+
+    type: Literal["mesh"] = "mesh"
+    name: Name
+    file: str
+    position: Vec3 = (0.0, 0.0, 0.0)
+    yaw_deg: float = 0.0
+    scale: PositiveFloat = 1.0
+    color: Color = "grey"
+
+
+WorldObject = Annotated[Buoy | Box | Pier | Berth | MeshObstacle, Field(discriminator="type")]

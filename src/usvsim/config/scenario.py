@@ -1,0 +1,59 @@
+"""The scenario file: top-level schema (`version: 1`)."""
+
+from __future__ import annotations
+
+from typing import Literal
+
+from pydantic import Field, model_validator
+
+from usvsim.config.base import PositiveFloat, Section, tuple_of
+from usvsim.config.environment import Environment
+from usvsim.config.objects import WorldObject
+from usvsim.config.vessel import Vessel
+
+
+class GeodeticOrigin(Section):
+    """WGS-84 position of the world frame's origin (ENU)."""
+
+    latitude_deg: float = Field(59.42083, ge=-90, le=90)
+    longitude_deg: float = Field(10.43278, ge=-180, le=180)
+    altitude_m: float = 0.0
+
+
+class World(Section):
+    physics_rate_hz: PositiveFloat = 100.0
+    gravity_mps2: PositiveFloat = 9.81
+    water_density_kgpm3: PositiveFloat = 1025.0
+    air_density_kgpm3: PositiveFloat = 1.225
+    origin: GeodeticOrigin = GeodeticOrigin()
+
+
+class Recording(Section):
+    """What `--record` (or `outputs.recording.path`) writes: an MCAP file in the rosbag2 layout."""
+
+    path: str | None = None
+    clock_rate_hz: PositiveFloat = 100.0
+    ground_truth_rate_hz: PositiveFloat = 50.0
+
+
+class Outputs(Section):
+    recording: Recording = Recording()
+
+
+class Scenario(Section):
+    version: Literal[1]
+    name: str = "scenario"
+    description: str = ""
+    world: World = World()
+    environment: Environment = Environment()
+    vessels: tuple_of(Vessel) = Field(default=(), max_length=256)
+    objects: tuple_of(WorldObject) = ()
+    outputs: Outputs = Outputs()
+
+    @model_validator(mode="after")
+    def _unique_names(self):
+        names = [v.name for v in self.vessels] + [o.name for o in self.objects]
+        dupes = sorted({n for n in names if names.count(n) > 1})
+        if dupes:
+            raise ValueError(f"names of vessels and objects must be unique; repeated: {', '.join(dupes)}")
+        return self

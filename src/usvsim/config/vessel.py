@@ -1,0 +1,134 @@
+"""Scenario keys of a vessel: model, pose, mass properties, physics models, thrusters.
+
+Frames: positions of parts (thrusters, centre of mass) are in the vessel body frame `base_link`
+(FLU: x forward, y left, z up; metres). Initial poses are in the world frame (ENU, metres).
+"""
+
+from __future__ import annotations
+
+from typing import Annotated, Literal
+
+from pydantic import Field, model_validator
+
+from usvsim.config.base import NonNegativeFloat, PositiveFloat, Section, Vec3, tuple_of
+
+
+class Pose(Section):
+    """A world pose: position (m, ENU) and roll/pitch/yaw in degrees (REP 103, yaw CCW from east)."""
+
+    position: Vec3 = (0.0, 0.0, 0.0)
+    roll_deg: float = 0.0
+    pitch_deg: float = 0.0
+    yaw_deg: float = 0.0
+
+
+class MassProperties(Section):
+    """Rigid-body mass properties. Omitted values come from the library model or the hull mesh."""
+
+    mass_kg: PositiveFloat | None = None
+    com: Vec3 | None = Field(None, description="centre of mass in base_link (FLU), m")
+    inertia: Vec3 | None = Field(None, description="principal moments about the CoM along FLU axes, kg m^2")
+
+
+class StateSpaceDrag(Section):
+    """The seed's state-space drag (thesis §4.2.7), damping constants >= 0, body frame FLU at the CoM.
+
+    Force = -(X_u u + X_uu |u|u + X_uuu u^3, Y_v v + Y_vv |v|v + Y_vvv v^3 + Y_r r, Z_w w + Z_ww |w|w,
+    K_p p + K_pp |p|p, M_q q + M_qq |q|q, N_r r + N_rr |r|r + N_rrr r^3 + N_v v), on the velocity
+    relative to the water. Units: linear N s/m (N m s for rotations), quadratic N s^2/m^2, cubic N s^3/m^3.
+    """
+
+    type: Literal["state_space"] = "state_space"
+    X_u: NonNegativeFloat = 0.0
+    X_uu: NonNegativeFloat = 0.0
+    X_uuu: NonNegativeFloat = 0.0
+    Y_v: NonNegativeFloat = 0.0
+    Y_vv: NonNegativeFloat = 0.0
+    Y_vvv: NonNegativeFloat = 0.0
+    Y_r: float = 0.0
+    Z_w: NonNegativeFloat = 0.0
+    Z_ww: NonNegativeFloat = 0.0
+    K_p: NonNegativeFloat = 0.0
+    K_pp: NonNegativeFloat = 0.0
+    M_q: NonNegativeFloat = 0.0
+    M_qq: NonNegativeFloat = 0.0
+    N_r: NonNegativeFloat = 0.0
+    N_rr: NonNegativeFloat = 0.0
+    N_rrr: NonNegativeFloat = 0.0
+    N_v: float = 0.0
+
+
+class TriangleBuoyancy(Section):
+    """Hydrostatics by exact pressure integration over the clipped physics mesh."""
+
+    type: Literal["triangles"] = "triangles"
+
+
+Buoyancy = Annotated[TriangleBuoyancy, Field(discriminator="type")]
+Hydrodynamics = Annotated[StateSpaceDrag, Field(discriminator="type")]
+
+
+class ThrustMap(Section):
+    """Normalized command u in [-1, 1] → thrust (N). Forward and reverse have their own maximum.
+
+    `linear`: T = u·max (per direction); `quadratic`: T = u|u|·max (fixed-pitch propeller, T ∝ n|n|);
+    `glf`: VRX's generalized logistic fits of measured thruster data (max values scale the curves).
+    """
+
+    type: Literal["linear", "quadratic", "glf"] = "linear"
+    max_forward_n: PositiveFloat = 250.0
+    max_reverse_n: PositiveFloat = 100.0
+
+
+class Azimuth(Section):
+    """A steerable thruster: angle limits, first-order servo and its rate limit (REP 103: + is CCW from above)."""
+
+    min_deg: float = -90.0
+    max_deg: float = 90.0
+    time_constant_s: PositiveFloat = 0.3
+    max_rate_deg_s: PositiveFloat = 90.0
+
+    @model_validator(mode="after")
+    def _ordered(self):
+        if not self.min_deg <= 0.0 <= self.max_deg:
+            raise ValueError("azimuth limits must satisfy min_deg <= 0 <= max_deg")
+        return self
+
+
+class Thruster(Section):
+    """One thruster: force point and mounting heading in base_link, thrust map, dynamics, optional azimuth."""
+
+    name: str = Field(pattern=r"^[A-Za-z][A-Za-z0-9_]*$")
+    position: Vec3 = Field(description="force application point in base_link (FLU), m")
+    mount_yaw_deg: float = Field(0.0, description="thrust direction at zero azimuth, CCW from +x (90 = tunnel)")
+    thrust: ThrustMap = ThrustMap()
+    time_constant_s: PositiveFloat = 0.2
+    max_rate_n_s: PositiveFloat | None = None
+    azimuth: Azimuth | None = None
+
+
+class Vessel(Section):
+    """A vessel: a library model (`wamv`, `otter`) or `custom` with a hull mesh file."""
+
+    name: str = Field(pattern=r"^[A-Za-z][A-Za-z0-9_]*$")
+    model: str
+    hull_mesh: str | None = Field(None, description="physics hull mesh file for model 'custom'")
+    visual_mesh: str | None = None
+    mesh_scale: PositiveFloat = 1.0
+    pose: Pose = Pose()
+    mass: MassProperties = MassProperties()
+    buoyancy: Buoyancy = TriangleBuoyancy()
+    hydrodynamics: Hydrodynamics | None = None
+    thrusters: tuple_of(Thruster) | None = None
+    command_timeout_s: NonNegativeFloat = Field(1.0, description="watchdog: zero thrust after this silence; 0 = off")
+
+    @model_validator(mode="after")
+    def _custom_needs_mesh(self):
+        if self.model == "custom" and self.hull_mesh is None:
+            raise ValueError("model 'custom' needs 'hull_mesh' (a closed mesh file: OBJ, STL, PLY, glTF, DAE)")
+        if self.model != "custom" and self.hull_mesh is not None:
+            raise ValueError(f"'hull_mesh' is only for model 'custom' (model is '{self.model}')")
+        names = [t.name for t in self.thrusters or ()]
+        if len(set(names)) != len(names):
+            raise ValueError(f"thruster names must be unique, got {names}")
+        return self

@@ -1,0 +1,57 @@
+"""Ground-truth outputs of the simulation: /clock, /tf_static, /tf and per-vessel odometry.
+
+Frames (REP 105): `world` is ENU at the geodetic origin; `<vessel>/odom` is fixed in the world at the
+vessel's initial pose (static TF `world → <vessel>/odom`); `<vessel>/base_link` is the body frame
+(FLU). Odometry `/<vessel>/ground_truth/odometry` gives base_link in `<vessel>/odom`, twist in base_link.
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+from usvsim.core.clock import steps_per_period
+from usvsim.core.transforms import matrix_from_quat, quat_conjugate, quat_multiply
+from usvsim.messages import ros
+from usvsim.messages.envelope import Envelope
+
+if TYPE_CHECKING:
+    from usvsim.simulation import Simulation
+
+
+class GroundTruth:
+    def __init__(self, sim: Simulation, clock_rate_hz: float, odometry_rate_hz: float):
+        self.sim = sim
+        self.clock_every = steps_per_period(clock_rate_hz, sim.clock.step_ns)
+        self.odom_every = steps_per_period(odometry_rate_hz, sim.clock.step_ns)
+        self.vessels = list(sim.vessels.values())
+        self.odom_origin = {v.name: (v.position, v.quat) for v in self.vessels}
+
+    def static_transforms(self) -> list[Envelope]:
+        transforms = [
+            ros.transform_stamped(0, "world", f"{name}/odom", pos, quat) for name, (pos, quat) in self.odom_origin.items()
+        ]
+        return [Envelope("/tf_static", 0, ros.tf_message(transforms))] if transforms else []
+
+    def due(self, steps: int, stamp_ns: int) -> list[Envelope]:
+        """Messages due at physics step count `steps` (time `stamp_ns`)."""
+        out = []
+        if steps % self.clock_every == 0:
+            out.append(Envelope("/clock", stamp_ns, ros.clock_msg(stamp_ns)))
+        if steps % self.odom_every == 0 and self.vessels:
+            out += self._odometry(stamp_ns)
+        return out
+
+    def _odometry(self, stamp_ns: int) -> list[Envelope]:
+        out, transforms = [], []
+        for v in self.vessels:
+            origin_pos, origin_quat = self.odom_origin[v.name]
+            inv = quat_conjugate(origin_quat)
+            pos = matrix_from_quat(inv) @ (v.position - origin_pos)
+            quat = quat_multiply(inv, v.quat)
+            odom, base = f"{v.name}/odom", f"{v.name}/base_link"
+            msg = ros.odometry_msg(stamp_ns, odom, base, pos, quat, v.velocity_body, v.angular_velocity_body)
+            out.append(Envelope(f"/{v.name}/ground_truth/odometry", stamp_ns, msg))
+            transforms.append(ros.transform_stamped(stamp_ns, odom, base, pos, quat))
+        out.append(Envelope("/tf", stamp_ns, ros.tf_message(transforms)))
+        return out
+

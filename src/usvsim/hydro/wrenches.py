@@ -1,0 +1,72 @@
+"""Per-step kinematics of the floating bodies and assembly of their marine wrenches (numba kernels).
+
+MuJoCo free joints: qpos = (position of the body frame origin, world; quaternion w, x, y, z body→world),
+qvel = (linear velocity of the body origin, world frame; angular velocity, body frame).
+"""
+
+from __future__ import annotations
+
+from numba import njit
+
+
+@njit(cache=True)
+def body_kinematics(qpos, qvel, qpos_adr, qvel_adr, com_body, pos, rot, com_world, vcom_world, omega_body):
+    """Pose, rotation matrix, CoM position and CoM velocity (world) and body angular velocity of each body."""
+    for i in range(qpos_adr.shape[0]):
+        a, b = qpos_adr[i], qvel_adr[i]
+        w, x, y, z = qpos[a + 3], qpos[a + 4], qpos[a + 5], qpos[a + 6]
+        n = (w * w + x * x + y * y + z * z) ** 0.5
+        w, x, y, z = w / n, x / n, y / n, z / n
+        rot[i, 0, 0] = 1 - 2 * (y * y + z * z)
+        rot[i, 0, 1] = 2 * (x * y - w * z)
+        rot[i, 0, 2] = 2 * (x * z + w * y)
+        rot[i, 1, 0] = 2 * (x * y + w * z)
+        rot[i, 1, 1] = 1 - 2 * (x * x + z * z)
+        rot[i, 1, 2] = 2 * (y * z - w * x)
+        rot[i, 2, 0] = 2 * (x * z - w * y)
+        rot[i, 2, 1] = 2 * (y * z + w * x)
+        rot[i, 2, 2] = 1 - 2 * (x * x + y * y)
+        for k in range(3):
+            pos[i, k] = qpos[a + k]
+            omega_body[i, k] = qvel[b + 3 + k]
+        cx = com_body[i, 0] * rot[i, 0, 0] + com_body[i, 1] * rot[i, 0, 1] + com_body[i, 2] * rot[i, 0, 2]
+        cy = com_body[i, 0] * rot[i, 1, 0] + com_body[i, 1] * rot[i, 1, 1] + com_body[i, 2] * rot[i, 1, 2]
+        cz = com_body[i, 0] * rot[i, 2, 0] + com_body[i, 1] * rot[i, 2, 1] + com_body[i, 2] * rot[i, 2, 2]
+        com_world[i, 0], com_world[i, 1], com_world[i, 2] = pos[i, 0] + cx, pos[i, 1] + cy, pos[i, 2] + cz
+        # omega_world = R omega_body; v_com = v_origin + omega_world x (R c)
+        ox = rot[i, 0, 0] * omega_body[i, 0] + rot[i, 0, 1] * omega_body[i, 1] + rot[i, 0, 2] * omega_body[i, 2]
+        oy = rot[i, 1, 0] * omega_body[i, 0] + rot[i, 1, 1] * omega_body[i, 1] + rot[i, 1, 2] * omega_body[i, 2]
+        oz = rot[i, 2, 0] * omega_body[i, 0] + rot[i, 2, 1] * omega_body[i, 1] + rot[i, 2, 2] * omega_body[i, 2]
+        vcom_world[i, 0] = qvel[b + 0] + oy * cz - oz * cy
+        vcom_world[i, 1] = qvel[b + 1] + oz * cx - ox * cz
+        vcom_world[i, 2] = qvel[b + 2] + ox * cy - oy * cx
+
+
+@njit(cache=True)
+def relative_velocity_body(rot, vcom_world, omega_body, water_vel_world, nu_out):
+    """nu = (R^T (v_com - v_water), omega_body): body-frame velocity relative to the water."""
+    for i in range(rot.shape[0]):
+        dx = vcom_world[i, 0] - water_vel_world[i, 0]
+        dy = vcom_world[i, 1] - water_vel_world[i, 1]
+        dz = vcom_world[i, 2] - water_vel_world[i, 2]
+        for k in range(3):
+            nu_out[i, k] = rot[i, 0, k] * dx + rot[i, 1, k] * dy + rot[i, 2, k] * dz
+            nu_out[i, 3 + k] = omega_body[i, k]
+
+
+@njit(cache=True)
+def assemble(rot, body_wrenches, world_force, world_torque, out):
+    """out[i] = world force and torque about the CoM: hydrostatics (world) + sum of body-frame wrenches
+    rotated to the world. body_wrenches: (m, nb, 6) list of body-frame wrench tables."""
+    for i in range(rot.shape[0]):
+        for k in range(3):
+            out[i, k] = world_force[i, k]
+            out[i, 3 + k] = world_torque[i, k]
+        for j in range(body_wrenches.shape[0]):
+            for k in range(3):
+                f = rot[i, k, 0] * body_wrenches[j, i, 0] + rot[i, k, 1] * body_wrenches[j, i, 1]
+                f += rot[i, k, 2] * body_wrenches[j, i, 2]
+                t = rot[i, k, 0] * body_wrenches[j, i, 3] + rot[i, k, 1] * body_wrenches[j, i, 4]
+                t += rot[i, k, 2] * body_wrenches[j, i, 5]
+                out[i, k] += f
+                out[i, 3 + k] += t

@@ -1,0 +1,88 @@
+"""The message envelope shared by every consumer (recorder, DDS bridge, Foxglove bridge, callbacks).
+
+A sensor emits one `Envelope` per message. Its CDR bytes are computed on first access of `cdr` and
+cached, so the message is serialized once however many consumers read it. Producers that build CDR
+themselves (e.g. a fast image path) pass `cdr=` directly.
+
+`QosProfile` is the offered QoS of a topic, chosen once per topic by `qos_for_topic`, so the MCAP
+recorder (`offered_qos_profiles`) and the live bridges offer the same thing (ros2-interop.md §2.3).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any, Literal
+
+from usvsim.messages.ros import typestore
+
+
+@dataclass(frozen=True, slots=True)
+class QosProfile:
+    """Offered QoS of a writer: KEEP_LAST(depth), reliability, durability; other policies default."""
+
+    reliability: Literal["reliable", "best_effort"] = "reliable"
+    durability: Literal["volatile", "transient_local"] = "volatile"
+    depth: int = 10
+
+
+SENSOR_QOS = QosProfile()  # reliable serves best-effort readers too (slam_toolbox, Nav2) and rviz2
+TF_QOS = QosProfile(depth=100)  # tf2 DynamicListenerQoS
+TF_STATIC_QOS = QosProfile(durability="transient_local", depth=1)  # tf2 StaticBroadcasterQoS
+CLOCK_QOS = QosProfile(depth=1)
+_TOPIC_QOS = {"/tf_static": TF_STATIC_QOS, "/tf": TF_QOS, "/clock": CLOCK_QOS}
+
+
+def qos_for_topic(topic: str) -> QosProfile:
+    """Default offered QoS of `topic`: `/tf_static` transient_local depth 1, everything else volatile."""
+    return _TOPIC_QOS.get(topic, SENSOR_QOS)
+
+
+class Envelope:
+    """One message on one topic at one simulation time, with its CDR serialized at most once.
+
+    `msgtype` defaults to the message's ROS type (`msg.__msgtype__`, e.g. "nav_msgs/msg/Odometry");
+    `qos` defaults to `qos_for_topic(topic)`. Reading `cdr` from several threads at once is safe
+    (the result is the same); it may then serialize more than once, so producers that fan out to
+    threaded consumers should touch `cdr` once before handing the envelope over.
+    """
+
+    __slots__ = ("_cdr", "msg", "msgtype", "qos", "stamp_ns", "topic")
+
+    def __init__(
+        self,
+        topic: str,
+        stamp_ns: int,
+        msg: Any = None,
+        *,
+        msgtype: str | None = None,
+        qos: QosProfile | None = None,
+        cdr: bytes | None = None,
+    ) -> None:
+        if msg is None and cdr is None:
+            raise ValueError("an Envelope needs a message or its CDR bytes")
+        if msgtype is None:
+            if msg is None:
+                raise ValueError("msgtype is required when only CDR bytes are given")
+            msgtype = msg.__msgtype__
+        self.topic = topic
+        self.msgtype = msgtype
+        self.stamp_ns = int(stamp_ns)
+        self.msg = msg
+        self.qos = qos if qos is not None else qos_for_topic(topic)
+        self._cdr = cdr
+
+    @property
+    def cdr(self) -> bytes:
+        """CDR (XCDR1, little endian, with the 4-byte encapsulation header), serialized once."""
+        if self._cdr is None:
+            self._cdr = bytes(typestore().serialize_cdr(self.msg, self.msgtype))
+        return self._cdr
+
+    def decoded(self) -> Any:
+        """The message object, deserializing the CDR if the envelope was built from bytes only."""
+        if self.msg is None:
+            self.msg = typestore().deserialize_cdr(self._cdr, self.msgtype)
+        return self.msg
+
+    def __repr__(self) -> str:
+        return f"Envelope({self.topic!r}, {self.msgtype!r}, stamp_ns={self.stamp_ns})"

@@ -1,0 +1,227 @@
+"""The Simulation: owns the world, ocean, floating bodies, thrusters and clock; runs the one step loop.
+
+Step: hull vertices → water heights → hydrostatics (one batched kernel) → relative velocities → drag
+→ thruster dynamics → wrenches into MuJoCo (`xfrc_applied`, world frame, about each CoM) → `mj_step`
+→ clock tick → body kinematics → messages due at this tick go to subscribers.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import mujoco
+import numpy as np
+
+from usvsim.config.loader import base_dir, load_scenario
+from usvsim.config.objects import Buoy
+from usvsim.config.scenario import Scenario
+from usvsim.core.clock import Clock, period_ns
+from usvsim.core.errors import DivergenceError
+from usvsim.core.rng import RngStreams
+from usvsim.core.transforms import quat_from_rpy
+from usvsim.ground_truth import GroundTruth
+from usvsim.hydro.hydrostatics import HullSet
+from usvsim.hydro.statespace import coefficients, drag_wrench
+from usvsim.hydro.thrusters import ThrusterBank
+from usvsim.hydro.wrenches import assemble, body_kinematics, relative_velocity_body
+from usvsim.messages.envelope import Envelope
+from usvsim.ocean.surface import FlatSea, WaterSurface
+from usvsim.vessel import Body, Thruster, Vessel
+from usvsim.vessels import buoy
+from usvsim.vessels.library import vessel_model
+from usvsim.world.builder import FloatingBody, build_model
+from usvsim.world.obstacles import static_parts
+
+
+@dataclass
+class BodyState:
+    """Kinematics of all floating bodies at the current time (world ENU unless named _body)."""
+
+    n: int
+    pos: np.ndarray = field(init=False)
+    rot: np.ndarray = field(init=False)
+    com_world: np.ndarray = field(init=False)
+    vcom_world: np.ndarray = field(init=False)
+    omega_body: np.ndarray = field(init=False)
+    nu: np.ndarray = field(init=False)
+
+    def __post_init__(self):
+        n = self.n
+        self.pos, self.rot, self.com_world = np.zeros((n, 3)), np.zeros((n, 3, 3)), np.zeros((n, 3))
+        self.vcom_world, self.omega_body, self.nu = np.zeros((n, 3)), np.zeros((n, 3)), np.zeros((n, 6))
+
+
+def build_ocean(scenario: Scenario, rng: np.random.Generator) -> WaterSurface:
+    return FlatSea()
+
+
+class Simulation:
+    """A scenario running in MuJoCo with marine physics. `seed` drives every random stream."""
+
+    def __init__(self, scenario: Scenario, seed: int = 0):
+        self.scenario, self.seed = scenario, int(seed)
+        self.rng = RngStreams(self.seed)
+        world = scenario.world
+        self.rho, self.g = world.water_density_kgpm3, world.gravity_mps2
+        self.clock = Clock(period_ns(world.physics_rate_hz))
+        self.ocean = build_ocean(scenario, self.rng.get("ocean"))
+        floating = self._floating_bodies()
+        static = static_parts(scenario.objects, base_dir(scenario), scenario.name)
+        self.model = build_model(floating, static, self.clock.dt, self.g)
+        self.data = mujoco.MjData(self.model)
+        self._init_physics(floating)
+        self._init_handles(floating)
+        rec = scenario.outputs.recording
+        self.ground_truth = GroundTruth(self, rec.clock_rate_hz, rec.ground_truth_rate_hz)
+        self._subscribers: list[Callable[[Envelope], None]] = []
+
+    @classmethod
+    def from_scenario(cls, name_or_path: str | Path, seed: int = 0) -> Simulation:
+        """A built-in scenario by name (see `usvsim scenarios`) or a YAML file path."""
+        return cls(load_scenario(name_or_path), seed=seed)
+
+    # -- construction -------------------------------------------------------------------------
+    def _floating_bodies(self) -> list[FloatingBody]:
+        out, source = [], self.scenario.name
+        for i, v in enumerate(self.scenario.vessels):
+            model = vessel_model(v, i, base_dir(self.scenario), source)
+            quat = quat_from_rpy(*(math.radians(a) for a in (v.pose.roll_deg, v.pose.pitch_deg, v.pose.yaw_deg)))
+            out.append(FloatingBody(v.name, model, v.pose.position, tuple(quat)))
+        for obj in self.scenario.objects:
+            if isinstance(obj, Buoy):
+                x, y, _ = obj.position
+                m = obj.mooring
+                anchor = (x, y, -m.water_depth_m) if m else None
+                length = m.scope * m.water_depth_m if m else 0.0
+                out.append(FloatingBody(obj.name, buoy.build(obj), obj.position, (1.0, 0.0, 0.0, 0.0),
+                                        anchor, length, obj.radius_m))  # fmt: skip
+        return out
+
+    def _init_physics(self, floating: list[FloatingBody]) -> None:
+        m, n = self.model, len(floating)
+        self._body_ids = np.arange(1, n + 1)
+        joints = m.body_jntadr[self._body_ids]
+        self._qpos_adr, self._qvel_adr = m.jnt_qposadr[joints].copy(), m.jnt_dofadr[joints].copy()
+        self.hulls = HullSet([(fb.model.hull.vertices, fb.model.hull.faces) for fb in floating])
+        self._com_body = np.array([fb.model.com for fb in floating], dtype=float).reshape(n, 3)
+        self._drag = coefficients([fb.model.drag for fb in floating])
+        self._body_wrenches = np.zeros((2, n, 6))
+        self._xfrc = np.zeros((n, 6))
+        self.state = BodyState(n)
+        entries, timeouts = [], np.zeros(n)
+        for i, v in enumerate(self.scenario.vessels):
+            timeouts[i] = v.command_timeout_s
+            entries += [(i, f"{v.name}/{t.name}", t) for t in floating[i].model.thrusters]
+        self.thrusters = ThrusterBank(entries, n, timeouts)
+        self._update_kinematics()
+        self.hydrostatics = self._hydrostatics()
+
+    def _init_handles(self, floating: list[FloatingBody]) -> None:
+        self.vessels: dict[str, Vessel] = {}
+        self.bodies: dict[str, Body] = {}
+        for i, fb in enumerate(floating):
+            if i < len(self.scenario.vessels):
+                handles = {n.split("/", 1)[1]: Thruster(self, k, n) for k, n in enumerate(self.thrusters.names)
+                           if self.thrusters.body[k] == i}  # fmt: skip
+                self.bodies[fb.name] = self.vessels[fb.name] = Vessel(self, i, fb.name, fb.model, handles)
+            else:
+                self.bodies[fb.name] = Body(self, i, fb.name, fb.model)
+
+    # -- time ---------------------------------------------------------------------------------
+    @property
+    def time(self) -> float:
+        """Simulation time in seconds (float); `clock_ns` is exact."""
+        return self.clock.seconds
+
+    @property
+    def clock_ns(self) -> int:
+        return self.clock.now_ns
+
+    def step(self) -> None:
+        """Advance one physics step."""
+        if self.clock.steps == 0 and self._subscribers and not getattr(self, "_announced", False):
+            self._announced = True
+            self._emit(self.ground_truth.static_transforms() + self.ground_truth.due(0, 0))
+        self._apply_marine_wrenches()
+        mujoco.mj_step(self.model, self.data)
+        self.clock.tick()
+        self._update_kinematics()
+        if not np.isfinite(self.state.pos).all() or not np.isfinite(self.state.nu).all():
+            self._raise_divergence()
+        if self._subscribers:
+            self._emit(self.ground_truth.due(self.clock.steps, self.clock.now_ns))
+
+    def run(self, seconds: float, realtime: bool = False, on_step: Callable[[Simulation], None] | None = None):
+        """Run for `seconds` of simulation time, as fast as possible or paced to the wall clock."""
+        steps = round(seconds * 1e9 / self.clock.step_ns)
+        start_wall, start_ns = time.perf_counter(), self.clock.now_ns
+        for _ in range(steps):
+            self.step()
+            if on_step is not None:
+                on_step(self)
+            if realtime:
+                ahead = (self.clock.now_ns - start_ns) / 1e9 - (time.perf_counter() - start_wall)
+                if ahead > 0:
+                    time.sleep(ahead)
+
+    # -- physics ------------------------------------------------------------------------------
+    def _update_kinematics(self) -> None:
+        s = self.state
+        body_kinematics(self.data.qpos, self.data.qvel, self._qpos_adr, self._qvel_adr, self._com_body,
+                        s.pos, s.rot, s.com_world, s.vcom_world, s.omega_body)  # fmt: skip
+
+    def _hydrostatics(self):
+        s, t = self.state, self.clock.seconds
+        verts = self.hulls.world_vertices(s.pos, s.rot)
+        eta = self.ocean.elevation(verts[:, 0], verts[:, 1], t)
+        return self.hulls.compute(verts, eta, s.com_world, self.rho, self.g)
+
+    def _apply_marine_wrenches(self) -> None:
+        s, t = self.state, self.clock.seconds
+        self.hydrostatics = hs = self._hydrostatics()
+        water = self.ocean.velocity(s.com_world[:, 0], s.com_world[:, 1], s.com_world[:, 2], t)
+        relative_velocity_body(s.rot, s.vcom_world, s.omega_body, water, s.nu)
+        drag_wrench(self._drag, s.nu, self._body_wrenches[0])
+        self._body_wrenches[1] = self.thrusters.step(self.clock.now_ns, self.clock.dt, self._com_body)
+        assemble(s.rot, self._body_wrenches, hs.force, hs.torque, self._xfrc)
+        self.data.xfrc_applied[self._body_ids] = self._xfrc
+
+    def _raise_divergence(self) -> None:
+        bad = ~(np.isfinite(self.state.pos).all(axis=1) & np.isfinite(self.state.nu).all(axis=1))
+        name = list(self.bodies)[int(np.argmax(bad))]
+        raise DivergenceError(name, self.time)
+
+    # -- state access -------------------------------------------------------------------------
+    def body_quat(self, i: int) -> np.ndarray:
+        a = self._qpos_adr[i]
+        q = self.data.qpos[a + 3 : a + 7]
+        return q / np.linalg.norm(q)
+
+    def origin_velocity(self, i: int) -> np.ndarray:
+        """World-frame velocity of body i's frame origin (m/s)."""
+        a = self._qvel_adr[i]
+        return self.data.qvel[a : a + 3].copy()
+
+    def contacts(self) -> list[tuple[str, str, float]]:
+        """Active contacts as (body name, other body name or 'world', penetration depth m >= 0)."""
+        names = ["world", *self.bodies]
+        out = []
+        for c in self.data.contact[: self.data.ncon]:
+            b1, b2 = self.model.geom_bodyid[c.geom[0]], self.model.geom_bodyid[c.geom[1]]
+            out.append((names[b1], names[b2], max(0.0, -float(c.dist))))
+        return out
+
+    # -- outputs ------------------------------------------------------------------------------
+    def subscribe(self, callback: Callable[[Envelope], None]) -> Callable[[], None]:
+        """Receive every message the simulation emits; returns a function that unsubscribes."""
+        self._subscribers.append(callback)
+        return lambda: self._subscribers.remove(callback)
+
+    def _emit(self, envelopes: list[Envelope]) -> None:
+        for env in envelopes:
+            for cb in list(self._subscribers):
+                cb(env)

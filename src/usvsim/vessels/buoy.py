@@ -1,0 +1,28 @@
+"""Marker buoys: ballasted spheres that float (VRX marker-buoy damping)."""
+
+from __future__ import annotations
+
+import numpy as np
+import trimesh
+
+from usvsim.config.objects import COLORS, Buoy
+from usvsim.config.vessel import StateSpaceDrag
+from usvsim.vessels.model import BodyModel
+from usvsim.vessels.parts import Mesh, Part
+
+
+def build(cfg: Buoy) -> BodyModel:
+    """A sphere of radius r (frame origin at its centre), CoM 0.3 r below the centre (ballast)."""
+    r, m = cfg.radius_m, cfg.mass_kg
+    sphere = trimesh.creation.icosphere(subdivisions=1, radius=r)
+    hull = Mesh(np.asarray(sphere.vertices), np.asarray(sphere.faces))
+    inertia = np.eye(3) * 0.4 * m * r * r
+    rgba = COLORS[cfg.color]
+    drag = StateSpaceDrag(X_u=25.0, Y_v=25.0, Z_w=0.3 * 2 * np.sqrt(1025 * 9.81 * np.pi * r * r * m),
+                          K_p=2.0, M_q=2.0, N_r=2.0)  # fmt: skip
+    return BodyModel(
+        hull=hull,
+        collision=(Part("sphere", size=(r,)),),
+        visuals=(Part("sphere", size=(r,), rgba=rgba),),
+        mass_kg=m, com=np.array([0.0, 0.0, -0.3 * r]), inertia=inertia, drag=drag,
+    )  # fmt: skip

@@ -1,0 +1,109 @@
+"""Build the MuJoCo model of a scenario in memory (MjSpec): floating bodies, static obstacles, moorings.
+
+Marine forces are not MuJoCo's business: they arrive each step through `xfrc_applied`. MuJoCo's own
+fluid model is off (density 0). Collision geoms are convex pieces (group 3, invisible); visual geoms
+(group 1) never collide. The still-water plane is a visual in group 2.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import mujoco
+import numpy as np
+
+from usvsim.vessels.model import BodyModel
+from usvsim.vessels.parts import Part
+
+COLLISION_GROUP, VISUAL_GROUP, WATER_GROUP = 3, 1, 2
+_KIND = {
+    "box": mujoco.mjtGeom.mjGEOM_BOX,
+    "sphere": mujoco.mjtGeom.mjGEOM_SPHERE,
+    "cylinder": mujoco.mjtGeom.mjGEOM_CYLINDER,
+    "mesh": mujoco.mjtGeom.mjGEOM_MESH,
+}
+
+
+@dataclass(frozen=True)
+class FloatingBody:
+    """A free body in the world: its model and initial pose (world ENU position, quaternion w, x, y, z).
+    `anchor` (x, y, z) and `line_length` make it moored by a slack line from its lowest point."""
+
+    name: str
+    model: BodyModel
+    position: tuple[float, float, float]
+    quat: tuple[float, float, float, float]
+    anchor: tuple[float, float, float] | None = None
+    line_length: float = 0.0
+    bottom_offset: float = 0.0
+
+
+def principal_inertia(inertia: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Principal moments and the quaternion (w, x, y, z) of the principal axes in the body frame."""
+    moments, axes = np.linalg.eigh(inertia)
+    if np.linalg.det(axes) < 0:
+        axes[:, 2] *= -1
+    quat = np.zeros(4)
+    mujoco.mju_mat2Quat(quat, axes.flatten())
+    return moments, quat
+
+
+def _add_geom(spec: mujoco.MjSpec, parent, part: Part, group: int, collide: bool, tag: str) -> None:
+    geom = parent.add_geom()
+    geom.type = _KIND[part.kind]
+    if part.kind == "mesh":
+        mesh = spec.add_mesh(name=tag)
+        mesh.uservert = part.mesh.vertices.flatten().tolist()
+        mesh.userface = part.mesh.faces.flatten().tolist()
+        geom.meshname = tag
+    else:
+        size = list(part.size) + [0.0] * (3 - len(part.size))
+        geom.size = size
+    geom.pos, geom.quat = list(part.pos), list(part.quat)
+    geom.group = group
+    geom.rgba = list(part.rgba) if not collide else [0.5, 0.5, 0.5, 0.0]
+    geom.contype = geom.conaffinity = 1 if collide else 0
+    geom.friction = [0.6, 0.005, 0.0001]
+    geom.mass = 0.0
+
+
+def _add_floating(spec: mujoco.MjSpec, fb: FloatingBody) -> None:
+    model = fb.model
+    body = spec.worldbody.add_body(name=fb.name, pos=list(fb.position), quat=list(fb.quat))
+    body.add_freejoint(name=f"{fb.name}_free")
+    body.explicitinertial = True
+    moments, iquat = principal_inertia(model.inertia)
+    body.mass, body.ipos, body.iquat, body.inertia = model.mass_kg, list(model.com), list(iquat), list(moments)
+    for k, part in enumerate(model.collision):
+        _add_geom(spec, body, part, COLLISION_GROUP, True, f"{fb.name}_col{k}")
+    for k, part in enumerate(model.visuals):
+        _add_geom(spec, body, part, VISUAL_GROUP, False, f"{fb.name}_vis{k}")
+    if fb.anchor is not None:
+        body.add_site(name=f"{fb.name}_fairlead", pos=[0.0, 0.0, -fb.bottom_offset])
+        spec.worldbody.add_site(name=f"{fb.name}_anchor", pos=list(fb.anchor))
+        line = spec.add_tendon(name=f"{fb.name}_mooring", limited=True, range=[0.0, fb.line_length])
+        line.wrap_site(f"{fb.name}_fairlead")
+        line.wrap_site(f"{fb.name}_anchor")
+        line.rgba = [0.9, 0.9, 0.2, 1.0]
+
+
+def build_model(floating: list[FloatingBody], static: list[Part], dt: float, gravity: float) -> mujoco.MjModel:
+    """Compile the world. Body i+1 of the result is floating[i] (body 0 is the world)."""
+    spec = mujoco.MjSpec()
+    spec.modelname = "usvsim"
+    spec.compiler.inertiafromgeom = mujoco.mjtInertiaFromGeom.mjINERTIAFROMGEOM_FALSE
+    spec.option.timestep = dt
+    spec.option.gravity = [0.0, 0.0, -gravity]
+    spec.option.density = 0.0
+    spec.option.viscosity = 0.0
+    spec.option.integrator = mujoco.mjtIntegrator.mjINT_IMPLICITFAST
+    spec.visual.global_.offwidth, spec.visual.global_.offheight = 1920, 1080
+    spec.worldbody.add_light(name="sun", pos=[0, 0, 100], dir=[0.3, 0.2, -1.0], type=mujoco.mjtLightType.mjLIGHT_DIRECTIONAL)
+    water = spec.worldbody.add_geom(name="still_water", type=mujoco.mjtGeom.mjGEOM_PLANE, size=[500, 500, 1])
+    water.rgba, water.group, water.contype, water.conaffinity = [0.1, 0.35, 0.5, 0.85], WATER_GROUP, 0, 0
+    for k, part in enumerate(static):
+        _add_geom(spec, spec.worldbody, part, COLLISION_GROUP, True, f"static_col{k}")
+        _add_geom(spec, spec.worldbody, part, VISUAL_GROUP, False, f"static_vis{k}")
+    for fb in floating:
+        _add_floating(spec, fb)
+    return spec.compile()

@@ -1,0 +1,233 @@
+"""McapRecorder: a rosbag2-layout MCAP read back by two independent readers (rosbags and mcap-ros2)."""
+
+from __future__ import annotations
+
+import os
+import signal
+from pathlib import Path
+
+import numpy as np
+import pytest
+import yaml
+from mcap.reader import make_reader
+from mcap_ros2.decoder import DecoderFactory
+from rosbags.highlevel import AnyReader
+
+from usvsim.io.mcap_recorder import McapRecorder
+from usvsim.messages import ros
+from usvsim.messages.envelope import Envelope
+
+VESSELS = {"wamv": np.array([10.0, -5.0, 0.0]), "otter": np.array([-3.0, 4.0, 0.0])}
+STEPS = 40
+DT_NS = 10_000_000
+YAW_RATE = 0.1  # rad/s, so the quaternion is not trivial
+
+
+def vessel_state(name: str, k: int) -> tuple[np.ndarray, np.ndarray]:
+    """Pose in <vessel>/odom at step k: position and (w, x, y, z) quaternion (yaw only)."""
+    yaw = YAW_RATE * k * DT_NS / 1e9 + (0.5 if name == "otter" else 0.0)
+    pos = np.array([0.01 * k, 0.02 * k, -0.1])
+    return pos, np.array([np.cos(yaw / 2), 0.0, 0.0, np.sin(yaw / 2)])
+
+
+def scenario_envelopes(steps: int = STEPS):
+    """Envelopes a simulation of two vessels would emit: /tf_static once, then per step."""
+    static = [
+        ros.transform_stamped(DT_NS, "world", f"{v}/odom", p, np.array([1.0, 0, 0, 0]))
+        for v, p in VESSELS.items()
+    ]
+    yield Envelope("/tf_static", DT_NS, ros.tf_message(static))
+    for k in range(1, steps + 1):
+        stamp = k * DT_NS
+        yield Envelope("/clock", stamp, ros.clock_msg(stamp))
+        transforms = []
+        for v in VESSELS:
+            pos, q = vessel_state(v, k)
+            transforms.append(ros.transform_stamped(stamp, f"{v}/odom", f"{v}/base_link", pos, q))
+            odom = ros.odometry_msg(
+                stamp,
+                f"{v}/odom",
+                f"{v}/base_link",
+                pos,
+                q,
+                np.array([1.0, 0.0, 0.0]),
+                np.array([0.0, 0.0, YAW_RATE]),
+            )
+            yield Envelope(f"/{v}/ground_truth/odometry", stamp, odom)
+        yield Envelope("/tf", stamp, ros.tf_message(transforms))
+
+
+EXPECTED_COUNTS = {
+    "/tf_static": 1,
+    "/clock": STEPS,
+    "/tf": STEPS,
+    "/wamv/ground_truth/odometry": STEPS,
+    "/otter/ground_truth/odometry": STEPS,
+}
+
+
+@pytest.fixture
+def recording(tmp_path: Path) -> Path:
+    path = tmp_path / "run.mcap"
+    with McapRecorder(path) as rec:
+        for env in scenario_envelopes():
+            rec.write(env)
+        assert rec.message_counts == EXPECTED_COUNTS
+    return path
+
+
+def rosbag2_metadata(path: Path) -> dict:
+    with path.open("rb") as f:
+        records = [m for m in make_reader(f).iter_metadata() if m.name == "rosbag2"]
+    assert len(records) == 1
+    return yaml.safe_load(records[0].metadata["serialized_metadata"])
+
+
+def read_with_rosbags(path: Path) -> list[tuple[str, int, object]]:
+    """rosbags reads rosbag2 directories: give it the bare file plus the metadata.yaml that rosbag2
+    reconstructs from the file's `rosbag2` record (this also checks that record is valid metadata)."""
+    bag = path.parent / "bag"
+    bag.mkdir()
+    (bag / path.name).symlink_to(path)
+    info = {"rosbag2_bagfile_information": rosbag2_metadata(path)}
+    (bag / "metadata.yaml").write_text(yaml.safe_dump(info))
+    with AnyReader([bag], default_typestore=ros.typestore()) as reader:
+        qos = {c.topic: c.ext.offered_qos_profiles for c in reader.connections}
+        assert qos["/tf_static"][0].durability.name == "TRANSIENT_LOCAL"
+        assert qos["/tf_static"][0].depth == 1 and qos["/tf"][0].durability.name == "VOLATILE"
+        return [(c.topic, t, reader.deserialize(raw, c.msgtype)) for c, t, raw in reader.messages()]
+
+
+def read_with_mcap_ros2(path: Path) -> list[tuple[str, int, object]]:
+    with path.open("rb") as f:
+        reader = make_reader(f, validate_crcs=True, decoder_factories=[DecoderFactory()])
+        assert reader.get_header().profile == "ros2"
+        return [(ch.topic, m.log_time, dec) for _, ch, m, dec in reader.iter_decoded_messages()]
+
+
+def check_messages(messages: list[tuple[str, int, object]], steps: int = STEPS) -> None:
+    """Values, stamps, frames and quaternion order (x, y, z, w) of every message."""
+    counts: dict[str, int] = {}
+    for topic, log_time, msg in messages:
+        counts[topic] = counts.get(topic, 0) + 1
+        if topic == "/clock":
+            assert ros.time_to_ns(msg.clock) == log_time
+        elif topic == "/tf_static":
+            assert [(t.header.frame_id, t.child_frame_id) for t in msg.transforms] == [
+                ("world", "wamv/odom"),
+                ("world", "otter/odom"),
+            ]
+            assert msg.transforms[0].transform.translation.x == 10.0
+            assert msg.transforms[1].transform.rotation.w == 1.0
+        elif topic == "/tf":
+            k = log_time // DT_NS
+            for t, v in zip(msg.transforms, VESSELS):
+                assert (t.header.frame_id, t.child_frame_id) == (f"{v}/odom", f"{v}/base_link")
+                assert ros.time_to_ns(t.header.stamp) == log_time
+                r = t.transform.rotation
+                assert np.allclose([r.w, r.x, r.y, r.z], vessel_state(v, k)[1])
+        else:
+            v = topic.split("/")[1]
+            k = log_time // DT_NS
+            pos, q = vessel_state(v, k)
+            assert ros.time_to_ns(msg.header.stamp) == log_time == k * DT_NS
+            assert (msg.header.frame_id, msg.child_frame_id) == (f"{v}/odom", f"{v}/base_link")
+            o, p = msg.pose.pose.orientation, msg.pose.pose.position
+            assert np.allclose([o.x, o.y, o.z, o.w], [q[1], q[2], q[3], q[0]])
+            assert np.allclose([p.x, p.y, p.z], pos)
+            assert msg.twist.twist.angular.z == YAW_RATE
+            assert len(msg.pose.covariance) == 36 and not any(msg.pose.covariance)
+    expected = {t: (1 if t == "/tf_static" else steps) for t in EXPECTED_COUNTS}
+    assert counts == expected
+
+
+def test_rosbags_reads_every_message(recording: Path):
+    check_messages(read_with_rosbags(recording))
+
+
+def test_mcap_ros2_decodes_every_message(recording: Path):
+    check_messages(read_with_mcap_ros2(recording))
+
+
+def test_rosbag2_layout(recording: Path):
+    with recording.open("rb") as f:
+        summary = make_reader(f).get_summary()
+    assert summary is not None and summary.statistics.message_count == sum(EXPECTED_COUNTS.values())
+    schemas = {s.name: s for s in summary.schemas.values()}
+    assert set(schemas) == {"tf2_msgs/msg/TFMessage", "rosgraph_msgs/msg/Clock", "nav_msgs/msg/Odometry"}
+    assert all(s.encoding == "ros2msg" for s in schemas.values())
+    assert b"\nMSG: geometry_msgs/TransformStamped\n" in schemas["tf2_msgs/msg/TFMessage"].data
+    channels = {c.topic: c for c in summary.channels.values()}
+    assert set(channels) == set(EXPECTED_COUNTS)  # one channel per topic, shared schema for odometry
+    assert all(c.message_encoding == "cdr" for c in channels.values())
+    counts = summary.statistics.channel_message_counts
+    assert {topic: counts[c.id] for topic, c in channels.items()} == EXPECTED_COUNTS
+    static_qos = yaml.safe_load(channels["/tf_static"].metadata["offered_qos_profiles"])
+    assert (static_qos[0]["durability"], static_qos[0]["depth"], static_qos[0]["reliability"]) == (1, 1, 1)
+    assert yaml.safe_load(channels["/tf"].metadata["offered_qos_profiles"])[0]["durability"] == 2
+    assert channels["/clock"].metadata["topic_type_hash"].startswith("RIHS01_")
+
+    meta = rosbag2_metadata(recording)
+    assert meta["version"] == 8 and meta["storage_identifier"] == "mcap"
+    assert meta["relative_file_paths"] == ["run.mcap"]
+    assert meta["message_count"] == sum(EXPECTED_COUNTS.values())
+    assert meta["starting_time"]["nanoseconds_since_epoch"] == DT_NS
+    assert meta["duration"]["nanoseconds"] == (STEPS - 1) * DT_NS
+    topics = {t["topic_metadata"]["name"]: t for t in meta["topics_with_message_count"]}
+    assert {name: t["message_count"] for name, t in topics.items()} == EXPECTED_COUNTS
+    assert topics["/tf"]["topic_metadata"]["type"] == "tf2_msgs/msg/TFMessage"
+
+
+def test_interrupted_run_leaves_complete_file(tmp_path: Path):
+    path = tmp_path / "interrupted.mcap"
+    rec = McapRecorder(path, compression="lz4", chunk_size=4096)  # several chunks before the interrupt
+    written = 0
+    with pytest.raises(KeyboardInterrupt):
+        try:
+            for env in scenario_envelopes():
+                if env.stamp_ns == 21 * DT_NS and env.topic == "/clock":
+                    raise KeyboardInterrupt  # Ctrl-C in the middle of step 21
+                rec.write(env)
+                written += 1
+        finally:
+            rec.close()
+    assert rec.closed and rec.message_count == written
+    rec.close()  # idempotent
+    with pytest.raises(ValueError, match="closed"):
+        rec.write(Envelope("/clock", 0, ros.clock_msg(0)))
+    check_messages(read_with_mcap_ros2(path), steps=20)
+    check_messages(read_with_rosbags(path), steps=20)
+    assert rosbag2_metadata(path)["message_count"] == written
+
+
+def test_ctrl_c_during_close_is_deferred(tmp_path: Path, monkeypatch):
+    path = tmp_path / "sigint.mcap"
+    rec = McapRecorder(path, compression="none")
+    for env in scenario_envelopes(steps=3):
+        rec.write(env)
+    real_finish = rec._writer.finish
+
+    def finish_with_ctrl_c():
+        os.kill(os.getpid(), signal.SIGINT)  # arrives while the summary is being written
+        real_finish()
+
+    monkeypatch.setattr(rec._writer, "finish", finish_with_ctrl_c)
+    with pytest.raises(KeyboardInterrupt):
+        rec.close()
+    check_messages(read_with_mcap_ros2(path), steps=3)
+
+
+def test_recorder_writes_cached_cdr_and_rejects_type_change(tmp_path: Path, monkeypatch):
+    store = ros.typestore()
+    calls = []
+    real = store.serialize_cdr
+    monkeypatch.setattr(store, "serialize_cdr", lambda *a, **k: calls.append(1) or real(*a, **k))
+    env = Envelope("/clock", 5, ros.clock_msg(5))
+    other_consumer = env.cdr  # e.g. a DDS bridge serialized it first
+    with McapRecorder(tmp_path / "once.mcap") as rec:
+        rec.write(env)
+        with pytest.raises(ValueError, match="recorded as"):
+            rec.write(Envelope("/clock", 6, ros.header(6, "x")))
+    assert len(calls) == 1
+    with (tmp_path / "once.mcap").open("rb") as f:
+        assert [m.data for _, _, m in make_reader(f).iter_messages()] == [other_consumer]
