@@ -16,7 +16,7 @@ from pathlib import Path
 import mujoco
 import numpy as np
 
-from usvsim.config.loader import base_dir, load_scenario
+from usvsim.config.loader import base_dir, load_scenario, source_of
 from usvsim.config.objects import Buoy
 from usvsim.config.scenario import Scenario
 from usvsim.core.clock import Clock, period_ns
@@ -70,7 +70,7 @@ class Simulation:
         self.clock = Clock(period_ns(world.physics_rate_hz))
         self.ocean = build_ocean(scenario, self.rng.get("ocean"))
         floating = self._floating_bodies()
-        static = static_parts(scenario.objects, base_dir(scenario), scenario.name)
+        static = static_parts(scenario.objects, base_dir(scenario), source_of(scenario))
         self.model = build_model(floating, static, self.clock.dt, self.g)
         self.data = mujoco.MjData(self.model)
         self._init_physics(floating)
@@ -86,7 +86,7 @@ class Simulation:
 
     # -- construction -------------------------------------------------------------------------
     def _floating_bodies(self) -> list[FloatingBody]:
-        out, source = [], self.scenario.name
+        out, source = [], source_of(self.scenario)
         for i, v in enumerate(self.scenario.vessels):
             model = vessel_model(v, i, base_dir(self.scenario), source)
             quat = quat_from_rpy(*(math.radians(a) for a in (v.pose.roll_deg, v.pose.pitch_deg, v.pose.yaw_deg)))

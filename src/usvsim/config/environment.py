@@ -1,9 +1,202 @@
-"""PLACEHOLDER until the ocean work lands: flat sea only."""
+"""Scenario `environment` section: sea (waves), wind, current, water level, start-up ramp.
+
+Directions are where waves, wind or current travel toward, radians counter-clockwise from east (ENU);
+`direction_deg` is the same in degrees (VRX worlds give wind in degrees). Give one of the two, not both.
+"""
 
 from __future__ import annotations
 
-from usvsim.config.base import Section
+import math
+from typing import Annotated, Literal, Union
+
+from pydantic import Field, model_validator
+
+from usvsim.config.base import NonNegativeFloat, PositiveFloat, Section, tuple_of
+
+UnitFloat = Annotated[float, Field(ge=0, le=1)]
+Choppiness = Annotated[float, Field(ge=0, le=2)]
+
+
+class Directed(Section):
+    direction: float | None = None
+    direction_deg: float | None = None
+
+    @model_validator(mode="after")
+    def _one_direction(self):
+        if self.direction is not None and self.direction_deg is not None:
+            raise ValueError("give either 'direction' (rad) or 'direction_deg', not both")
+        return self
+
+    @property
+    def direction_rad(self) -> float:
+        """Direction toward which it travels, rad CCW from east (0 when none is given)."""
+        if self.direction_deg is not None:
+            return math.radians(self.direction_deg)
+        return self.direction if self.direction is not None else 0.0
+
+
+class FFTRealization(Section):
+    """FFT tiles (cascades); tile sizes default to 20 peak wavelengths, each next one 7.3 times smaller."""
+
+    method: Literal["fft"] = "fft"
+    resolution: Annotated[int, Field(ge=8, le=2048, multiple_of=2)] = 256
+    tile_sizes_m: tuple_of(PositiveFloat) | None = None
+    bands: Annotated[int, Field(ge=1, le=6)] = 3
+    gaussian_amplitudes: bool = False
+
+
+class DirectRealization(Section):
+    """Direct sum of `components` components, one per frequency bin (exact and unbounded, cost ∝ components)."""
+
+    method: Literal["direct"]
+    components: Annotated[int, Field(ge=1, le=4096)] = 128
+
+
+Realization = Annotated[Union[FFTRealization, DirectRealization], Field(discriminator="method")]
+
+
+class SpectralSea(Directed):
+    """Common keys of spectral seas: cos-2s spreading exponent s (None = long-crested, direct only)."""
+
+    spreading_s: PositiveFloat | None = 10.0
+    choppiness: Choppiness = 0.0
+    realization: Realization = FFTRealization()
+
+    @model_validator(mode="after")
+    def _fft_needs_spreading(self):
+        if self.spreading_s is None and self.realization.method == "fft":
+            raise ValueError("a long-crested sea (spreading_s: null) needs realization: {method: direct}")
+        return self
+
+
+class FlatSeaConfig(Section):
+    type: Literal["flat"] = "flat"
+
+
+class JonswapSea(SpectralSea):
+    type: Literal["jonswap"]
+    hs_m: PositiveFloat
+    tp_s: PositiveFloat
+    gamma: Annotated[float, Field(ge=1, le=10)] | None = None  # None: DNV rule from Hs and Tp
+
+
+class PiersonMoskowitzSea(SpectralSea):
+    """From Hs and Tp, or fully developed from a wind speed (19.5 m), or `from_wind` (the scenario's wind)."""
+
+    type: Literal["pierson_moskowitz"]
+    hs_m: PositiveFloat | None = None
+    tp_s: PositiveFloat | None = None
+    wind_speed_mps: PositiveFloat | None = None
+    from_wind: bool = False
+
+    @model_validator(mode="after")
+    def _one_source(self):
+        sources = [self.hs_m is not None and self.tp_s is not None, self.wind_speed_mps is not None, self.from_wind]
+        if sum(sources) != 1 or (self.hs_m is None) != (self.tp_s is None):
+            raise ValueError("give exactly one of: hs_m and tp_s, wind_speed_mps, or from_wind: true")
+        return self
+
+
+class SeaStateSea(SpectralSea):
+    """WMO sea-state code 0–9 as a JONSWAP sea (Hs, Tp from `usvsim.ocean.presets`; γ by the DNV rule)."""
+
+    type: Literal["sea_state"]
+    code: Annotated[int, Field(ge=0, le=9)]
+
+
+class PhillipsSea(Directed):
+    """HDRP-like ocean: three FFT bands (two swell bands, ripples), Phillips spectrum per band."""
+
+    type: Literal["phillips"]
+    wind_speed_mps: NonNegativeFloat = 21.0 / 3.6
+    chaos: UnitFloat = 0.0
+    ripples_wind_speed_mps: NonNegativeFloat = 2.57 / 3.6
+    ripples_chaos: UnitFloat = 0.44
+    band_dimmers: Annotated[tuple_of(UnitFloat), Field(min_length=3, max_length=3)] = (1.0, 1.0, 1.0)
+    repetition_size_m: Annotated[float, Field(ge=250, le=5000)] = 500.0
+    resolution: Annotated[int, Field(ge=8, le=2048, multiple_of=2)] = 256
+    choppiness: Choppiness = 0.6
+    from_wind: bool = False
+
+
+class WaveComponentConfig(Directed):
+    """One regular component: amplitude and either wavelength or period; Gerstner steepness Q (0 = Airy)."""
+
+    amplitude_m: NonNegativeFloat
+    wavelength_m: PositiveFloat | None = None
+    period_s: PositiveFloat | None = None
+    phase: float = 0.0
+    steepness: UnitFloat = 0.0
+
+    @model_validator(mode="after")
+    def _one_length(self):
+        if (self.wavelength_m is None) == (self.period_s is None):
+            raise ValueError("give exactly one of wavelength_m and period_s")
+        return self
+
+
+class ComponentsSea(Section):
+    """Explicit components, summed directly: `regular` (usually Airy) or `gerstner` (same keys)."""
+
+    type: Literal["regular", "gerstner"]
+    components: Annotated[tuple_of(WaveComponentConfig), Field(min_length=1)]
+
+
+class VrxSea(Directed):
+    """VRX "PMS" wavefield; a `preset` (usvsim.ocean.presets.VRX_PRESETS) fills the keys not given."""
+
+    type: Literal["vrx"]
+    preset: str | None = None
+    gain: NonNegativeFloat | None = None
+    period_s: PositiveFloat | None = None
+    angle: float | None = None
+    scale: Annotated[float, Field(gt=1)] | None = None
+    steepness: NonNegativeFloat = 0.0
+    phase: float = 0.0
+
+    @model_validator(mode="after")
+    def _known_preset(self):
+        from usvsim.ocean.presets import VRX_PRESETS
+
+        if self.preset is not None and self.preset not in VRX_PRESETS:
+            raise ValueError(f"unknown VRX preset {self.preset!r}; choose one of {sorted(VRX_PRESETS)}")
+        return self
+
+
+Sea = Annotated[
+    Union[FlatSeaConfig, JonswapSea, PiersonMoskowitzSea, SeaStateSea, PhillipsSea, ComponentsSea, VrxSea],
+    Field(discriminator="type"),
+]
+
+
+class WindConfig(Directed):
+    """Mean wind plus VRX-form Gauss–Markov gusts (gain K, time constant τ; gust std K/√(2τ))."""
+
+    speed_mps: NonNegativeFloat = 0.0
+    gust_gain: NonNegativeFloat = 0.0
+    gust_time_constant_s: PositiveFloat = 2.0
+    preset: str | None = None  # a VRX preset name: its wind mean, gust gain and direction fill unset keys
+
+
+class ShearConfig(Section):
+    profile: Literal["uniform", "linear", "exponential", "power"] = "uniform"
+    depth_m: PositiveFloat = 10.0
+
+
+class CurrentConfig(Directed):
+    """Surface current; Gauss–Markov variation of speed and direction; depth profile."""
+
+    speed_mps: NonNegativeFloat = 0.0
+    speed_std_mps: NonNegativeFloat = 0.0
+    direction_std: NonNegativeFloat = 0.0
+    time_constant_s: PositiveFloat = 60.0
+    shear: ShearConfig = ShearConfig()
 
 
 class Environment(Section):
-    pass
+    sea: Sea = FlatSeaConfig()
+    wind: WindConfig = WindConfig()
+    current: CurrentConfig = CurrentConfig()
+    water_level_m: float = 0.0
+    water_depth_m: PositiveFloat | None = None  # None: deep water (used by `regular`/`gerstner` components)
+    ramp_time_s: NonNegativeFloat = 2.0

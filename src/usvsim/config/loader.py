@@ -63,12 +63,18 @@ def parse_scenario(data, source: str = "<scenario>", base_dir: Path | None = Non
         raise _first_error(exc, source, data) from None
     _check_rates(scenario, source)
     object.__setattr__(scenario, "_base_dir", base_dir)
+    object.__setattr__(scenario, "_source", source)
     return scenario
 
 
 def base_dir(scenario: Scenario) -> Path:
     """Directory that relative file paths in the scenario are resolved against."""
     return getattr(scenario, "_base_dir", None) or Path.cwd()
+
+
+def source_of(scenario: Scenario) -> str:
+    """The file or name the scenario came from, for error messages."""
+    return getattr(scenario, "_source", None) or scenario.name
 
 
 def _first_error(exc: ValidationError, source: str, data) -> ScenarioError:

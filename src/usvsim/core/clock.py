@@ -13,8 +13,11 @@ def period_ns(rate_hz: float) -> int:
         raise ValueError(f"rate must be positive, got {rate_hz}")
     period = NS_PER_S / rate_hz
     rounded = round(period)
-    if abs(period - rounded) > 1e-6 * max(1.0, period):
-        raise ValueError(f"{rate_hz} Hz has no whole-nanosecond period ({period} ns)")
+    if abs(period - rounded) > 1e-3:
+        raise ValueError(
+            f"{rate_hz} Hz has no whole-nanosecond period ({period:.3f} ns); the clock counts integer "
+            "nanoseconds, so use a rate that divides 1e9 (e.g. 50, 100, 200, 250, 500, 1000 Hz)"
+        )
     return rounded
 
 

@@ -1,0 +1,3 @@
+from usvsim.cli.app import main
+
+main()

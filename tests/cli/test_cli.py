@@ -1,0 +1,105 @@
+"""The `usvsim` command as a user runs it: one-line errors with exit 2, recordings, Ctrl-C."""
+
+from __future__ import annotations
+
+import os
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import pytest
+from readers import read_with_mcap_ros2, read_with_rosbags
+
+USVSIM = [sys.executable, "-m", "usvsim.cli"]
+
+
+def usvsim(*args, **kw) -> subprocess.CompletedProcess:
+    return subprocess.run([*USVSIM, *args], capture_output=True, text=True, timeout=300, **kw)
+
+
+def assert_one_line_error(result: subprocess.CompletedProcess, *words: str) -> None:
+    assert result.returncode == 2, result.stderr
+    lines = [ln for ln in result.stderr.splitlines() if ln.strip()]
+    assert len(lines) == 1, result.stderr
+    assert "Traceback" not in result.stderr
+    for w in words:
+        assert w in lines[0], lines[0]
+
+
+def test_scenarios_lists_harbor():
+    result = usvsim("scenarios")
+    assert result.returncode == 0 and "harbor" in result.stdout
+
+
+@pytest.mark.parametrize(
+    "text, words",
+    [
+        ("version: 1\nvessels:\n  - {name: a, model: wamv, posee: {}}\n", ["vessels[0].posee", "unknown key"]),
+        ("version: 1\nworld: {physics_rate_hz: fast}\n", ["world.physics_rate_hz"]),
+        ("version: 1\nvessels:\n  - {name: a, model: custom, hull_mesh: gone.stl, mass: {mass_kg: 9.0}}\n",
+         ["gone.stl", "not found"]),
+        ("version: 1\noutputs: {recording: {clock_rate_hz: 30}}\n", ["outputs.recording.clock_rate_hz"]),
+        ("version: 1\nvessels: [\n", ["not valid YAML"]),
+    ],
+)
+def test_bad_scenarios_fail_with_one_line(tmp_path, text, words):
+    path = tmp_path / "bad.yaml"
+    path.write_text(text)
+    assert_one_line_error(usvsim("validate", str(path)), str(path), *words)
+    assert_one_line_error(usvsim("run", str(path), "--duration", "1"), str(path), *words)
+
+
+def test_open_hull_mesh_is_rejected(tmp_path, open_stl):
+    path = tmp_path / "leaky.yaml"
+    path.write_text(f"version: 1\nvessels:\n  - {{name: a, model: custom, hull_mesh: {open_stl.name}, "
+                    "mass: {mass_kg: 100.0}}\n")  # fmt: skip
+    assert_one_line_error(usvsim("validate", str(path)), "vessels[0].hull_mesh", "not watertight")
+
+
+def test_unknown_scenario_name():
+    assert_one_line_error(usvsim("run", "atlantis"), "atlantis", "harbor")
+
+
+def test_run_records_a_readable_mcap(tmp_path):
+    out = tmp_path / "run.mcap"
+    result = usvsim("run", "--duration", "3", "--record", str(out))
+    assert result.returncode == 0, result.stderr
+    for read in (read_with_mcap_ros2, read_with_rosbags):
+        messages = read(out)
+        topics = {t for t, _, _ in messages}
+        assert topics == {"/clock", "/tf", "/tf_static", "/wamv/ground_truth/odometry", "/otter/ground_truth/odometry"}
+        count = lambda name: sum(t == name for t, _, _ in messages)  # noqa: E731
+        assert count("/clock") == 301  # 100 Hz from t = 0 to 3 s inclusive
+        assert count("/wamv/ground_truth/odometry") == 151  # 50 Hz
+        last = [m for t, _, m in messages if t == "/clock"][-1]
+        assert (last.clock.sec, last.clock.nanosec) == (3, 0)
+
+
+def test_ctrl_c_leaves_a_valid_recording(tmp_path):
+    out = tmp_path / "long.mcap"
+    proc = subprocess.Popen([*USVSIM, "run", "--duration", "100000", "--record", str(out)],
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)  # fmt: skip
+    deadline = time.time() + 120
+    while time.time() < deadline and not (out.exists() and out.stat().st_size > 20_000):
+        time.sleep(0.2)
+    proc.send_signal(signal.SIGINT)
+    _, err = proc.communicate(timeout=60)
+    assert proc.returncode == 130, err
+    assert "Traceback" not in err and "stopped" in err
+    messages = read_with_mcap_ros2(out)
+    assert len(messages) > 100 and {t for t, _, _ in messages} >= {"/clock", "/tf_static"}
+
+
+def test_experiment_unknown_name():
+    assert_one_line_error(usvsim("experiment", "nonesuch"), "nonesuch", "sphere")
+
+
+@pytest.fixture(autouse=True)
+def _no_color(monkeypatch):
+    monkeypatch.setenv("NO_COLOR", "1")
+    monkeypatch.setenv("COLUMNS", "400")
+    os.environ.setdefault("PYTHONUNBUFFERED", "1")
+
+

@@ -1,0 +1,82 @@
+"""Scenario validation: strict keys, types, rates and references, with errors that name the key path."""
+
+from __future__ import annotations
+
+import pytest
+
+from usvsim.config.loader import builtin_scenarios, load_scenario
+from usvsim.core.errors import MeshError, ScenarioError
+from usvsim.simulation import Simulation
+
+
+def test_builtin_harbor_loads_with_description():
+    assert "harbor" in builtin_scenarios()
+    sc = load_scenario("harbor")
+    assert [v.model for v in sc.vessels] == ["wamv", "otter"]
+    assert sum(o.type == "buoy" for o in sc.objects) == 9
+    assert {o.type for o in sc.objects} >= {"dock", "berth", "buoy"}
+
+
+@pytest.mark.parametrize(
+    "data, path, words",
+    [
+        ({"vessels": [{"name": "a", "model": "wamv", "posee": {}}]}, "vessels[0].posee", "unknown key"),
+        ({"world": {"physics_rate_hz": "fast"}}, "world.physics_rate_hz", "valid number"),
+        ({"vessels": [{"name": "a", "model": "wamv", "pose": {"position": [0, 0]}}]}, "vessels[0].pose.position[2]", "required"),
+        ({"objects": [{"type": "volcano", "name": "v"}]}, "objects[0]", "volcano"),
+        ({"objects": [{"type": "buoy", "name": "b", "position": [0, 0, 0], "colour": "red"}]},
+         "objects[0].colour", "unknown key"),
+        ({"outputs": {"recording": {"ground_truth_rate_hz": 30}}}, "outputs.recording.ground_truth_rate_hz",
+         "multiple of the physics step"),
+        ({"world": {"physics_rate_hz": 3}}, "world.physics_rate_hz", "nanosecond"),
+    ],
+)
+def test_errors_name_the_key_path(scenario_of, data, path, words):
+    with pytest.raises(ScenarioError) as err:
+        scenario_of(data)
+    assert err.value.key_path == path
+    assert words in err.value.message
+
+
+def test_version_is_required(scenario_of):
+    from usvsim.config.loader import parse_scenario
+
+    with pytest.raises(ScenarioError, match="version"):
+        parse_scenario({"vessels": []}, "x.yaml")
+    with pytest.raises(ScenarioError, match="version"):
+        scenario_of({"version": 2})
+
+
+def test_duplicate_names_rejected(scenario_of):
+    with pytest.raises(ScenarioError, match="repeated: a"):
+        scenario_of({"vessels": [{"name": "a", "model": "wamv"}, {"name": "a", "model": "otter"}]})
+
+
+def test_unknown_vessel_model_names_the_key(scenario_of):
+    sc = scenario_of({"vessels": [{"name": "a", "model": "titanic"}]})
+    with pytest.raises(ScenarioError) as err:
+        Simulation(sc)
+    assert err.value.key_path == "vessels[0].model" and "wamv" in err.value.message
+
+
+def test_custom_vessel_needs_mesh_and_mass(scenario_of, box_stl, tmp_path):
+    with pytest.raises(ScenarioError, match="hull_mesh"):
+        scenario_of({"vessels": [{"name": "a", "model": "custom"}]})
+    sc = scenario_of({"vessels": [{"name": "a", "model": "custom", "hull_mesh": str(box_stl)}]}, tmp_path)
+    with pytest.raises(ScenarioError, match="mass_kg"):
+        Simulation(sc)
+
+
+def test_missing_and_open_meshes_are_clear_errors(scenario_of, open_stl, tmp_path):
+    missing = {"name": "a", "model": "custom", "hull_mesh": "nope.stl", "mass": {"mass_kg": 100.0}}
+    with pytest.raises(MeshError, match="not found"):
+        Simulation(scenario_of({"vessels": [missing]}, tmp_path))
+    leaky = dict(missing, hull_mesh=open_stl.name)
+    with pytest.raises(MeshError, match="not watertight"):
+        Simulation(scenario_of({"vessels": [leaky]}, tmp_path))
+
+
+def test_sections_are_frozen():
+    sc = load_scenario("harbor")
+    with pytest.raises(Exception):
+        sc.world.physics_rate_hz = 50.0
