@@ -98,6 +98,10 @@ def build_model(floating: list[FloatingBody], static: list[Part], dt: float, gra
     spec.option.viscosity = 0.0
     spec.option.integrator = mujoco.mjtIntegrator.mjINT_IMPLICITFAST
     spec.visual.global_.offwidth, spec.visual.global_.offheight = 1920, 1080
+    sky = spec.add_texture(name="sky", type=mujoco.mjtTexture.mjTEXTURE_SKYBOX,
+                           builtin=mujoco.mjtBuiltin.mjBUILTIN_GRADIENT, width=256, height=256)
+    sky.rgb1, sky.rgb2 = [0.55, 0.72, 0.92], [0.95, 0.97, 1.0]
+    spec.visual.headlight.ambient = [0.35, 0.35, 0.35]
     spec.worldbody.add_light(name="sun", pos=[0, 0, 100], dir=[0.3, 0.2, -1.0], type=mujoco.mjtLightType.mjLIGHT_DIRECTIONAL)
     water = spec.worldbody.add_geom(name="still_water", type=mujoco.mjtGeom.mjGEOM_PLANE, size=[500, 500, 1])
     water.rgba, water.group, water.contype, water.conaffinity = [0.1, 0.35, 0.5, 0.85], WATER_GROUP, 0, 0
