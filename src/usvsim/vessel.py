@@ -85,4 +85,5 @@ class Vessel(Body):
 
     def command(self, thrust: float, angle_rad: float | None = None) -> bool:
         """The same command to every thruster; True if all accepted."""
-        return all([t.command(thrust, angle_rad) for t in self.thrusters.values()])
+        accepted = [t.command(thrust, angle_rad) for t in self.thrusters.values()]  # every thruster, no short cut
+        return all(accepted)

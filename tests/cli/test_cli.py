@@ -7,7 +7,6 @@ import signal
 import subprocess
 import sys
 import time
-from pathlib import Path
 
 import pytest
 from readers import read_with_mcap_ros2, read_with_rosbags
@@ -62,6 +61,10 @@ def test_unknown_scenario_name():
     assert_one_line_error(usvsim("run", "atlantis"), "atlantis", "harbor")
 
 
+def count(messages, topic: str) -> int:
+    return sum(t == topic for t, _, _ in messages)
+
+
 def test_run_records_a_readable_mcap(tmp_path):
     out = tmp_path / "run.mcap"
     result = usvsim("run", "--duration", "3", "--record", str(out))
@@ -70,9 +73,8 @@ def test_run_records_a_readable_mcap(tmp_path):
         messages = read(out)
         topics = {t for t, _, _ in messages}
         assert topics == {"/clock", "/tf", "/tf_static", "/wamv/ground_truth/odometry", "/otter/ground_truth/odometry"}
-        count = lambda name: sum(t == name for t, _, _ in messages)  # noqa: E731
-        assert count("/clock") == 301  # 100 Hz from t = 0 to 3 s inclusive
-        assert count("/wamv/ground_truth/odometry") == 151  # 50 Hz
+        assert count(messages, "/clock") == 301  # 100 Hz from t = 0 to 3 s inclusive
+        assert count(messages, "/wamv/ground_truth/odometry") == 151  # 50 Hz
         last = [m for t, _, m in messages if t == "/clock"][-1]
         assert (last.clock.sec, last.clock.nanosec) == (3, 0)
 

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import pytest
+from pydantic import ValidationError
 
 from usvsim.config.loader import builtin_scenarios, load_scenario
 from usvsim.core.errors import MeshError, ScenarioError
@@ -78,5 +79,5 @@ def test_missing_and_open_meshes_are_clear_errors(scenario_of, open_stl, tmp_pat
 
 def test_sections_are_frozen():
     sc = load_scenario("harbor")
-    with pytest.raises(Exception):
+    with pytest.raises(ValidationError, match="frozen"):
         sc.world.physics_rate_hz = 50.0

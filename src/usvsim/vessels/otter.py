@@ -60,7 +60,7 @@ def drag() -> StateSpaceDrag:
 
 def build() -> BodyModel:
     left, right = pontoon(PONTOON_Y_M), pontoon(-PONTOON_Y_M)
-    deck = dict(size=(0.55, 0.4, 0.03), pos=(-0.1, 0.0, PONTOON_DEPTH_M - 0.03))
+    deck = {"size": (0.55, 0.4, 0.03), "pos": (-0.1, 0.0, PONTOON_DEPTH_M - 0.03)}
     collision = (Part("mesh", mesh=left), Part("mesh", mesh=right), Part("box", **deck))
     visuals = (
         Part("mesh", mesh=left, rgba=HULL_RGBA),
