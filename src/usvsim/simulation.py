@@ -36,6 +36,9 @@ from usvsim.vessels.library import vessel_model
 from usvsim.world.builder import FloatingBody, build_model
 from usvsim.world.obstacles import static_parts
 
+BAD_QPOS, BAD_QVEL, BAD_QACC = (int(mujoco.mjtWarning.mjWARN_BADQPOS), int(mujoco.mjtWarning.mjWARN_BADQVEL),
+                                int(mujoco.mjtWarning.mjWARN_BADQACC))  # fmt: skip
+
 
 @dataclass
 class BodyState:
@@ -111,6 +114,7 @@ class Simulation:
         self._drag = coefficients([fb.model.drag for fb in floating])
         self._body_wrenches = np.zeros((2, n, 6))
         self._xfrc = np.zeros((n, 6))
+        self._warnings = self.data.warning.number  # a live view of MuJoCo's warning counters
         self.state = BodyState(n)
         entries, timeouts = [], np.zeros(n)
         for i, v in enumerate(self.scenario.vessels):
@@ -148,10 +152,11 @@ class Simulation:
             self._emit(self.ground_truth.static_transforms() + self.ground_truth.due(0, 0))
         self._apply_marine_wrenches()
         mujoco.mj_step(self.model, self.data)
+        w = self._warnings  # MuJoCo resets the state on NaN/inf and only counts a warning
+        if w[BAD_QPOS] or w[BAD_QVEL] or w[BAD_QACC]:
+            self._raise_divergence()
         self.clock.tick()
         self._update_kinematics()
-        if not np.isfinite(self.state.pos).all() or not np.isfinite(self.state.nu).all():
-            self._raise_divergence()
         if self._subscribers:
             self._emit(self.ground_truth.due(self.clock.steps, self.clock.now_ns))
 
@@ -191,9 +196,13 @@ class Simulation:
         self.data.xfrc_applied[self._body_ids] = self._xfrc
 
     def _raise_divergence(self) -> None:
-        bad = ~(np.isfinite(self.state.pos).all(axis=1) & np.isfinite(self.state.nu).all(axis=1))
-        name = list(self.bodies)[int(np.argmax(bad))]
-        raise DivergenceError(name, self.time)
+        """Name the body whose degree of freedom MuJoCo found non-finite (its warning's info field)."""
+        for kind in (BAD_QPOS, BAD_QVEL, BAD_QACC):
+            warning = self.data.warning[kind]
+            if warning.number > 0:
+                dof = min(max(warning.lastinfo, 0), self.model.nv - 1)
+                body = max(int(self.model.dof_bodyid[dof]) - 1, 0)
+                raise DivergenceError(list(self.bodies)[body], self.time, f"({mujoco.mjtWarning(kind).name})")
 
     # -- state access -------------------------------------------------------------------------
     def body_quat(self, i: int) -> np.ndarray:

@@ -18,7 +18,7 @@ def test_sphere_experiment(tmp_path):
     for row in result["table"]:
         assert row["max_rel_err_vs_clipped"] <= 1e-9
         assert row["kernel_exact"] and row["pass"]
-    assert result["pass"]
+    assert result["passed"]
     assert len(saved["curves"]["5120"]["volume_m3"]) == len(saved["depths_m"]) == 401
     # fully immersed 80-face icosphere: 4486.496 N / (rho g) (physics.md §1.10)
     assert abs(saved["curves"]["80"]["volume_m3"][-1] - 4486.496 / 9810.0) < 1e-7

@@ -155,3 +155,30 @@ def test_thrust_and_azimuth_dynamics(scenario_of):
     sim.run(5.0)
     assert t.thrust_n == pytest.approx(-50.0, rel=1e-3)
     assert math.degrees(t.angle_rad) == pytest.approx(90.0, abs=1e-6)
+
+
+def test_divergence_names_the_body_and_time(wamv):
+    from usvsim.core.errors import DivergenceError
+
+    wamv.run(0.5)
+    wamv.data.qvel[0] = float("nan")
+    with pytest.raises(DivergenceError, match=r"'wamv' at t = 0\.500 s"):
+        wamv.step()
+
+
+def test_realtime_pacing_follows_the_wall_clock(wamv):
+    import time
+
+    start = time.perf_counter()
+    wamv.run(0.5, realtime=True)
+    assert 0.5 <= time.perf_counter() - start < 0.8
+
+
+def test_non_finite_force_is_a_divergence_not_a_silent_reset(wamv):
+    from usvsim.core.errors import DivergenceError
+
+    wamv.run(0.2)
+    wamv._drag[0, 0] = float("inf")  # a broken coefficient: infinite surge damping force
+    wamv.vessels["wamv"].command(1.0)
+    with pytest.raises(DivergenceError, match="'wamv'"):
+        wamv.run(1.0)

@@ -135,7 +135,12 @@ def run(out_dir: pathlib.Path, n_depths: int = 401) -> dict:
         "experiment": "sphere",
         "radius_m": RADIUS_M,
         "table": rows,
-        "pass": all(r["pass"] for r in rows),
+        "passed": all(r["pass"] for r in rows),
+        "summary": {
+            f"{r['faces']} faces": f"max error {r['max_abs_err_m3']:.4f} m3 = {r['max_err_pct_of_sphere']:.2f} % "
+            f"(seed {r['seed_max_err_pct_of_sphere']} %), kernel vs exact clipped volume {r['max_rel_err_vs_clipped']:.1e}"
+            for r in rows
+        },
         "depths_m": depths.tolist(),
         "analytic_m3": analytic.tolist(),
         "curves": {str(k): v for k, v in curves.items()},
