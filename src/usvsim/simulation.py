@@ -81,6 +81,7 @@ class Simulation:
         rec = scenario.outputs.recording
         self.ground_truth = GroundTruth(self, rec.clock_rate_hz, rec.ground_truth_rate_hz)
         self._subscribers: list[Callable[[Envelope], None]] = []
+        self._announced = False  # /tf_static and the t = 0 messages go out before the first step
 
     @classmethod
     def from_scenario(cls, name_or_path: str | Path, seed: int = 0) -> Simulation:
@@ -147,7 +148,7 @@ class Simulation:
 
     def step(self) -> None:
         """Advance one physics step."""
-        if self.clock.steps == 0 and self._subscribers and not getattr(self, "_announced", False):
+        if not self._announced and self._subscribers:
             self._announced = True
             self._emit(self.ground_truth.static_transforms() + self.ground_truth.due(0, 0))
         self._apply_marine_wrenches()
@@ -159,6 +160,15 @@ class Simulation:
         self._update_kinematics()
         if self._subscribers:
             self._emit(self.ground_truth.due(self.clock.steps, self.clock.now_ns))
+
+    def reset(self) -> None:
+        """Back to the scenario's initial state at t = 0 (bodies, thrusters, clock); subscribers stay."""
+        mujoco.mj_resetData(self.model, self.data)
+        self.clock.reset()
+        self.thrusters.reset()
+        self._update_kinematics()
+        self.hydrostatics = self._hydrostatics()
+        self._announced = False
 
     def run(self, seconds: float, realtime: bool = False, on_step: Callable[[Simulation], None] | None = None):
         """Run for `seconds` of simulation time, as fast as possible or paced to the wall clock."""

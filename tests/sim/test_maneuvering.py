@@ -182,3 +182,13 @@ def test_non_finite_force_is_a_divergence_not_a_silent_reset(wamv):
     wamv.vessels["wamv"].command(1.0)
     with pytest.raises(DivergenceError, match="'wamv'"):
         wamv.run(1.0)
+
+
+def test_reset_returns_to_the_initial_state(wamv):
+    start = wamv.data.qpos.copy()
+    drive(wamv, 3.0, 1.0, angle=0.3)
+    wamv.reset()
+    assert wamv.time == 0.0 and np.array_equal(wamv.data.qpos, start)
+    assert all(t.thrust_n == 0.0 and t.angle_rad == 0.0 for t in wamv.vessels["wamv"].thrusters.values())
+    drive(wamv, 0.5, 0.0)
+    assert np.linalg.norm(wamv.data.qpos[:2] - start[:2]) < 0.01  # no memory of the old run

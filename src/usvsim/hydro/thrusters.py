@@ -105,6 +105,12 @@ class ThrusterBank:
         self.wrench_body = np.zeros((n_bodies, 6))
         self.rejected = 0
 
+    def reset(self) -> None:
+        """Zero every command and state (thrust, angle) and the rejected-command count."""
+        for array in (self.cmd_u, self.cmd_angle, self.thrust, self.angle, self.last_cmd_ns):
+            array[:] = 0
+        self.rejected = 0
+
     def command(self, i: int, u: float, angle_rad: float | None, now_ns: int) -> bool:
         """Set thruster i's command. Rejects (returns False, counts) non-finite values and |u| > 1;
         angles outside the azimuth limits are clamped to them; fixed thrusters ignore the angle."""
