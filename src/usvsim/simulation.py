@@ -29,7 +29,7 @@ from usvsim.hydro.statespace import coefficients, drag_wrench
 from usvsim.hydro.thrusters import ThrusterBank
 from usvsim.hydro.wrenches import assemble, body_kinematics, relative_velocity_body
 from usvsim.messages.envelope import Envelope
-from usvsim.ocean.surface import FlatSea, WaterSurface
+from usvsim.ocean import build_ocean
 from usvsim.vessel import Body, Thruster, Vessel
 from usvsim.vessels import buoy
 from usvsim.vessels.library import vessel_model
@@ -58,10 +58,6 @@ class BodyState:
         self.vcom_world, self.omega_body, self.nu = np.zeros((n, 3)), np.zeros((n, 3)), np.zeros((n, 6))
 
 
-def build_ocean(scenario: Scenario, rng: np.random.Generator) -> WaterSurface:
-    return FlatSea()
-
-
 class Simulation:
     """A scenario running in MuJoCo with marine physics. `seed` drives every random stream."""
 
@@ -71,7 +67,7 @@ class Simulation:
         world = scenario.world
         self.rho, self.g = world.water_density_kgpm3, world.gravity_mps2
         self.clock = Clock(period_ns(world.physics_rate_hz))
-        self.ocean = build_ocean(scenario, self.rng.get("ocean"))
+        self.ocean = build_ocean(scenario.environment, self.rng.get("ocean"), dt_s=self.clock.dt)
         floating = self._floating_bodies()
         static = static_parts(scenario.objects, base_dir(scenario), source_of(scenario))
         self.model = build_model(floating, static, self.clock.dt, self.g)
@@ -197,6 +193,7 @@ class Simulation:
 
     def _apply_marine_wrenches(self) -> None:
         s, t = self.state, self.clock.seconds
+        self.ocean.advance(t)
         self.hydrostatics = hs = self._hydrostatics()
         water = self.ocean.velocity(s.com_world[:, 0], s.com_world[:, 1], s.com_world[:, 2], t)
         relative_velocity_body(s.rot, s.vcom_world, s.omega_body, water, s.nu)

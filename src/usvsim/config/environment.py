@@ -7,14 +7,15 @@ Directions are where waves, wind or current travel toward, radians counter-clock
 from __future__ import annotations
 
 import math
-from typing import Annotated, Literal, Union
+from typing import Annotated, Literal
 
-from pydantic import Field, model_validator
+from pydantic import Discriminator, Field, Tag, model_validator
 
 from usvsim.config.base import NonNegativeFloat, PositiveFloat, Section, tuple_of
 
 UnitFloat = Annotated[float, Field(ge=0, le=1)]
 Choppiness = Annotated[float, Field(ge=0, le=2)]
+Resolution = Literal[8, 16, 32, 64, 128, 256, 512, 1024, 2048]  # FFT tile size N (a power of two)
 
 
 class Directed(Section):
@@ -36,10 +37,10 @@ class Directed(Section):
 
 
 class FFTRealization(Section):
-    """FFT tiles (cascades); tile sizes default to 20 peak wavelengths, each next one 7.3 times smaller."""
+    """FFT tiles (cascades); tile sizes default to 10 peak wavelengths, each next one 7.3 times smaller."""
 
     method: Literal["fft"] = "fft"
-    resolution: Annotated[int, Field(ge=8, le=2048, multiple_of=2)] = 256
+    resolution: Resolution = 256
     tile_sizes_m: tuple_of(PositiveFloat) | None = None
     bands: Annotated[int, Field(ge=1, le=6)] = 3
     gaussian_amplitudes: bool = False
@@ -52,7 +53,17 @@ class DirectRealization(Section):
     components: Annotated[int, Field(ge=1, le=4096)] = 128
 
 
-Realization = Annotated[Union[FFTRealization, DirectRealization], Field(discriminator="method")]
+def _realization_method(value) -> str:
+    """The `method` tag of a realization; `fft` when the key is left out."""
+    if isinstance(value, dict):
+        return value.get("method", "fft")
+    return getattr(value, "method", "fft")
+
+
+Realization = Annotated[
+    Annotated[FFTRealization, Tag("fft")] | Annotated[DirectRealization, Tag("direct")],
+    Discriminator(_realization_method),
+]
 
 
 class SpectralSea(Directed):
@@ -91,7 +102,11 @@ class PiersonMoskowitzSea(SpectralSea):
 
     @model_validator(mode="after")
     def _one_source(self):
-        sources = [self.hs_m is not None and self.tp_s is not None, self.wind_speed_mps is not None, self.from_wind]
+        sources = [
+            self.hs_m is not None and self.tp_s is not None,
+            self.wind_speed_mps is not None,
+            self.from_wind,
+        ]
         if sum(sources) != 1 or (self.hs_m is None) != (self.tp_s is None):
             raise ValueError("give exactly one of: hs_m and tp_s, wind_speed_mps, or from_wind: true")
         return self
@@ -114,7 +129,7 @@ class PhillipsSea(Directed):
     ripples_chaos: UnitFloat = 0.44
     band_dimmers: Annotated[tuple_of(UnitFloat), Field(min_length=3, max_length=3)] = (1.0, 1.0, 1.0)
     repetition_size_m: Annotated[float, Field(ge=250, le=5000)] = 500.0
-    resolution: Annotated[int, Field(ge=8, le=2048, multiple_of=2)] = 256
+    resolution: Resolution = 256
     choppiness: Choppiness = 0.6
     from_wind: bool = False
 
@@ -164,7 +179,7 @@ class VrxSea(Directed):
 
 
 Sea = Annotated[
-    Union[FlatSeaConfig, JonswapSea, PiersonMoskowitzSea, SeaStateSea, PhillipsSea, ComponentsSea, VrxSea],
+    FlatSeaConfig | JonswapSea | PiersonMoskowitzSea | SeaStateSea | PhillipsSea | ComponentsSea | VrxSea,
     Field(discriminator="type"),
 ]
 
@@ -198,5 +213,5 @@ class Environment(Section):
     wind: WindConfig = WindConfig()
     current: CurrentConfig = CurrentConfig()
     water_level_m: float = 0.0
-    water_depth_m: PositiveFloat | None = None  # None: deep water (used by `regular`/`gerstner` components)
+    water_depth_m: PositiveFloat | None = None  # None: deep water; FFT seas are always deep-water
     ramp_time_s: NonNegativeFloat = 2.0

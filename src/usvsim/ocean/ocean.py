@@ -1,0 +1,95 @@
+"""The ocean of a simulation: one wave field, current and wind; the single source of truth for physics,
+rendering and sensors. Implements `WaterSurface` (world ENU metres, seconds).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from usvsim.ocean.current import Current
+from usvsim.ocean.field import WaveField, as_points
+from usvsim.ocean.wind import Wind
+
+
+class Ocean:
+    """Waves (or still water when `waves` is None) at mean level `level_m`, plus current and wind.
+
+    The stochastic parts (gusts, current variations) are Gauss–Markov processes stepped on a fixed dt; `advance(t)`
+    moves them forward to t (never back). Queries at time t advance them too, so their state is a function of t
+    alone as long as time does not run backwards.
+    """
+
+    def __init__(
+        self,
+        waves: WaveField | None = None,
+        wind: Wind | None = None,
+        current: Current | None = None,
+        level_m: float = 0.0,
+    ):
+        self.waves = waves
+        self.wind = wind if wind is not None else Wind()
+        self.current = current if current is not None else Current()
+        self.level_m = float(level_m)
+
+    def advance(self, t: float) -> None:
+        """Bring wind gusts and current to time t (s) and prepare the wave tiles for t."""
+        self.wind.advance(t)
+        self.current.advance(t)
+        update = getattr(self.waves, "update", None)
+        if update is not None:
+            update(t)
+
+    def elevation(self, x, y, t: float) -> np.ndarray:
+        """Surface height z (m, ENU) at world points (x, y) and time t, horizontal displacement inverted."""
+        if self.waves is None:
+            return np.full(np.shape(x), self.level_m)
+        return self.waves.elevation(x, y, t) + self.level_m
+
+    def normal(self, x, y, t: float) -> np.ndarray:
+        """Unit surface normal (n, 3), ENU, at world points (x, y)."""
+        if self.waves is None:
+            return np.tile([0.0, 0.0, 1.0], (np.size(x), 1))
+        return self.waves.normal(x, y, t)
+
+    def kinematics(self, x, y, z, t: float) -> tuple[np.ndarray, np.ndarray]:
+        """Water velocity (orbital + current) and acceleration (orbital), (n, 3) each, ENU, at world points."""
+        self.advance(t)
+        px, py, pz = as_points(x, y, z)
+        zrel = pz - self.level_m
+        if self.waves is None:
+            vel, acc = np.zeros((len(px), 3)), np.zeros((len(px), 3))
+        else:
+            vel, acc = self.waves.kinematics(px, py, zrel, t)
+        return vel + self.current.velocity(zrel), acc
+
+    def velocity(self, x, y, z, t: float) -> np.ndarray:
+        """Water particle velocity (n, 3), m/s ENU: wave orbital velocity plus current."""
+        if self.waves is None:  # fast path (every physics step in calm scenarios): current only
+            self.current.advance(t)
+            return self.current.velocity(np.asarray(z, dtype=float) - self.level_m)
+        return self.kinematics(x, y, z, t)[0]
+
+    def acceleration(self, x, y, z, t: float) -> np.ndarray:
+        """Water particle acceleration (n, 3), m/s² ENU (the current's slow variation is neglected)."""
+        return self.kinematics(x, y, z, t)[1]
+
+    def wind_velocity(self, t: float) -> np.ndarray:
+        """Wind velocity (3,), m/s ENU, at time t (mean + gust, toward the wind direction)."""
+        self.advance(t)
+        return self.wind.velocity()
+
+    def height_grid(self, center_xy, size_m: float, n: int, t: float) -> np.ndarray:
+        """Heights (n, n) [iy, ix] on a world grid of side `size_m` centred on `center_xy` (rendering, patches)."""
+        if self.waves is None:
+            return np.full((n, n), self.level_m)
+        return self.waves.height_grid(center_xy, size_m, n, t) + self.level_m
+
+    def render_grid(self, center_xy, size_m: float, n: int, t: float) -> np.ndarray:
+        """Vertices (n, n, 3) of the displaced surface over a label grid: the mesh a renderer draws."""
+        if self.waves is None:
+            axis = np.linspace(-0.5 * size_m, 0.5 * size_m, n)
+            gx, gy = np.meshgrid(center_xy[0] + axis, center_xy[1] + axis)
+            return np.stack([gx, gy, np.full_like(gx, self.level_m)], axis=-1)
+        grid = self.waves.render_grid(center_xy, size_m, n, t)
+        grid[..., 2] += self.level_m
+        return grid
