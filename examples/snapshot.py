@@ -12,10 +12,10 @@ import sys
 
 os.environ.setdefault("MUJOCO_GL", "egl")
 
-import mujoco  # noqa: E402
-from PIL import Image  # noqa: E402
+import mujoco
+from PIL import Image
 
-from usvsim import Simulation  # noqa: E402
+from usvsim import Simulation
 
 
 def main(scenario: str = "harbor", out: str = "harbor.png") -> None:

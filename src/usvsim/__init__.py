@@ -2,7 +2,7 @@
 
 from usvsim.core.errors import ScenarioError, UsvsimError
 
-__all__ = ["Simulation", "ScenarioError", "UsvsimError", "load_scenario"]
+__all__ = ["ScenarioError", "Simulation", "UsvsimError", "load_scenario"]
 __version__ = "0.1.0"
 
 
