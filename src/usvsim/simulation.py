@@ -19,6 +19,7 @@ import numpy as np
 from usvsim.config.loader import base_dir, load_scenario, source_of
 from usvsim.config.objects import Buoy
 from usvsim.config.scenario import Scenario
+from usvsim.control.factory import control_loop
 from usvsim.core.clock import Clock, period_ns
 from usvsim.core.errors import DivergenceError
 from usvsim.core.rng import RngStreams
@@ -30,6 +31,7 @@ from usvsim.hydro.thrusters import ThrusterBank
 from usvsim.hydro.wrenches import assemble, body_kinematics, relative_velocity_body
 from usvsim.messages.envelope import Envelope
 from usvsim.ocean import build_ocean
+from usvsim.ocean.patch import WaterPatch
 from usvsim.vessel import Body, Thruster, Vessel
 from usvsim.vessels import buoy
 from usvsim.vessels.library import vessel_model
@@ -74,6 +76,8 @@ class Simulation:
         self.data = mujoco.MjData(self.model)
         self._init_physics(floating)
         self._init_handles(floating)
+        self.controllers = {v.name: control_loop(self, v.name, v.controller)
+                            for v in scenario.vessels if v.controller is not None}  # fmt: skip
         rec = scenario.outputs.recording
         self.ground_truth = GroundTruth(self, rec.clock_rate_hz, rec.ground_truth_rate_hz)
         self._subscribers: list[Callable[[Envelope], None]] = []
@@ -118,6 +122,9 @@ class Simulation:
             timeouts[i] = v.command_timeout_s
             entries += [(i, f"{v.name}/{t.name}", t) for t in floating[i].model.thrusters]
         self.thrusters = ThrusterBank(entries, n, timeouts)
+        self._patches = {i: WaterPatch(self.ocean, v.water_sampling.resolution, v.water_sampling.margin_m)
+                         for i, v in enumerate(self.scenario.vessels) if v.water_sampling.mode == "patch"}  # fmt: skip
+        self._direct_vertices = ~np.isin(self.hulls.vert_body, list(self._patches))
         self._update_kinematics()
         self.hydrostatics = self._hydrostatics()
 
@@ -147,6 +154,8 @@ class Simulation:
         if not self._announced and self._subscribers:
             self._announced = True
             self._emit(self.ground_truth.static_transforms() + self.ground_truth.due(0, 0))
+        for loop in self.controllers.values():
+            loop(self)
         self._apply_marine_wrenches()
         mujoco.mj_step(self.model, self.data)
         w = self._warnings  # MuJoCo resets the state on NaN/inf and only counts a warning
@@ -162,6 +171,8 @@ class Simulation:
         mujoco.mj_resetData(self.model, self.data)
         self.clock.reset()
         self.thrusters.reset()
+        for loop in self.controllers.values():
+            loop.reset()
         self._update_kinematics()
         self.hydrostatics = self._hydrostatics()
         self._announced = False
@@ -188,8 +199,20 @@ class Simulation:
     def _hydrostatics(self):
         s, t = self.state, self.clock.seconds
         verts = self.hulls.world_vertices(s.pos, s.rot)
-        eta = self.ocean.elevation(verts[:, 0], verts[:, 1], t)
-        return self.hulls.compute(verts, eta, s.com_world, self.rho, self.g)
+        return self.hulls.compute(verts, self._water_heights(verts, t), s.com_world, self.rho, self.g)
+
+    def _water_heights(self, verts: np.ndarray, t: float) -> np.ndarray:
+        """Water surface z (m) above every hull vertex: queried directly, or from each patch vessel's grid."""
+        if not self._patches:
+            return self.ocean.elevation(verts[:, 0], verts[:, 1], t)
+        eta = np.empty(len(verts))
+        direct = self._direct_vertices
+        eta[direct] = self.ocean.elevation(verts[direct, 0], verts[direct, 1], t)
+        for i, patch in self._patches.items():
+            a, b = self.hulls.vert_offsets[i], self.hulls.vert_offsets[i + 1]
+            patch.update(verts[a:b, :2], t)
+            eta[a:b] = patch.water_height(verts[a:b, 0], verts[a:b, 1])
+        return eta
 
     def _apply_marine_wrenches(self) -> None:
         s, t = self.state, self.clock.seconds

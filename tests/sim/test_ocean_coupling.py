@@ -66,3 +66,21 @@ def test_irregular_sea_is_repeatable_and_stays_afloat(scenario_of):
     (q1, otter), (q2, _) = run(), run()
     assert np.array_equal(q1, q2)
     assert abs(otter.rpy[0]) < 0.5 and abs(otter.rpy[1]) < 0.5 and otter.displaced_volume > 0.01
+
+
+def test_water_patch_and_direct_sampling_agree(scenario_of):
+    """The same boat in the same sea, hull heights from a 12 x 12 patch vs every vertex queried."""
+    sea = {"type": "regular", "components": [{"amplitude_m": 0.4, "period_s": 5.0, "direction_deg": 20.0}]}
+
+    def heave(mode):
+        vessel = {"name": "wamv", "model": "wamv", "water_sampling": {"mode": mode, "resolution": 12}}
+        sim = Simulation(scenario_of({"environment": {"sea": sea}, "vessels": [vessel]}))
+        zs = []
+        for _ in range(1000):
+            sim.step()
+            zs.append(sim.vessels["wamv"].position[2])
+        return np.array(zs)
+
+    direct, patch = heave("direct"), heave("patch")
+    assert np.max(np.abs(direct - patch)) < 0.02
+    assert np.ptp(direct) > 0.3

@@ -116,9 +116,12 @@ def _check_rates(scenario: Scenario, source: str) -> None:
         step = period_ns(scenario.world.physics_rate_hz)
     except ValueError as exc:
         raise ScenarioError(source, "world.physics_rate_hz", str(exc)) from None
-    rec = scenario.outputs.recording
-    for key in ("clock_rate_hz", "ground_truth_rate_hz"):
+    rates = [(f"outputs.recording.{key}", getattr(scenario.outputs.recording, key))
+             for key in ("clock_rate_hz", "ground_truth_rate_hz")]  # fmt: skip
+    rates += [(f"vessels[{i}].controller.rate_hz", v.controller.rate_hz)
+              for i, v in enumerate(scenario.vessels) if v.controller]  # fmt: skip
+    for key, rate in rates:
         try:
-            steps_per_period(getattr(rec, key), step)
+            steps_per_period(rate, step)
         except ValueError as exc:
-            raise ScenarioError(source, f"outputs.recording.{key}", str(exc)) from None
+            raise ScenarioError(source, key, str(exc)) from None

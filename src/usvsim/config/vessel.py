@@ -11,6 +11,7 @@ from typing import Annotated, Literal
 from pydantic import Field, model_validator
 
 from usvsim.config.base import NonNegativeFloat, PositiveFloat, Section, Vec3, tuple_of
+from usvsim.config.control import Controller
 
 
 class Pose(Section):
@@ -107,6 +108,16 @@ class Thruster(Section):
     azimuth: Azimuth | None = None
 
 
+class WaterSampling(Section):
+    """How the hull's water heights are found each step: `direct` queries the ocean at every hull vertex
+    (exact); `patch` samples an n x n grid over the hull footprint plus a margin and interpolates on its
+    triangles (the seed's method, done right: current, bounds-checked)."""
+
+    mode: Literal["direct", "patch"] = "direct"
+    resolution: Annotated[int, Field(ge=1, le=256)] = 10
+    margin_m: NonNegativeFloat = 1.0
+
+
 class Vessel(Section):
     """A vessel: a library model (`wamv`, `otter`) or `custom` with a hull mesh file."""
 
@@ -118,8 +129,10 @@ class Vessel(Section):
     pose: Pose = Pose()
     mass: MassProperties = MassProperties()
     buoyancy: Buoyancy = TriangleBuoyancy()
+    water_sampling: WaterSampling = WaterSampling()
     hydrodynamics: Hydrodynamics | None = None
     thrusters: tuple_of(Thruster) | None = None
+    controller: Controller | None = Field(None, description="velocity control / station keeping (cmd_vel)")
     command_timeout_s: NonNegativeFloat = Field(1.0, description="watchdog: zero thrust after this silence; 0 = off")
 
     @model_validator(mode="after")
