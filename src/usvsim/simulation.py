@@ -25,6 +25,7 @@ from usvsim.core.errors import DivergenceError
 from usvsim.core.rng import RngStreams
 from usvsim.core.transforms import quat_from_rpy
 from usvsim.ground_truth import GroundTruth
+from usvsim.hydro import wind
 from usvsim.hydro.hydrostatics import HullSet
 from usvsim.hydro.statespace import coefficients, drag_wrench
 from usvsim.hydro.thrusters import ThrusterBank
@@ -67,7 +68,7 @@ class Simulation:
         self.scenario, self.seed = scenario, int(seed)
         self.rng = RngStreams(self.seed)
         world = scenario.world
-        self.rho, self.g = world.water_density_kgpm3, world.gravity_mps2
+        self.rho, self.g, self.rho_air = world.water_density_kgpm3, world.gravity_mps2, world.air_density_kgpm3
         self.clock = Clock(period_ns(world.physics_rate_hz))
         self.ocean = build_ocean(scenario.environment, self.rng.get("ocean"), dt_s=self.clock.dt)
         floating = self._floating_bodies()
@@ -113,7 +114,11 @@ class Simulation:
         self.hulls = HullSet([(fb.model.hull.vertices, fb.model.hull.faces) for fb in floating])
         self._com_body = np.array([fb.model.com for fb in floating], dtype=float).reshape(n, 3)
         self._drag = coefficients([fb.model.drag for fb in floating])
-        self._body_wrenches = np.zeros((2, n, 6))
+        self._body_wrenches = np.zeros((3, n, 6))  # body-frame drag, thrust, wind
+        rows = [wind.coefficient_row(fb.model.wind_load) if fb.model.wind_load else (wind.FOSSEN, np.zeros(6))
+                for fb in floating]  # fmt: skip
+        self._wind_kind = np.array([k for k, _ in rows], dtype=np.int64)
+        self._wind_coef = np.array([c for _, c in rows], dtype=float).reshape(n, 6)
         self._xfrc = np.zeros((n, 6))
         self._warnings = self.data.warning.number  # a live view of MuJoCo's warning counters
         self.state = BodyState(n)
@@ -222,6 +227,9 @@ class Simulation:
         relative_velocity_body(s.rot, s.vcom_world, s.omega_body, water, s.nu)
         drag_wrench(self._drag, s.nu, self._body_wrenches[0])
         self._body_wrenches[1] = self.thrusters.step(self.clock.now_ns, self.clock.dt, self._com_body)
+        air = np.tile(self.ocean.wind_velocity(t), (len(s.pos), 1))
+        wind.wind_wrenches(self._wind_kind, self._wind_coef, self.rho_air, s.rot, s.vcom_world, air,
+                           self._body_wrenches[2])  # fmt: skip
         assemble(s.rot, self._body_wrenches, hs.force, hs.torque, self._xfrc)
         self.data.xfrc_applied[self._body_ids] = self._xfrc
 

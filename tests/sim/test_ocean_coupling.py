@@ -84,3 +84,15 @@ def test_water_patch_and_direct_sampling_agree(scenario_of):
     direct, patch = heave("direct"), heave("patch")
     assert np.max(np.abs(direct - patch)) < 0.02
     assert np.ptp(direct) > 0.3
+
+
+def test_wind_alone_pushes_the_boat_downwind(scenario_of):
+    """10 m/s wind blowing toward 240 degrees, no waves, no current: the hull drifts toward 240 degrees."""
+    sc = scenario_of({"environment": {"wind": {"speed_mps": 10.0, "direction_deg": 240.0}},
+                      "vessels": [{"name": "wamv", "model": "wamv"}]})  # fmt: skip
+    sim = Simulation(sc)
+    sim.run(120.0)
+    v = sim.origin_velocity(0)[:2]
+    assert np.linalg.norm(v) > 0.05
+    downwind = np.array([math.cos(math.radians(240.0)), math.sin(math.radians(240.0))])
+    assert v @ downwind / np.linalg.norm(v) > 0.8

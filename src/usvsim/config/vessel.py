@@ -12,6 +12,7 @@ from pydantic import Field, model_validator
 
 from usvsim.config.base import NonNegativeFloat, PositiveFloat, Section, Vec3, tuple_of
 from usvsim.config.control import Controller
+from usvsim.config.hydro_models import WindLoad
 
 
 class Pose(Section):
@@ -132,6 +133,7 @@ class Vessel(Section):
     water_sampling: WaterSampling = WaterSampling()
     hydrodynamics: Hydrodynamics | None = None
     thrusters: tuple_of(Thruster) | None = None
+    wind_load: WindLoad | None = Field(None, description="wind force on the hull above water (library default)")
     controller: Controller | None = Field(None, description="velocity control / station keeping (cmd_vel)")
     command_timeout_s: NonNegativeFloat = Field(1.0, description="watchdog: zero thrust after this silence; 0 = off")
 

@@ -64,4 +64,6 @@ def _with_overrides(model: BodyModel, cfg: Vessel) -> BodyModel:
         changes["drag"] = cfg.hydrodynamics
     if cfg.thrusters is not None:
         changes["thrusters"] = cfg.thrusters
+    if cfg.wind_load is not None:
+        changes["wind_load"] = cfg.wind_load
     return replace(model, **changes)

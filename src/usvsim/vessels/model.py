@@ -6,6 +6,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from usvsim.config.hydro_models import WindLoad
 from usvsim.config.vessel import StateSpaceDrag, Thruster
 from usvsim.vessels.parts import Mesh, Part
 
@@ -24,6 +25,7 @@ class BodyModel:
     inertia: np.ndarray
     drag: StateSpaceDrag
     thrusters: tuple[Thruster, ...] = ()
+    wind_load: WindLoad | None = None
 
 
 def composite_inertia(parts: list[tuple[float, tuple[float, float, float], np.ndarray | None]]):

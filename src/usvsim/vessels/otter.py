@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from usvsim.config.hydro_models import WindLoad
 from usvsim.config.vessel import StateSpaceDrag, Thruster, ThrustMap
 from usvsim.vessels.hulls import loft
 from usvsim.vessels.model import BodyModel
@@ -71,4 +72,5 @@ def build() -> BodyModel:
     return BodyModel(
         hull=merge([left, right]), collision=collision, visuals=visuals, mass_kg=MASS_KG,
         com=np.array(COM), inertia=INERTIA.copy(), drag=drag(), thrusters=thrusters(),
+        wind_load=WindLoad(type="fossen", frontal_area_m2=0.6, lateral_area_m2=1.0, length_m=LENGTH_M),
     )  # fmt: skip

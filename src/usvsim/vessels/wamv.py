@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from usvsim.config.hydro_models import WindLoad
 from usvsim.config.vessel import Azimuth, StateSpaceDrag, Thruster, ThrustMap
 from usvsim.vessels.hulls import loft
 from usvsim.vessels.model import BodyModel, composite_inertia
@@ -74,6 +75,11 @@ def drag() -> StateSpaceDrag:
     )  # fmt: skip
 
 
+def wind_load() -> WindLoad:
+    """Fossen-form wind load: above-water pontoons, deck and electronics box seen from ahead and abeam."""
+    return WindLoad(type="fossen", frontal_area_m2=1.5, lateral_area_m2=2.2, length_m=HULL_LENGTH_M)
+
+
 def _parts(left: Mesh, right: Mesh):
     deck_z = 2 * HULL_RADIUS_M + 0.55
     collision = [
@@ -104,5 +110,5 @@ def build() -> BodyModel:
     collision, visuals = _parts(left, right)
     return BodyModel(
         hull=merge([left, right]), collision=collision, visuals=visuals,
-        mass_kg=mass, com=com, inertia=inertia, drag=drag(), thrusters=thrusters(),
+        mass_kg=mass, com=com, inertia=inertia, drag=drag(), thrusters=thrusters(), wind_load=wind_load(),
     )  # fmt: skip
