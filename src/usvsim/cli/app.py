@@ -18,6 +18,12 @@ app = typer.Typer(add_completion=False, no_args_is_help=True, help="usvsim: unma
 console = Console(stderr=True)
 EXPERIMENTS = {
     "sphere": ("usvsim.experiments.sphere", "sphere lowered through flat water: volume vs the analytic cap"),
+    "voxel-sphere": ("usvsim.experiments.voxel_sphere", "voxel buoyancy of the sphere, with and without cutting"),
+    "box-righting": ("usvsim.experiments.box_righting", "heeled box: righting moment vs the wall-sided formula"),
+    "drafts": ("usvsim.experiments.drafts", "library vessels' equilibrium drafts vs Archimedes"),
+    "heave-decay": ("usvsim.experiments.heave_decay", "heave natural period vs the analytic value"),
+    "otter": ("usvsim.experiments.otter", "Fossen's Otter straight runs vs PythonVehicleSimulator"),
+    "kerner-vectors": ("usvsim.experiments.kerner_vectors", "single-triangle Kerner forces vs test vectors"),
     "waves": ("usvsim.experiments.waves", "wave statistics, dispersion and height queries"),
 }
 
@@ -126,7 +132,8 @@ def experiment(
     result = module.run(out)
     passed = result.get("passed")
     typer.echo(json.dumps(result.get("summary", {}), indent=2, default=str))
-    typer.echo(f"{name}: {'PASS' if passed else 'FAIL'}; wrote {out / (name + '.json')} and {out / (name + '.png')}")
+    stem = out / name.replace("-", "_")
+    typer.echo(f"{name}: {'PASS' if passed else 'FAIL'}; wrote {stem}.json and {stem}.png")
     if passed is False:
         raise typer.Exit(1)
 

@@ -1,0 +1,146 @@
+"""Kerner forces against physics.md §1.10 and closed-form per-triangle formulas (computed here in NumPy)."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from usvsim.config.hydro_models import KernerHydrodynamics
+from usvsim.hydro import kerner_kernels as kk
+from usvsim.hydro.hydrostatics import HullSet
+from usvsim.hydro.kerner import KernerForces
+
+TRI = np.array([(0.0, 0.0, -1.0), (0.0, 1.0, -1.0), (1.0, 0.0, -1.0)])
+FACE = np.array([[0, 1, 2]])
+Z3 = np.zeros((1, 3))
+
+
+def one_triangle(cfg, v, omega=(0, 0, 0), com=(0.3, 0.3, -1.0), water=None, wind=(0, 0, 0), verts=TRI, eta=None):
+    hulls = HullSet([(verts, FACE)])
+    k = KernerForces(hulls, [cfg], [80.0], [2.0], rho_water=1025.0)
+    water = np.zeros((3, 3)) if water is None else np.asarray(water, float)
+    eta = np.zeros(3) if eta is None else eta
+    res = k.compute(verts.copy(), eta, water, np.array([com], float), np.array([v], float), np.array([omega], float),
+                    water[:1] * 0 + water.mean(axis=0), np.array([wind], float), 0.02)
+    return res.parts[0].copy()
+
+
+def reference_forces(v, n, area, c1, c2, f, rho=1025.0, nu=1.0533e-6, length=2.0):
+    """Independent NumPy implementation of physics.md §1.5/§1.6 for one face."""
+    speed = np.linalg.norm(v)
+    c_f = 0.075 / (np.log10(speed * length / nu) - 2) ** 2
+    vt = v - (v @ n) * n
+    visc = 0.5 * rho * c_f * area * speed**2 * (-vt / np.linalg.norm(vt))
+    cos = v @ n / speed
+    pres = -(c1 * speed + c2 * speed**2) * area * cos**f * n if cos > 0 else (c1 * speed + c2 * speed**2) * area * (-cos) ** f * n
+    return visc, pres
+
+
+@pytest.mark.parametrize("c1,c2,f,expected", [(100, 100, 0.4, 179.0674), (10, 10, 0.5, 15.5415), (5, 100, 1.0, 52.7888)])
+def test_single_triangle_vectors(c1, c2, f, expected):
+    cfg = KernerHydrodynamics(pressure_linear_pa=c1, pressure_quadratic_pa=c2, pressure_falloff=f, suction_falloff=f,
+                              slamming_scale=0.0, air_scale=0.0)
+    parts = one_triangle(cfg, (2.0, 0.0, -0.5))
+    visc, pres = reference_forces(np.array([2.0, 0.0, -0.5]), np.array([0.0, 0.0, -1.0]), 0.5, c1, c2, f)
+    np.testing.assert_allclose(parts[kk.VISCOUS, :3], visc, rtol=1e-12, atol=1e-12)
+    np.testing.assert_allclose(parts[kk.PRESSURE, :3], pres, rtol=1e-12, atol=1e-12)
+    assert parts[kk.VISCOUS, 0] == pytest.approx(-3.87243, abs=5e-6)  # physics.md, printed digits
+    assert parts[kk.PRESSURE, 2] == pytest.approx(expected, abs=5e-5)
+    # torque about the CoM = (centroid - com) x F
+    r = TRI.mean(axis=0) - np.array([0.3, 0.3, -1.0])
+    np.testing.assert_allclose(parts[kk.PRESSURE, 3:], np.cross(r, parts[kk.PRESSURE, :3]), atol=1e-12)
+
+
+def test_reynolds_and_friction_line():
+    assert kk.friction_coefficient(2.0615528, 2.0, 1.0533e-6, 1e3) == pytest.approx(0.0035557, abs=5e-8)
+    assert kk.friction_coefficient(1.0, 5.0, 1.0533e-6, 1e3) == pytest.approx(0.00343, abs=5e-6)  # §1.5 table
+    assert kk.friction_coefficient(0.0, 5.0, 1.0533e-6, 1e3) == pytest.approx(0.075)  # Rn clamped to 1e3
+
+
+def test_suction_side_pulls_along_the_normal():
+    cfg = KernerHydrodynamics(suction_linear_pa=7.0, suction_quadratic_pa=3.0, suction_falloff=0.5,
+                              reference_speed_mps=2.0, slamming_scale=0.0, air_scale=0.0)
+    v = np.array([1.0, 0.0, 1.5])  # face (normal -z) moving away from the water behind it
+    parts = one_triangle(cfg, v)
+    s, cos = np.linalg.norm(v) / 2.0, -1.5 / np.linalg.norm(v)
+    expected = (7.0 * s + 3.0 * s * s) * 0.5 * abs(cos) ** 0.5 * np.array([0.0, 0.0, -1.0])
+    np.testing.assert_allclose(parts[kk.PRESSURE, :3], expected, rtol=1e-12)
+
+
+def test_velocity_is_relative_to_the_water_at_each_point():
+    cfg = KernerHydrodynamics(air_scale=0.0)
+    water = np.tile([2.0, 0.0, -0.5], (3, 1))  # water moves with the face: no relative flow
+    parts = one_triangle(cfg, (2.0, 0.0, -0.5), water=water)
+    assert np.abs(parts).max() == 0.0
+    # rotation: the point velocity ω × r at the centroid, not the CoM velocity
+    com = np.array([0.3, 0.3, 0.0])
+    omega = np.array([0.0, 1.0, 0.0])
+    r = TRI.mean(axis=0) - com
+    parts = one_triangle(KernerHydrodynamics(slamming_scale=0.0, air_scale=0.0), (0.0, 0.0, 0.0), omega, com)
+    _, pres = reference_forces(np.cross(omega, r), np.array([0.0, 0.0, -1.0]), 0.5, 100, 100, 0.4)
+    np.testing.assert_allclose(parts[kk.PRESSURE, :3], pres, rtol=1e-12)
+
+
+def test_slamming_vectors_and_first_step():
+    args = (0.05, 0.0, 0.0, -2.0, np.array([0.0, 0.0, -0.045]), 0.08, 0.02, 0.0, 0.0, -1.0, 80.0, 6.0)
+    assert kk.slamming_force(*args, 2.0, 1000.0)[2] == pytest.approx(0.0031510, abs=5e-8)
+    assert kk.slamming_force(*args, 0.5, 1000.0)[2] == pytest.approx(0.49441, abs=5e-6)
+    assert kk.slamming_force(*args, 2.0, 10.0)[2] == pytest.approx(2.6667, abs=5e-5)
+    assert kk.slamming_force(*args, 2.0, 10.0)[2] == pytest.approx(80 * 2 * 2 * 0.05 / 6, rel=1e-14)
+    # the first compute() has no previous step: no slamming
+    cfg = KernerHydrodynamics(viscous_scale=0.0, pressure_scale=0.0, air_scale=0.0, slamming_gamma_max_mps2=1.0)
+    assert np.abs(one_triangle(cfg, (0.0, 0.0, -2.0))[kk.SLAMMING]).max() == 0.0
+
+
+def test_slamming_through_the_kernel_on_a_cut_face():
+    from usvsim.experiments.kerner_vectors import _slam
+
+    assert _slam(2.0, 1000.0) == pytest.approx(0.0031510, abs=5e-8)
+    assert _slam(2.0, 10.0) == pytest.approx(80 * 2 * 2 * 0.05 / 6, rel=1e-9)
+
+
+def test_cut_face_splits_area_and_dry_part_feels_the_wind():
+    tri = np.array([(0.0, 0.0, -0.5), (1.0, 0.0, 0.5), (0.0, 1.0, 0.5)])  # tilted, cut by z = 0
+    cfg = KernerHydrodynamics(viscous_scale=0.0, pressure_scale=0.0, slamming_scale=0.0, air_drag_coefficient=0.9)
+    wind = np.array([0.0, 0.0, -10.0])  # downward wind onto the up-facing dry part
+    parts = one_triangle(cfg, (0.0, 0.0, 0.0), com=(0.0, 0.0, 0.0), wind=wind, verts=tri)
+    n = np.cross(tri[1] - tri[0], tri[2] - tri[0])
+    area = 0.5 * np.linalg.norm(n)
+    dry = area * (1 - 0.25)  # submerged apex triangle: (1/2)² of the area
+    v_rel = -wind
+    assert n[2] > 0
+    np.testing.assert_allclose(parts[kk.AIR, :3], -0.5 * 1.225 * 0.9 * dry * 10.0 * v_rel, rtol=1e-12)
+
+
+def test_batch_equals_separate_bodies():
+    rng = np.random.default_rng(1)
+    import trimesh
+
+    sph = trimesh.creation.icosphere(2, radius=0.5)
+    meshes = [(sph.vertices, sph.faces), (sph.vertices * 1.5, sph.faces)]
+    pos = np.array([[0.0, 0.0, 0.1], [3.0, 0.0, -0.2]])
+    v, w = rng.normal(size=(2, 3)), rng.normal(size=(2, 3))
+    cfg = [KernerHydrodynamics(), KernerHydrodynamics(pressure_falloff=0.7)]
+    both = KernerForces(HullSet(meshes), cfg, [80.0, 120.0])
+    hulls = both.hulls
+    verts = hulls.world_vertices(pos, np.tile(np.eye(3), (2, 1, 1)))
+    water = rng.normal(size=(len(verts), 3)) * 0.1
+    out = both.compute(verts, np.zeros(len(verts)), water, pos, v, w, np.zeros((2, 3)), np.zeros((2, 3)), 0.01)
+    for b in range(2):
+        single = KernerForces(HullSet([meshes[b]]), [cfg[b]], [[80.0, 120.0][b]])
+        sl = slice(hulls.vert_offsets[b], hulls.vert_offsets[b + 1])
+        r = single.compute(np.ascontiguousarray(verts[sl]), np.zeros(sl.stop - sl.start), np.ascontiguousarray(water[sl]),
+                           pos[b:b + 1], v[b:b + 1], w[b:b + 1], Z3, Z3, 0.01)
+        np.testing.assert_allclose(r.parts[0], out.parts[b], rtol=1e-12, atol=1e-12)
+
+
+def test_moving_sphere_drag_opposes_motion_and_is_symmetric():
+    import trimesh
+
+    sph = trimesh.creation.icosphere(3, radius=0.5)
+    k = KernerForces(HullSet([(sph.vertices, sph.faces)]), [KernerHydrodynamics(air_scale=0.0)], [60.0])
+    verts = k.hulls.world_vertices(Z3, np.eye(3)[None])
+    res = k.compute(verts, np.zeros(len(verts)), np.zeros_like(verts), Z3, np.array([[1.5, 0.0, 0.0]]), Z3, Z3, Z3, 0.01)
+    assert res.force[0, 0] < 0.0
+    assert abs(res.force[0, 1]) < 1e-9 * abs(res.force[0, 0])
+    assert abs(res.torque[0, 2]) < 1e-9 * abs(res.force[0, 0])
