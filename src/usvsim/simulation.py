@@ -19,15 +19,15 @@ import numpy as np
 from usvsim.config.loader import base_dir, load_scenario, source_of
 from usvsim.config.objects import Buoy
 from usvsim.config.scenario import Scenario
+from usvsim.config.vessel import TriangleBuoyancy
 from usvsim.control.factory import control_loop
 from usvsim.core.clock import Clock, period_ns
 from usvsim.core.errors import DivergenceError
 from usvsim.core.rng import RngStreams
 from usvsim.core.transforms import quat_from_rpy
 from usvsim.ground_truth import GroundTruth
-from usvsim.hydro import wind
 from usvsim.hydro.hydrostatics import HullSet
-from usvsim.hydro.statespace import coefficients, drag_wrench
+from usvsim.hydro.models import MarineModels
 from usvsim.hydro.thrusters import ThrusterBank
 from usvsim.hydro.wrenches import assemble, body_kinematics, relative_velocity_body
 from usvsim.messages.envelope import Envelope
@@ -113,12 +113,7 @@ class Simulation:
         self._qpos_adr, self._qvel_adr = m.jnt_qposadr[joints].copy(), m.jnt_dofadr[joints].copy()
         self.hulls = HullSet([(fb.model.hull.vertices, fb.model.hull.faces) for fb in floating])
         self._com_body = np.array([fb.model.com for fb in floating], dtype=float).reshape(n, 3)
-        self._drag = coefficients([fb.model.drag for fb in floating])
-        self._body_wrenches = np.zeros((3, n, 6))  # body-frame drag, thrust, wind
-        rows = [wind.coefficient_row(fb.model.wind_load) if fb.model.wind_load else (wind.FOSSEN, np.zeros(6))
-                for fb in floating]  # fmt: skip
-        self._wind_kind = np.array([k for k, _ in rows], dtype=np.int64)
-        self._wind_coef = np.array([c for _, c in rows], dtype=float).reshape(n, 6)
+        self._body_wrenches = np.zeros((2, n, 6))  # body-frame: marine (damping + wind), thrust
         self._xfrc = np.zeros((n, 6))
         self._warnings = self.data.warning.number  # a live view of MuJoCo's warning counters
         self.state = BodyState(n)
@@ -130,6 +125,12 @@ class Simulation:
         self._patches = {i: WaterPatch(self.ocean, v.water_sampling.resolution, v.water_sampling.margin_m)
                          for i, v in enumerate(self.scenario.vessels) if v.water_sampling.mode == "patch"}  # fmt: skip
         self._direct_vertices = ~np.isin(self.hulls.vert_body, list(self._patches))
+        vessels = self.scenario.vessels
+        buoyancy = [v.buoyancy for v in vessels] + [TriangleBuoyancy()] * (n - len(vessels))
+        hydro = [v.hydrodynamics or fb.model.drag for v, fb in zip(vessels, floating)]
+        hydro += [fb.model.drag for fb in floating[len(vessels):]]
+        self.marine = MarineModels([fb.model for fb in floating], buoyancy, hydro, self.hulls, self.model,
+                                   self._qvel_adr, self.rho, self.g, self.rho_air)  # fmt: skip
         self._update_kinematics()
         self.hydrostatics = self._hydrostatics()
 
@@ -176,6 +177,7 @@ class Simulation:
         mujoco.mj_resetData(self.model, self.data)
         self.clock.reset()
         self.thrusters.reset()
+        self.marine.reset()
         for loop in self.controllers.values():
             loop.reset()
         self._update_kinematics()
@@ -222,15 +224,16 @@ class Simulation:
     def _apply_marine_wrenches(self) -> None:
         s, t = self.state, self.clock.seconds
         self.ocean.advance(t)
-        self.hydrostatics = hs = self._hydrostatics()
+        verts = self.hulls.world_vertices(s.pos, s.rot)
+        eta = self._water_heights(verts, t)
+        self.hydrostatics = self.hulls.compute(verts, eta, s.com_world, self.rho, self.g)
         water = self.ocean.velocity(s.com_world[:, 0], s.com_world[:, 1], s.com_world[:, 2], t)
         relative_velocity_body(s.rot, s.vcom_world, s.omega_body, water, s.nu)
-        drag_wrench(self._drag, s.nu, self._body_wrenches[0])
-        self._body_wrenches[1] = self.thrusters.step(self.clock.now_ns, self.clock.dt, self._com_body)
         air = np.tile(self.ocean.wind_velocity(t), (len(s.pos), 1))
-        wind.wind_wrenches(self._wind_kind, self._wind_coef, self.rho_air, s.rot, s.vcom_world, air,
-                           self._body_wrenches[2])  # fmt: skip
-        assemble(s.rot, self._body_wrenches, hs.force, hs.torque, self._xfrc)
+        self.marine.compute(s, self.hydrostatics, verts, eta, self.ocean, t, self.clock.dt, water, air)
+        self._body_wrenches[0] = self.marine.body_wrench
+        self._body_wrenches[1] = self.thrusters.step(self.clock.now_ns, self.clock.dt, self._com_body)
+        assemble(s.rot, self._body_wrenches, self.marine.world_force, self.marine.world_torque, self._xfrc)
         self.data.xfrc_applied[self._body_ids] = self._xfrc
 
     def _raise_divergence(self) -> None:

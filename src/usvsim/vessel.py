@@ -5,7 +5,9 @@ from __future__ import annotations
 from typing import TYPE_CHECKING
 
 import numpy as np
+from pydantic import TypeAdapter
 
+from usvsim.config.vessel import Buoyancy, Hydrodynamics
 from usvsim.core.transforms import rpy_from_quat
 
 if TYPE_CHECKING:
@@ -74,6 +76,31 @@ class Body:
     def waterline(self) -> np.ndarray:
         """Waterline segments (k, 2, 3), world ENU m, from the last step."""
         return self._sim.hulls.waterline(self.index)
+
+    @property
+    def hydrodynamics(self):
+        """The active hydrodynamics model (a config section: state_space, kerner or fossen)."""
+        return self._sim.marine.hydrodynamics[self.index]
+
+    def set_hydrodynamics(self, model) -> None:
+        """Switch the hydrodynamics model now; `model` is a section or a dict like {"type": "kerner"}."""
+        self._sim.marine.set_hydrodynamics(self.index, _validated(model, Hydrodynamics))
+
+    @property
+    def buoyancy(self):
+        """The active buoyancy model (a config section: triangles or voxels)."""
+        return self._sim.marine.buoyancy[self.index]
+
+    def set_buoyancy(self, model) -> None:
+        """Switch the buoyancy model now; `model` is a section or a dict like {"type": "voxels"}."""
+        self._sim.marine.set_buoyancy(self.index, _validated(model, Buoyancy))
+
+
+def _validated(model, annotation):
+    """A model section from a section or a plain dict (strictly validated, like a scenario file)."""
+    if isinstance(model, dict):
+        return TypeAdapter(annotation).validate_python(model)
+    return model
 
 
 class Vessel(Body):

@@ -178,7 +178,7 @@ def test_non_finite_force_is_a_divergence_not_a_silent_reset(wamv):
     from usvsim.core.errors import DivergenceError
 
     wamv.run(0.2)
-    wamv._drag[0, 0] = float("inf")  # a broken coefficient: infinite surge damping force
+    wamv.marine._state_space[0, 0] = float("inf")  # a broken coefficient: infinite surge damping force
     wamv.vessels["wamv"].command(1.0)
     with pytest.raises(DivergenceError, match="'wamv'"):
         wamv.run(1.0)

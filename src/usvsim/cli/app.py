@@ -25,6 +25,7 @@ EXPERIMENTS = {
     "otter": ("usvsim.experiments.otter", "Fossen's Otter straight runs vs PythonVehicleSimulator"),
     "kerner-vectors": ("usvsim.experiments.kerner_vectors", "single-triangle Kerner forces vs test vectors"),
     "waves": ("usvsim.experiments.waves", "wave statistics, dispersion and height queries"),
+    "endurance": ("usvsim.experiments.endurance", "one hour in sea state 6 with each model: afloat, upright, bounded"),
 }
 
 

@@ -12,7 +12,7 @@ from pydantic import Field, model_validator
 
 from usvsim.config.base import NonNegativeFloat, PositiveFloat, Section, Vec3, tuple_of
 from usvsim.config.control import Controller
-from usvsim.config.hydro_models import WindLoad
+from usvsim.config.hydro_models import FossenHydrodynamics, KernerHydrodynamics, VoxelBuoyancy, WindLoad
 
 
 class Pose(Section):
@@ -66,8 +66,8 @@ class TriangleBuoyancy(Section):
     type: Literal["triangles"] = "triangles"
 
 
-Buoyancy = Annotated[TriangleBuoyancy, Field(discriminator="type")]
-Hydrodynamics = Annotated[StateSpaceDrag, Field(discriminator="type")]
+Buoyancy = Annotated[TriangleBuoyancy | VoxelBuoyancy, Field(discriminator="type")]
+Hydrodynamics = Annotated[StateSpaceDrag | KernerHydrodynamics | FossenHydrodynamics, Field(discriminator="type")]
 
 
 class ThrustMap(Section):

@@ -1,0 +1,144 @@
+"""Per-body choice of buoyancy and hydrodynamics models, from the scenario and switchable at run time.
+
+Buoyancy: `triangles` (exact pressure integral over the clipped hull, always computed: it also gives
+displaced volume and waterline) or `voxels` (cut voxels, replacing the triangle force for that body).
+Hydrodynamics: `state_space` (the seed's drag), `kerner` (per-triangle viscous, pressure/suction,
+slamming and air forces) or `fossen` (6-DOF manoeuvring model; its diagonal added mass goes into
+MuJoCo's armature so it is integrated implicitly, the rest is a lagged force). The lumped wind load
+acts on every vessel that has one, except under Kerner with air drag on (which already includes it).
+
+Outputs per step: world-frame force and torque about each CoM (buoyancy + Kerner) and a body-frame
+(FLU) wrench about each CoM (state-space or Fossen damping + wind).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+import numpy as np
+
+from usvsim.config.hydro_models import FossenHydrodynamics, KernerHydrodynamics, VoxelBuoyancy
+from usvsim.config.vessel import StateSpaceDrag
+from usvsim.hydro import statespace, wind
+from usvsim.hydro.fossen import FossenForces, FossenParameters, split_added_mass
+from usvsim.hydro.fossen_sets import from_config
+from usvsim.hydro.hydrostatics import HullSet, HydrostaticsResult
+from usvsim.hydro.kerner import KernerForces
+from usvsim.hydro.voxelize import voxelize
+from usvsim.hydro.voxels import VoxelSet
+from usvsim.vessels.model import BodyModel
+
+NO_KERNER = KernerHydrodynamics(viscous_scale=0.0, pressure_scale=0.0, slamming_scale=0.0, air_scale=0.0)
+NO_FOSSEN = FossenParameters(np.zeros((6, 6)), np.zeros((6, 6)), np.zeros(6), coriolis_added_mass=False, frame="FLU")
+
+
+class MarineModels:
+    """The buoyancy and hydrodynamics of every floating body (index = body index of the HullSet)."""
+
+    def __init__(self, bodies: Sequence[BodyModel], buoyancy: Sequence, hydrodynamics: Sequence, hulls: HullSet,
+                 mj_model, dof_adr: np.ndarray, rho: float, g: float, rho_air: float):  # fmt: skip
+        self.bodies, self.hulls, self._mj, self._dof_adr = list(bodies), hulls, mj_model, np.asarray(dof_adr)
+        self.rho, self.g, self.rho_air = rho, g, rho_air
+        self.buoyancy, self.hydrodynamics = list(buoyancy), list(hydrodynamics)
+        nb = len(self.bodies)
+        self.com_body = np.array([b.com for b in self.bodies], dtype=float).reshape(nb, 3)
+        self.world_force, self.world_torque = np.zeros((nb, 3)), np.zeros((nb, 3))
+        self.body_wrench, self._scratch = np.zeros((nb, 6)), np.zeros((nb, 6))
+        self._rebuild()
+
+    # -- choosing models ----------------------------------------------------------------------
+    def set_buoyancy(self, index: int, model) -> None:
+        """Switch body `index` to another buoyancy model (a TriangleBuoyancy or VoxelBuoyancy section)."""
+        self.buoyancy[index] = model
+        self._rebuild()
+
+    def set_hydrodynamics(self, index: int, model) -> None:
+        """Switch body `index` to another hydrodynamics model (StateSpaceDrag, KernerHydrodynamics or
+        FossenHydrodynamics section). Model states (slamming history, lagged accelerations) restart."""
+        self.hydrodynamics[index] = model
+        self._rebuild()
+
+    def _rebuild(self) -> None:
+        hydro = self.hydrodynamics
+        self._state_space = statespace.coefficients([h if isinstance(h, StateSpaceDrag) else StateSpaceDrag()
+                                                     for h in hydro])  # fmt: skip
+        self._kerner = None
+        if any(isinstance(h, KernerHydrodynamics) for h in hydro):
+            configs = [h if isinstance(h, KernerHydrodynamics) else NO_KERNER for h in hydro]
+            self._kerner = KernerForces(self.hulls, configs, [b.mass_kg for b in self.bodies],
+                                        rho_water=self.rho, rho_air=self.rho_air)  # fmt: skip
+        self._fossen = self._build_fossen()
+        self._build_wind()
+        self._voxel_index = [i for i, b in enumerate(self.buoyancy) if isinstance(b, VoxelBuoyancy)]
+        self._voxels = None
+        if self._voxel_index:
+            grids = [voxelize(self.bodies[i].hull.vertices, self.bodies[i].hull.faces, self.buoyancy[i].voxel_size_m)
+                     for i in self._voxel_index]  # fmt: skip
+            self._voxels = VoxelSet(grids, [self.buoyancy[i].match_mesh_volume for i in self._voxel_index])
+
+    def _build_fossen(self) -> FossenForces | None:
+        armature = np.zeros(len(self._dof_adr) * 6)
+        if not any(isinstance(h, FossenHydrodynamics) for h in self.hydrodynamics):
+            self._set_armature(armature)
+            return None
+        params, explicit = [], []
+        for i, h in enumerate(self.hydrodynamics):
+            p = from_config(h).to_flu() if isinstance(h, FossenHydrodynamics) else NO_FOSSEN
+            implicit, rest, _ = split_added_mass(np.diag(p.added_mass), self.bodies[i].mass_kg)
+            armature[6 * i : 6 * i + 6] = implicit
+            params.append(p)
+            explicit.append(p.added_mass - np.diag(np.diag(p.added_mass)) + np.diag(rest))
+        self._set_armature(armature)
+        return FossenForces(params, self.com_body, explicit_added_mass=np.array(explicit))
+
+    def _set_armature(self, armature: np.ndarray) -> None:
+        for i, adr in enumerate(self._dof_adr):
+            self._mj.dof_armature[adr : adr + 6] = armature[6 * i : 6 * i + 6]
+
+    def _build_wind(self) -> None:
+        rows = []
+        for b, h in zip(self.bodies, self.hydrodynamics):
+            kerner_air = isinstance(h, KernerHydrodynamics) and h.air_scale > 0
+            rows.append(wind.coefficient_row(b.wind_load) if b.wind_load and not kerner_air else (wind.FOSSEN, np.zeros(6)))
+        self._wind_kind = np.array([k for k, _ in rows], dtype=np.int64)
+        self._wind_coef = np.array([c for _, c in rows], dtype=float).reshape(len(rows), 6)
+
+    # -- forces ---------------------------------------------------------------------------------
+    def compute(self, state, hydrostatics: HydrostaticsResult, verts: np.ndarray, eta: np.ndarray, ocean,
+                t: float, dt: float, water_vel_com: np.ndarray, wind_world: np.ndarray) -> None:  # fmt: skip
+        """Fill `world_force`, `world_torque` (buoyancy + Kerner) and `body_wrench` (damping + wind)."""
+        self.world_force[:] = hydrostatics.force
+        self.world_torque[:] = hydrostatics.torque
+        if self._voxels is not None:
+            self._add_voxels(state, ocean, t)
+        if self._kerner is not None:
+            self._add_kerner(state, verts, eta, ocean, t, dt, water_vel_com, wind_world)
+        statespace.drag_wrench(self._state_space, state.nu, self.body_wrench)
+        if self._fossen is not None:
+            self.body_wrench += self._fossen.compute(state.nu, dt)
+        wind.wind_wrenches(self._wind_kind, self._wind_coef, self.rho_air, state.rot, state.vcom_world, wind_world,
+                           self._scratch)  # fmt: skip
+        self.body_wrench += self._scratch
+
+    def _add_voxels(self, state, ocean, t: float) -> None:
+        idx = self._voxel_index
+        centers = self._voxels.world_centers(state.pos[idx], state.rot[idx])
+        eta = ocean.elevation(centers[:, 0], centers[:, 1], t)
+        res = self._voxels.compute(centers, eta, np.ascontiguousarray(state.com_world[idx]), self.rho, self.g)
+        self.world_force[idx] = res.force
+        self.world_torque[idx] = res.torque
+
+    def _add_kerner(self, state, verts, eta, ocean, t, dt, water_vel_com, wind_world) -> None:
+        water_vel = ocean.velocity(verts[:, 0], verts[:, 1], verts[:, 2], t)
+        omega_world = np.einsum("bij,bj->bi", state.rot, state.omega_body)
+        res = self._kerner.compute(verts, eta, water_vel, state.com_world, state.vcom_world, omega_world,
+                                   water_vel_com, wind_world, dt)  # fmt: skip
+        self.world_force += res.force
+        self.world_torque += res.torque
+
+    def reset(self) -> None:
+        """Forget model histories (after a simulation reset or a teleport)."""
+        if self._kerner is not None:
+            self._kerner.reset()
+        if self._fossen is not None:
+            self._fossen.reset()
