@@ -26,10 +26,11 @@ class GroundTruth:
         self.vessels = list(sim.vessels.values())
         self.odom_origin = {v.name: (v.position, v.quat) for v in self.vessels}
 
-    def static_transforms(self) -> list[Envelope]:
-        transforms = [
-            ros.transform_stamped(0, "world", f"{name}/odom", pos, quat) for name, (pos, quat) in self.odom_origin.items()
-        ]
+    def static_transforms(self, extra=()) -> list[Envelope]:
+        """The one `/tf_static` message: `world → <vessel>/odom` plus `extra` transforms (sensor mounts)."""
+        transforms = [ros.transform_stamped(0, "world", f"{name}/odom", pos, quat)
+                      for name, (pos, quat) in self.odom_origin.items()]  # fmt: skip
+        transforms += list(extra)
         return [Envelope("/tf_static", 0, ros.tf_message(transforms))] if transforms else []
 
     def due(self, steps: int, stamp_ns: int) -> list[Envelope]:

@@ -33,6 +33,7 @@ from usvsim.hydro.wrenches import assemble, body_kinematics, relative_velocity_b
 from usvsim.messages.envelope import Envelope
 from usvsim.ocean import build_ocean
 from usvsim.ocean.patch import WaterPatch
+from usvsim.sensors import SensorSuite
 from usvsim.vessel import Body, Thruster, Vessel
 from usvsim.vessels import buoy
 from usvsim.vessels.library import vessel_model
@@ -81,6 +82,7 @@ class Simulation:
                             for v in scenario.vessels if v.controller is not None}  # fmt: skip
         rec = scenario.outputs.recording
         self.ground_truth = GroundTruth(self, rec.clock_rate_hz, rec.ground_truth_rate_hz)
+        self.sensors = SensorSuite(self)
         self._subscribers: list[Callable[[Envelope], None]] = []
         self._announced = False  # /tf_static and the t = 0 messages go out before the first step
 
@@ -159,7 +161,8 @@ class Simulation:
         """Advance one physics step."""
         if not self._announced and self._subscribers:
             self._announced = True
-            self._emit(self.ground_truth.static_transforms() + self.ground_truth.due(0, 0))
+            static = self.ground_truth.static_transforms(self.sensors.static_transforms())
+            self._emit(static + self.ground_truth.due(0, 0))
         for loop in self.controllers.values():
             loop(self)
         self._apply_marine_wrenches()
@@ -169,8 +172,9 @@ class Simulation:
             self._raise_divergence()
         self.clock.tick()
         self._update_kinematics()
+        measurements = self.sensors.on_step(self)  # every step: the IMU differentiates velocities
         if self._subscribers:
-            self._emit(self.ground_truth.due(self.clock.steps, self.clock.now_ns))
+            self._emit(self.ground_truth.due(self.clock.steps, self.clock.now_ns) + measurements)
 
     def reset(self) -> None:
         """Back to the scenario's initial state at t = 0 (bodies, thrusters, clock); subscribers stay."""
@@ -178,6 +182,7 @@ class Simulation:
         self.clock.reset()
         self.thrusters.reset()
         self.marine.reset()
+        self.sensors.reset()
         for loop in self.controllers.values():
             loop.reset()
         self._update_kinematics()
@@ -270,6 +275,10 @@ class Simulation:
         """Receive every message the simulation emits; returns a function that unsubscribes."""
         self._subscribers.append(callback)
         return lambda: self._subscribers.remove(callback)
+
+    def close(self) -> None:
+        """Release sensor resources (render contexts, thread pools)."""
+        self.sensors.close()
 
     def _emit(self, envelopes: list[Envelope]) -> None:
         for env in envelopes:

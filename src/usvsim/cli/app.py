@@ -41,8 +41,9 @@ def run(
     realtime: Annotated[bool, typer.Option(help="pace to the wall clock")] = False,
     record: Annotated[Path | None, typer.Option(help="write an MCAP file (rosbag2 layout)")] = None,
     seed: Annotated[int, typer.Option(help="random seed")] = 0,
+    view: Annotated[bool, typer.Option(help="open the interactive viewer (W/S/A/D drive, R reset, Space pause)")] = False,
 ) -> None:
-    """Run a scenario headless, optionally recording it."""
+    """Run a scenario headless or in the viewer, optionally recording it."""
     from usvsim.io.mcap_recorder import McapRecorder
     from usvsim.simulation import Simulation
 
@@ -57,7 +58,10 @@ def run(
     interrupted = False
     start = time.perf_counter()
     try:
-        _run_with_progress(sim, duration, realtime)
+        if view:
+            _run_viewer(sim, duration)
+        else:
+            _run_with_progress(sim, duration, realtime)
     except KeyboardInterrupt:
         interrupted = True
     except UsvsimError as exc:
@@ -65,6 +69,7 @@ def run(
     finally:
         if recorder:
             recorder.close()
+        sim.close()
     wall = time.perf_counter() - start
     rtf = sim.time / wall if wall > 0 else float("inf")
     status = "stopped (Ctrl-C)" if interrupted else "done"
@@ -91,6 +96,19 @@ def _run_with_progress(sim, duration: float, realtime: bool) -> None:
             sim.run(min(chunk, duration - sim.time), realtime=realtime)
             wall = time.perf_counter() - start
             progress.update(task, completed=sim.time, rtf=f"{sim.time / wall:.1f}x RT" if wall > 0 else "")
+
+
+def _run_viewer(sim, duration: float) -> None:
+    import warnings
+
+    from usvsim.viewer import run_viewer
+
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")  # GLFW repeats its own error as a warning
+            run_viewer(sim, max_seconds=duration)
+    except RuntimeError as exc:  # no display, no OpenGL
+        raise UsvsimError(f"cannot open the viewer window: {exc}") from None
 
 
 @app.command()

@@ -120,6 +120,8 @@ def _check_rates(scenario: Scenario, source: str) -> None:
              for key in ("clock_rate_hz", "ground_truth_rate_hz")]  # fmt: skip
     rates += [(f"vessels[{i}].controller.rate_hz", v.controller.rate_hz)
               for i, v in enumerate(scenario.vessels) if v.controller]  # fmt: skip
+    rates += [(f"vessels[{i}].sensors[{k}].rate_hz", sensor.rate_hz)
+              for i, v in enumerate(scenario.vessels) for k, sensor in enumerate(v.sensors)]  # fmt: skip
     for key, rate in rates:
         try:
             steps_per_period(rate, step)

@@ -13,6 +13,7 @@ from pydantic import Field, model_validator
 from usvsim.config.base import NonNegativeFloat, PositiveFloat, Section, Vec3, tuple_of
 from usvsim.config.control import Controller
 from usvsim.config.hydro_models import FossenHydrodynamics, KernerHydrodynamics, VoxelBuoyancy, WindLoad
+from usvsim.config.sensors import Sensors
 
 
 class Pose(Section):
@@ -134,6 +135,7 @@ class Vessel(Section):
     hydrodynamics: Hydrodynamics | None = None
     thrusters: tuple_of(Thruster) | None = None
     wind_load: WindLoad | None = Field(None, description="wind force on the hull above water (library default)")
+    sensors: Sensors = Field((), description="LiDAR, cameras, IMU, GNSS, odometry, ground truth")
     controller: Controller | None = Field(None, description="velocity control / station keeping (cmd_vel)")
     command_timeout_s: NonNegativeFloat = Field(1.0, description="watchdog: zero thrust after this silence; 0 = off")
 
@@ -143,7 +145,7 @@ class Vessel(Section):
             raise ValueError("model 'custom' needs 'hull_mesh' (a closed mesh file: OBJ, STL, PLY, glTF, DAE)")
         if self.model != "custom" and self.hull_mesh is not None:
             raise ValueError(f"'hull_mesh' is only for model 'custom' (model is '{self.model}')")
-        names = [t.name for t in self.thrusters or ()]
-        if len(set(names)) != len(names):
-            raise ValueError(f"thruster names must be unique, got {names}")
+        for kind, names in (("thruster", [t.name for t in self.thrusters or ()]), ("sensor", [s.name for s in self.sensors])):
+            if len(set(names)) != len(names):
+                raise ValueError(f"{kind} names must be unique, got {names}")
         return self

@@ -14,6 +14,7 @@ import numpy as np
 
 from usvsim.vessels.model import BodyModel
 from usvsim.vessels.parts import Part
+from usvsim.world.water_visual import add_water_surface
 
 COLLISION_GROUP, VISUAL_GROUP, WATER_GROUP = 3, 1, 2
 _KIND = {
@@ -105,6 +106,7 @@ def build_model(floating: list[FloatingBody], static: list[Part], dt: float, gra
     spec.worldbody.add_light(name="sun", pos=[0, 0, 100], dir=[0.3, 0.2, -1.0], type=mujoco.mjtLightType.mjLIGHT_DIRECTIONAL)
     water = spec.worldbody.add_geom(name="still_water", type=mujoco.mjtGeom.mjGEOM_PLANE, size=[500, 500, 1])
     water.rgba, water.group, water.contype, water.conaffinity = [0.1, 0.35, 0.5, 0.85], WATER_GROUP, 0, 0
+    add_water_surface(spec)  # the drawn wave surface (visual only); renderers refresh it from the ocean
     for k, part in enumerate(static):
         _add_geom(spec, spec.worldbody, part, COLLISION_GROUP, True, f"static_col{k}")
         _add_geom(spec, spec.worldbody, part, VISUAL_GROUP, False, f"static_vis{k}")

@@ -1,0 +1,178 @@
+"""Scenario keys of sensors (`vessels[i].sensors`), a tagged union on `type`.
+
+Frames: a sensor's mount pose is given in its vessel's body frame `base_link` (FLU: x forward, y left,
+z up; metres, degrees roll/pitch/yaw per REP 103). The sensor frame is `<vessel>/<name>` (FLU); cameras
+also get `<vessel>/<name>_optical` (z forward, x right, y down). Rates are in simulation time and must be
+whole multiples of the physics step; latencies are rounded to whole physics steps.
+"""
+
+from __future__ import annotations
+
+from typing import Annotated, Literal
+
+from pydantic import Field, model_validator
+
+from usvsim.config.base import NonNegativeFloat, PositiveFloat, Section, Vec2, Vec3, tuple_of
+
+Name = Annotated[str, Field(pattern=r"^[A-Za-z][A-Za-z0-9_]*$")]
+Probability = Annotated[float, Field(ge=0.0, lt=1.0)]
+
+
+class Mount(Section):
+    """Pose of the sensor frame in the vessel's `base_link` (FLU, m; degrees, REP 103 roll/pitch/yaw)."""
+
+    position: Vec3 = (0.0, 0.0, 0.0)
+    roll_deg: float = 0.0
+    pitch_deg: float = 0.0
+    yaw_deg: float = 0.0
+
+
+class SensorBase(Section):
+    """Fields every sensor has. `topic` defaults to `/<vessel>/<name>`; `frame_id` to `<vessel>/<name>`."""
+
+    name: Name
+    rate_hz: PositiveFloat = 10.0
+    latency_s: NonNegativeFloat = Field(0.0, description="publish this long after sampling (stamp = sample time)")
+    mount: Mount = Mount()
+    topic: str | None = None
+    frame_id: str | None = None
+
+
+# -- navigation ------------------------------------------------------------------------------------
+class AxisNoise(Section):
+    """Gazebo-style noise of one triad (per axis, sensor units): white noise per sample, a turn-on bias
+    drawn once as ±N(bias_mean, bias_stddev), and a first-order Gauss–Markov bias (random walk) with
+    stddev `dynamic_bias_stddev` and correlation time `dynamic_bias_correlation_time_s` (gz-sensors)."""
+
+    stddev: NonNegativeFloat = 0.0
+    bias_mean: float = 0.0
+    bias_stddev: NonNegativeFloat = 0.0
+    dynamic_bias_stddev: NonNegativeFloat = 0.0
+    dynamic_bias_correlation_time_s: PositiveFloat = 400.0
+
+
+VRX_GYRO = AxisNoise(stddev=0.009, bias_mean=0.00075, bias_stddev=0.005, dynamic_bias_stddev=2e-5,
+                     dynamic_bias_correlation_time_s=400.0)  # fmt: skip
+VRX_ACCEL = AxisNoise(stddev=0.021, bias_mean=0.05, bias_stddev=0.0075, dynamic_bias_stddev=3.75e-4,
+                      dynamic_bias_correlation_time_s=175.0)  # fmt: skip
+
+
+class Imu(SensorBase):
+    """sensor_msgs/Imu per REP 145: orientation w.r.t. ENU, gyro rad/s and specific force m/s^2 in the
+    sensor frame (+g on z when level at rest). `preset: vrx` takes VRX's WAM-V noise (peer-simulators §2.8)."""
+
+    type: Literal["imu"]
+    rate_hz: PositiveFloat = 100.0
+    preset: Literal["none", "vrx"] = "none"
+    gyro: AxisNoise | None = None
+    accel: AxisNoise | None = None
+    orientation_stddev_rad: NonNegativeFloat = 0.0
+
+    def gyro_noise(self) -> AxisNoise:
+        return self.gyro or (VRX_GYRO if self.preset == "vrx" else AxisNoise())
+
+    def accel_noise(self) -> AxisNoise:
+        return self.accel or (VRX_ACCEL if self.preset == "vrx" else AxisNoise())
+
+
+class Odometry(SensorBase):
+    """nav_msgs/Odometry of base_link in `<vessel>/odom` with Gaussian noise and its covariance."""
+
+    type: Literal["odometry"]
+    rate_hz: PositiveFloat = 50.0
+    position_stddev_m: NonNegativeFloat = 0.0
+    orientation_stddev_rad: NonNegativeFloat = 0.0
+    linear_velocity_stddev_mps: NonNegativeFloat = 0.0
+    angular_velocity_stddev_radps: NonNegativeFloat = 0.0
+
+
+class Gnss(SensorBase):
+    """sensor_msgs/NavSatFix of the antenna (mount point) via the scenario's geodetic origin (WGS-84);
+    optional geometry_msgs/TwistWithCovarianceStamped ENU velocity on `<topic>/vel`."""
+
+    type: Literal["gnss"]
+    rate_hz: PositiveFloat = 10.0
+    horizontal_stddev_m: NonNegativeFloat = 0.0
+    vertical_stddev_m: NonNegativeFloat = 0.0
+    velocity_stddev_mps: NonNegativeFloat = 0.0
+    fix: Literal["no_fix", "fix", "sbas_fix", "gbas_fix"] = "fix"
+    velocity: bool = False
+
+
+class GroundTruth(SensorBase):
+    """Exact nav_msgs/Odometry of the mount frame in `world` (ENU), twist in the sensor frame."""
+
+    type: Literal["ground_truth"]
+    rate_hz: PositiveFloat = 50.0
+
+
+# -- LiDAR -----------------------------------------------------------------------------------------
+class Lidar(SensorBase):
+    """A spinning LiDAR. `preset` fills the pattern; explicit `channels`/`columns`/`elevations_deg` win.
+
+    3D (`output: points`): sensor_msgs/PointCloud2 with x, y, z, intensity (FLOAT32), ring (UINT16),
+    time (FLOAT32, s after the header stamp). 2D (`output: scan`): sensor_msgs/LaserScan from the single
+    channel at elevation 0, N ranges, no return = +inf. Water gives no returns unless `water_returns`.
+    """
+
+    type: Literal["lidar"]
+    preset: Literal["vlp16", "os1_64", "os1_128", "vrx", "seed_3d", "seed_2d", "custom"] = "custom"
+    output: Literal["points", "scan"] | None = None
+    channels: Annotated[int, Field(ge=1, le=1024)] | None = None
+    columns: Annotated[int, Field(ge=1, le=100_000)] | None = None
+    elevations_deg: tuple_of(float) | None = None
+    vertical_fov_deg: Vec2 | None = Field(None, description="(lowest, highest) elevation, evenly spaced")
+    horizontal_fov_deg: Annotated[float, Field(gt=0, le=360)] | None = None
+    range_min_m: NonNegativeFloat | None = None
+    range_max_m: PositiveFloat | None = None
+    range_stddev_m: NonNegativeFloat | None = Field(None, description="Gaussian range noise; default from the preset")
+    dropout: Probability = 0.0
+    organized: bool = False
+    motion_distortion: bool = False
+    water_returns: bool = Field(False, description="incidence-dependent returns from the ocean surface")
+    water_reflectivity: Annotated[float, Field(ge=0, le=1)] = 0.02
+    geometry: Literal["visual", "collision"] = "visual"
+    reflectivity: dict[str, Annotated[float, Field(ge=0, le=1)]] = Field(
+        default_factory=dict, description="per body name ('world' = static objects); default from colour"
+    )
+
+
+# -- cameras ---------------------------------------------------------------------------------------
+class Distortion(Section):
+    """Brown–Conrady (plumb_bob) coefficients on normalized image coordinates, published as D = [k1 k2 p1 p2 k3]."""
+
+    k1: float = 0.0
+    k2: float = 0.0
+    p1: float = 0.0
+    p2: float = 0.0
+    k3: float = 0.0
+
+
+class Camera(SensorBase):
+    """Pinhole camera rendered by MuJoCo: RGB (rgb8), depth (32FC1, metres along the optical z axis;
+    NaN = no surface within `far_m`) and segmentation (16UC1: geom id + 1, 0 = background). Looks along
+    +x of its mount (FLU); images are in `<vessel>/<name>_optical`."""
+
+    type: Literal["camera"]
+    width: Annotated[int, Field(ge=8, le=4096)] = 640
+    height: Annotated[int, Field(ge=8, le=4096)] = 480
+    horizontal_fov_deg: Annotated[float, Field(gt=1, lt=179)] = 80.0
+    near_m: PositiveFloat = 0.05
+    far_m: PositiveFloat = 400.0
+    streams: tuple_of(Literal["rgb", "depth", "segmentation"]) = ("rgb",)
+    distortion: Distortion = Distortion()
+    rgb_noise_stddev: NonNegativeFloat = Field(0.0, description="multiplicative Gaussian, out = in·(1 + σ n)")
+    depth_noise_stddev_m: NonNegativeFloat = 0.0
+    shadows: bool = False
+    fog: bool = False
+    water_surface: bool = Field(True, description="draw the wave surface from the ocean (else the flat plane)")
+
+    @model_validator(mode="after")
+    def _streams(self):
+        if not self.streams or len(set(self.streams)) != len(self.streams):
+            raise ValueError("streams must list each of rgb, depth, segmentation at most once (at least one)")
+        return self
+
+
+Sensor = Annotated[Imu | Odometry | Gnss | GroundTruth | Lidar | Camera, Field(discriminator="type")]
+Sensors = tuple_of(Sensor)

@@ -1,0 +1,1 @@
+"""Cameras: pinhole intrinsics + Brown–Conrady distortion, offscreen MuJoCo rendering, the sensor."""

@@ -1,0 +1,107 @@
+"""Pinhole intrinsics and Brown–Conrady (OpenCV plumb_bob) distortion, as published in CameraInfo.
+
+Pixel coordinates follow ROS/OpenCV: pixel (u, v) has its centre at integer (u, v), u right, v down, so
+the optical axis of a centred camera is at c = ((W-1)/2, (H-1)/2). Normalized coordinates (x, y) = (X/Z,
+Y/Z) in the optical frame. Distortion (k1, k2, p1, p2, k3), r² = x² + y²:
+  x_d = x (1 + k1 r² + k2 r⁴ + k3 r⁶) + 2 p1 x y + p2 (r² + 2 x²)
+  y_d = y (1 + k1 r² + k2 r⁴ + k3 r⁶) + p1 (r² + 2 y²) + 2 p2 x y
+and (u, v) = (fx x_d + cx, fy y_d + cy). The published image is the distorted one: it is made by
+rendering an ideal pinhole image (wide enough to cover every source ray) and remapping it.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+
+def distort(xy: np.ndarray, D) -> np.ndarray:
+    """Undistorted normalized points (n, 2) → distorted normalized points (plumb_bob D = k1, k2, p1, p2, k3)."""
+    k1, k2, p1, p2, k3 = D
+    x, y = xy[:, 0], xy[:, 1]
+    r2 = x * x + y * y
+    radial = 1 + r2 * (k1 + r2 * (k2 + r2 * k3))
+    return np.stack([x * radial + 2 * p1 * x * y + p2 * (r2 + 2 * x * x),
+                     y * radial + p1 * (r2 + 2 * y * y) + 2 * p2 * x * y], axis=1)  # fmt: skip
+
+
+def undistort(xy_d: np.ndarray, D, iterations: int = 20) -> np.ndarray:
+    """Inverse of `distort` by fixed-point iteration (as OpenCV's undistortPoints)."""
+    xy = xy_d.copy()
+    for _ in range(iterations):
+        xy = xy + (xy_d - distort(xy, D))
+    return xy
+
+
+@dataclass(frozen=True)
+class Intrinsics:
+    width: int
+    height: int
+    fx: float
+    fy: float
+    cx: float
+    cy: float
+    D: tuple[float, float, float, float, float] = (0.0, 0.0, 0.0, 0.0, 0.0)
+
+    @classmethod
+    def from_fov(cls, width: int, height: int, horizontal_fov_deg: float, D=(0.0,) * 5) -> Intrinsics:
+        """Square pixels, optical axis at the image centre."""
+        f = 0.5 * width / math.tan(math.radians(horizontal_fov_deg) / 2)
+        return cls(width, height, f, f, (width - 1) / 2, (height - 1) / 2, tuple(float(d) for d in D))
+
+    @property
+    def K(self) -> np.ndarray:
+        return np.array([[self.fx, 0.0, self.cx], [0.0, self.fy, self.cy], [0.0, 0.0, 1.0]])
+
+    @property
+    def distorted(self) -> bool:
+        return any(d != 0.0 for d in self.D)
+
+    def project(self, points_optical: np.ndarray) -> np.ndarray:
+        """Pixel coordinates (n, 2) of optical-frame points (n, 3) with Z > 0, distortion included."""
+        xy = distort(points_optical[:, :2] / points_optical[:, 2:3], self.D)
+        return np.stack([self.fx * xy[:, 0] + self.cx, self.fy * xy[:, 1] + self.cy], axis=1)
+
+    def rays(self) -> np.ndarray:
+        """Undistorted normalized coordinates (H, W, 2) of every output pixel's ray."""
+        v, u = np.mgrid[0 : self.height, 0 : self.width].astype(np.float64)
+        xy_d = np.stack([(u.ravel() - self.cx) / self.fx, (v.ravel() - self.cy) / self.fy], axis=1)
+        xy = undistort(xy_d, self.D) if self.distorted else xy_d
+        return xy.reshape(self.height, self.width, 2)
+
+
+class Remap:
+    """Distorted output image ← ideal pinhole render. `render` is the pinhole camera to draw (same size,
+    focal scaled down if needed so that every output ray falls inside it); `apply` samples it."""
+
+    def __init__(self, cam: Intrinsics):
+        self.cam = cam
+        xy = cam.rays()
+        reach_x = max(np.abs(xy[..., 0]).max() * cam.fx / max(cam.cx + 0.5, cam.width - cam.cx - 0.5), 1.0)
+        reach_y = max(np.abs(xy[..., 1]).max() * cam.fy / max(cam.cy + 0.5, cam.height - cam.cy - 0.5), 1.0)
+        scale = 1.0 / max(reach_x, reach_y) * 0.999
+        self.render = Intrinsics(cam.width, cam.height, cam.fx * scale, cam.fy * scale, cam.cx, cam.cy)
+        su = self.render.fx * xy[..., 0] + cam.cx  # source pixel coordinates in the pinhole render
+        sv = self.render.fy * xy[..., 1] + cam.cy
+        self.nearest = (np.clip(np.rint(sv), 0, cam.height - 1).astype(np.intp) * cam.width
+                        + np.clip(np.rint(su), 0, cam.width - 1).astype(np.intp)).ravel()  # fmt: skip
+        u0 = np.clip(np.floor(su), 0, cam.width - 2).astype(np.intp)
+        v0 = np.clip(np.floor(sv), 0, cam.height - 2).astype(np.intp)
+        fu, fv = (su - u0).clip(0, 1)[..., None], (sv - v0).clip(0, 1)[..., None]
+        base = v0 * cam.width + u0
+        self.corners = [base.ravel(), (base + 1).ravel(), (base + cam.width).ravel(), (base + cam.width + 1).ravel()]
+        self.weights = [((1 - fu) * (1 - fv)).reshape(-1, 1), (fu * (1 - fv)).reshape(-1, 1),
+                        ((1 - fu) * fv).reshape(-1, 1), (fu * fv).reshape(-1, 1)]  # fmt: skip
+        self.weights = [w.astype(np.float32) for w in self.weights]
+
+    def linear(self, image: np.ndarray) -> np.ndarray:
+        """Bilinear resampling of an (H, W, C) image (RGB)."""
+        flat = image.reshape(-1, image.shape[-1]).astype(np.float32)
+        out = sum(flat[c] * w for c, w in zip(self.corners, self.weights))
+        return out.reshape(image.shape).round().astype(image.dtype)
+
+    def closest(self, image: np.ndarray) -> np.ndarray:
+        """Nearest-pixel resampling (depth, labels): never blends two surfaces."""
+        return image.reshape(-1, *image.shape[2:])[self.nearest].reshape(image.shape)

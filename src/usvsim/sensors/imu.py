@@ -1,0 +1,69 @@
+"""IMU (sensor_msgs/Imu per REP 145), in the sensor frame `<vessel>/<name>` (FLU).
+
+- orientation: sensor frame w.r.t. world ENU (identity when level, facing east);
+- angular_velocity: body rate about the sensor axes, rad/s;
+- linear_acceleration: specific force f = a - g_vec (m/s^2), +g on z when level at rest.
+
+Acceleration choice: the mount point's world velocity v_p = v_o + ω × r is recorded after every
+physics step and differenced over the last step, a = (v_p,k - v_p,k-1) / dt. This is the acceleration
+MuJoCo's integrator actually applied over that step (its velocity update), so it is exact for the
+simulated motion at rest (f = (0, 0, g) to rounding) and includes the lever-arm terms (ω × (ω × r),
+α × r); it is the mean over the last step (dt = 1/physics_rate), not the instantaneous value at its end.
+It costs two small vector ops per step and needs no extra MuJoCo call (mj_rnePostConstraint/cacc
+would give the pre-step acceleration instead).
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from usvsim.core.transforms import quat_from_rpy, quat_multiply
+from usvsim.messages.envelope import Envelope
+from usvsim.sensors.base import Sensor, diagonal_covariance
+from usvsim.sensors.messages import imu_msg
+from usvsim.sensors.noise import TriadNoise
+
+if TYPE_CHECKING:
+    from usvsim.config.sensors import Imu as ImuConfig
+    from usvsim.simulation import Simulation
+
+
+class Imu(Sensor):
+    observes_every_step = True
+
+    def __init__(self, cfg: ImuConfig, vessel: str, sim: Simulation):
+        super().__init__(cfg, vessel, sim)
+        self.topic = cfg.topic or f"/{vessel}/{cfg.name}/data"
+        self.dt = sim.clock.dt
+        self.gravity = np.array([0.0, 0.0, -sim.g])
+        dt_sample = self.every * self.dt
+        self.gyro = TriadNoise(cfg.gyro_noise(), dt_sample, self.rng)
+        self.accel = TriadNoise(cfg.accel_noise(), dt_sample, self.rng)
+        self._v_prev = self._v_now = self._mount_velocity(sim)
+
+    def _mount_velocity(self, sim: Simulation) -> np.ndarray:
+        rot = sim.state.rot[self.body]
+        omega_world = rot @ sim.state.omega_body[self.body]
+        return sim.origin_velocity(self.body) + np.cross(omega_world, rot @ self.mount_pos)
+
+    def observe(self, sim: Simulation) -> None:
+        self._v_prev, self._v_now = self._v_now, self._mount_velocity(sim)
+
+    def true_values(self, sim: Simulation) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Exact (quaternion w,x,y,z w.r.t. ENU, gyro rad/s, specific force m/s^2), sensor frame."""
+        _, rot_sensor = self.pose_world(sim)
+        accel_world = (self._v_now - self._v_prev) / self.dt
+        gyro = self.mount_rot.T @ sim.state.omega_body[self.body]
+        return self.quat_world(sim), gyro, rot_sensor.T @ (accel_world - self.gravity)
+
+    def sample(self, sim: Simulation, stamp_ns: int) -> list[Envelope]:
+        quat, gyro, accel = self.true_values(sim)
+        sigma_q = self.cfg.orientation_stddev_rad
+        if sigma_q > 0:
+            quat = quat_multiply(quat, quat_from_rpy(*self.rng.normal(0.0, sigma_q, 3)))
+        msg = imu_msg(stamp_ns, self.frame_id, quat, self.gyro.apply(gyro), self.accel.apply(accel),
+                      diagonal_covariance(sigma_q**2), diagonal_covariance(self.gyro.variance),
+                      diagonal_covariance(self.accel.variance))  # fmt: skip
+        return [Envelope(self.topic, stamp_ns, msg)]

@@ -1,0 +1,1 @@
+"""LiDAR: scan patterns, Embree ray world, water handling, the sensor."""

@@ -1,0 +1,139 @@
+"""Spinning LiDAR → sensor_msgs/PointCloud2 (3D) or sensor_msgs/LaserScan (2D), frame `<vessel>/<name>` (FLU).
+
+Per scan: beam directions (pattern) → world rays from the mount pose → Embree nearest hits against all
+static and moving geometry (`RayWorld`) → hits below the water removed (optional water returns) →
+range limits [range_min, range_max] → Gaussian range noise → dropout. A missing return is +inf in a
+LaserScan (REP 117) and NaN in an organized cloud; unorganized clouds hold returns only.
+
+Intensity = reflectivity(geom) · |cos incidence|, in [0, 1]; reflectivity is the luminance of the geom's
+colour (clamped to [0.05, 1]) unless `reflectivity[<body name>]` ('world' for static objects) sets it.
+
+Timing: without motion distortion the whole sweep is taken at the sample instant (header stamp, point
+`time` 0). With `motion_distortion`, column c fires at stamp + c·T/N (T = 1/rate), the header stamp is the
+first column's time (the sweep ends at the sample tick) and each column is cast from the mount pose
+extrapolated back from the current velocity and body rates (first order); the world geometry is taken
+at the sample tick.
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from usvsim.messages.envelope import Envelope
+from usvsim.sensors.base import Sensor
+from usvsim.sensors.lidar import patterns
+from usvsim.sensors.lidar.scene import NO_HIT, RayWorld
+from usvsim.sensors.lidar.water import surface_hits, underwater
+from usvsim.sensors.messages import POINT_DTYPE, laser_scan_msg, point_cloud2_msg
+from usvsim.sensors.navigation import mount_velocity_world
+
+if TYPE_CHECKING:
+    from usvsim.simulation import Simulation
+
+GROUPS = {"visual": 1, "collision": 3}
+WATER = -2  # geom id of a water return
+
+
+def reflectivities(sim: Simulation, overrides: dict[str, float]) -> np.ndarray:
+    """Per MuJoCo geom reflectivity in [0.05, 1] (+ water at index WATER)."""
+    m = sim.model
+    luminance = m.geom_rgba[:, :3] @ np.array([0.2126, 0.7152, 0.0722])
+    refl = np.clip(luminance, 0.05, 1.0)
+    names = ["world", *sim.bodies]
+    for g in range(m.ngeom):
+        refl[g] = overrides.get(names[m.geom_bodyid[g]], refl[g])
+    return np.append(refl, [0.0, 0.0]).astype(np.float32)
+
+
+def rotations(rotvecs: np.ndarray) -> np.ndarray:
+    """Rotation matrices (n, 3, 3) of rotation vectors (n, 3) (Rodrigues)."""
+    angle = np.linalg.norm(rotvecs, axis=1)
+    axis = rotvecs / np.maximum(angle, 1e-15)[:, None]
+    k = np.zeros((len(rotvecs), 3, 3))
+    k[:, 0, 1], k[:, 0, 2], k[:, 1, 2] = -axis[:, 2], axis[:, 1], -axis[:, 0]
+    k -= k.transpose(0, 2, 1)
+    s, c = np.sin(angle)[:, None, None], np.cos(angle)[:, None, None]
+    return np.eye(3) + s * k + (1 - c) * (k @ k)
+
+
+class Lidar(Sensor):
+    def __init__(self, cfg, vessel: str, sim: Simulation, shared: dict):
+        super().__init__(cfg, vessel, sim)
+        self.pattern = p = patterns.resolve(cfg)
+        self.azimuths, self.increment = patterns.azimuths(p)
+        self.dirs_local = patterns.directions(p).reshape(-1, 3).astype(np.float32)  # row-major: ring, column
+        self._origins = np.empty_like(self.dirs_local)
+        self.channels, self.columns = len(p.elevations_deg), p.columns
+        self.ring = np.repeat(np.arange(self.channels, dtype=np.uint16), self.columns)
+        self.column = np.tile(np.arange(self.columns), self.channels)
+        self.topic = cfg.topic or f"/{vessel}/{cfg.name}/{'scan' if p.output == 'scan' else 'points'}"
+        key = f"rays/{cfg.geometry}"
+        if key not in shared:
+            shared[key] = RayWorld(sim, GROUPS[cfg.geometry])
+        self.world: RayWorld = shared[key]
+        self.reflectivity = reflectivities(sim, dict(cfg.reflectivity))
+        self.reflectivity[WATER] = cfg.water_reflectivity
+        self.sweep_s = self.every * sim.clock.dt
+
+    def _rays(self, sim: Simulation) -> tuple[np.ndarray, np.ndarray, int, np.ndarray]:
+        """World origins (n, 3), directions (n, 3), header stamp offset (ns), per-point time (s)."""
+        origin, rot = self.pose_world(sim)
+        if not self.cfg.motion_distortion:
+            self._origins[:] = origin
+            return self._origins, self.dirs_local @ rot.T.astype(np.float32), 0, np.zeros(len(self.ring), np.float32)
+        fire = np.arange(self.columns) * self.sweep_s / self.columns  # s after the first column
+        back = fire[-1] - fire  # how long before the sample tick each column fired
+        omega_sensor = self.mount_rot.T @ sim.state.omega_body[self.body]
+        rot_col = rot @ rotations(-back[:, None] * omega_sensor)  # (columns, 3, 3)
+        origin_col = origin - back[:, None] * mount_velocity_world(self, sim)
+        dirs = np.einsum("nij,nj->ni", rot_col[self.column].astype(np.float32), self.dirs_local)
+        return origin_col[self.column].astype(np.float32), dirs, -round(back[0] * 1e9), fire[self.column]
+
+    def measure(self, sim: Simulation) -> tuple[np.ndarray, np.ndarray, int, np.ndarray]:
+        """Ranges (n,) m with +inf for no return, intensities (n,), stamp offset ns, point times (n,) s."""
+        p, cfg = self.pattern, self.cfg
+        origins, dirs, offset_ns, times = self._rays(sim)
+        dist, geom, normal = self.world.cast(origins, dirs, p.range_max_m)
+        hit = np.flatnonzero(geom != NO_HIT)
+        cos_inc = np.zeros(len(dist), np.float32)
+        cos_inc[hit] = np.abs(np.einsum("ij,ij->i", dirs[hit], normal[hit]))
+        sunk = hit[underwater(sim.ocean, origins[hit] + dirs[hit] * dist[hit, None], sim.time)]
+        dist[sunk], geom[sunk] = np.inf, NO_HIT
+        if cfg.water_returns:
+            w_dist, w_cos = surface_hits(sim.ocean, origins, dirs, sim.time)
+            ret = (w_dist < dist) & (w_dist <= p.range_max_m) & (self.rng.random(len(dist)) < w_cos**2)
+            dist[ret], geom[ret], cos_inc[ret] = w_dist[ret], WATER, w_cos[ret]
+        valid = (dist >= p.range_min_m) & (dist <= p.range_max_m)  # False for +inf
+        if cfg.dropout > 0:
+            valid &= self.rng.random(len(dist)) >= cfg.dropout
+        keep = np.flatnonzero(valid)
+        if p.range_stddev_m > 0:
+            dist[keep] += self.rng.normal(0.0, p.range_stddev_m, len(keep)).astype(np.float32)
+        out = np.full(len(dist), np.inf, np.float32)
+        out[keep] = dist[keep]
+        intensity = np.zeros(len(dist), np.float32)
+        intensity[keep] = self.reflectivity[geom[keep]] * cos_inc[keep]
+        return out, intensity, offset_ns, times
+
+    def sample(self, sim: Simulation, stamp_ns: int) -> list[Envelope]:
+        dist, intensity, offset_ns, times = self.measure(sim)
+        stamp = stamp_ns + offset_ns
+        if self.pattern.output == "scan":
+            msg = laser_scan_msg(stamp, self.frame_id, self.azimuths[0], self.increment, dist, intensity,
+                                 self.pattern.range_min_m, self.pattern.range_max_m, self.sweep_s)  # fmt: skip
+            if self.cfg.motion_distortion:
+                msg.time_increment = float(self.sweep_s / self.columns)
+            return [Envelope(self.topic, stamp, msg)]
+        return [Envelope(self.topic, stamp, self.cloud(stamp, dist, intensity, times))]
+
+    def cloud(self, stamp_ns: int, dist: np.ndarray, intensity: np.ndarray, times: np.ndarray):
+        valid = np.isfinite(dist)
+        keep = slice(None) if self.cfg.organized else valid
+        pts = np.zeros(len(dist) if self.cfg.organized else int(valid.sum()), POINT_DTYPE)
+        xyz = self.dirs_local[keep] * np.where(valid, dist, np.nan)[keep, None]
+        pts["x"], pts["y"], pts["z"] = xyz[:, 0], xyz[:, 1], xyz[:, 2]
+        pts["intensity"], pts["ring"], pts["time"] = intensity[keep], self.ring[keep], times[keep]
+        height, width = (self.channels, self.columns) if self.cfg.organized else (1, len(pts))
+        return point_cloud2_msg(stamp_ns, self.frame_id, pts, height, width)

@@ -1,0 +1,99 @@
+"""Odometry, GNSS and ground-truth pose sensors.
+
+- `Odometry`: nav_msgs/Odometry of `<vessel>/base_link` in `<vessel>/odom` (the vessel's initial pose,
+  the same frame `GroundTruth` publishes as `world → <vessel>/odom`), twist in base_link, Gaussian noise
+  with its covariance filled in (6x6 over x, y, z, rotX, rotY, rotZ).
+- `Gnss`: sensor_msgs/NavSatFix of the antenna (mount point) from ENU through the scenario's geodetic
+  origin (pymap3d, WGS-84); optional ENU velocity (TwistWithCovarianceStamped, frame `world`) on the sibling topic `.../vel`.
+- `GroundTruthPose`: exact nav_msgs/Odometry of the sensor frame in `world`, twist in the sensor frame.
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+import numpy as np
+import pymap3d
+
+from usvsim.core.transforms import matrix_from_quat, quat_conjugate, quat_from_rpy, quat_multiply
+from usvsim.messages import ros
+from usvsim.messages.envelope import Envelope
+from usvsim.sensors.base import Sensor, gaussian
+from usvsim.sensors.messages import navsat_fix_msg, twist_cov_stamped_msg
+
+if TYPE_CHECKING:
+    from usvsim.simulation import Simulation
+
+_FIX_STATUS = {"no_fix": -1, "fix": 0, "sbas_fix": 1, "gbas_fix": 2}
+
+
+def mount_velocity_world(sensor: Sensor, sim: Simulation) -> np.ndarray:
+    """World (ENU) velocity of the sensor's mount point, m/s."""
+    rot = sim.state.rot[sensor.body]
+    return sim.origin_velocity(sensor.body) + np.cross(rot @ sim.state.omega_body[sensor.body], rot @ sensor.mount_pos)
+
+
+def _cov6(linear_var: float, angular_var: float) -> np.ndarray:
+    return np.diag([linear_var] * 3 + [angular_var] * 3)
+
+
+class Odometry(Sensor):
+    def __init__(self, cfg, vessel: str, sim: Simulation):
+        super().__init__(cfg, vessel, sim)
+        v = sim.vessels[vessel]
+        gt = getattr(sim, "ground_truth", None)
+        self.origin_pos, self.origin_quat = gt.odom_origin[vessel] if gt else (v.position, v.quat)
+        self.odom_frame, self.child_frame = f"{vessel}/odom", f"{vessel}/base_link"
+
+    def static_transforms(self) -> list:
+        return []  # odometry refers to base_link itself; GroundTruth owns world → odom and odom → base_link
+
+    def sample(self, sim: Simulation, stamp_ns: int) -> list[Envelope]:
+        c, v = self.cfg, sim.vessels[self.vessel]
+        inv = quat_conjugate(self.origin_quat)
+        pos = matrix_from_quat(inv) @ (v.position - self.origin_pos) + gaussian(self.rng, c.position_stddev_m)
+        quat = quat_multiply(inv, v.quat)
+        if c.orientation_stddev_rad > 0:
+            quat = quat_multiply(quat, quat_from_rpy(*self.rng.normal(0.0, c.orientation_stddev_rad, 3)))
+        lin = v.velocity_body + gaussian(self.rng, c.linear_velocity_stddev_mps)
+        ang = v.angular_velocity_body + gaussian(self.rng, c.angular_velocity_stddev_radps)
+        pose_cov = _cov6(c.position_stddev_m**2, c.orientation_stddev_rad**2)
+        twist_cov = _cov6(c.linear_velocity_stddev_mps**2, c.angular_velocity_stddev_radps**2)
+        msg = ros.odometry_msg(stamp_ns, self.odom_frame, self.child_frame, pos, quat, lin, ang, pose_cov, twist_cov)
+        return [Envelope(self.topic, stamp_ns, msg)]
+
+
+class Gnss(Sensor):
+    def __init__(self, cfg, vessel: str, sim: Simulation):
+        super().__init__(cfg, vessel, sim)
+        o = sim.scenario.world.origin
+        self.origin = (o.latitude_deg, o.longitude_deg, o.altitude_m)
+        self.topic = cfg.topic or f"/{vessel}/{cfg.name}/fix"
+        self.vel_topic = f"{self.topic.rsplit('/', 1)[0]}/vel"  # sibling of the fix topic
+
+    def lla(self, pos_enu: np.ndarray) -> tuple[float, float, float]:
+        """WGS-84 latitude, longitude (deg) and ellipsoidal altitude (m) of an ENU point."""
+        lat, lon, alt = pymap3d.enu2geodetic(*pos_enu, *self.origin)
+        return float(lat), float(lon), float(alt)
+
+    def sample(self, sim: Simulation, stamp_ns: int) -> list[Envelope]:
+        c = self.cfg
+        sigma = np.array([c.horizontal_stddev_m, c.horizontal_stddev_m, c.vertical_stddev_m])
+        pos, _ = self.pose_world(sim)
+        noisy = pos + (self.rng.normal(0.0, 1.0, 3) * sigma if sigma.any() else 0.0)
+        msg = navsat_fix_msg(stamp_ns, self.frame_id, self.lla(noisy), _FIX_STATUS[c.fix], sigma**2)
+        out = [Envelope(self.topic, stamp_ns, msg)]
+        if c.velocity:
+            vel = mount_velocity_world(self, sim) + gaussian(self.rng, c.velocity_stddev_mps)
+            cov = _cov6(c.velocity_stddev_mps**2, -1.0)  # angular part: not measured
+            out.append(Envelope(self.vel_topic, stamp_ns, twist_cov_stamped_msg(stamp_ns, "world", vel, np.zeros(3), cov)))
+        return out
+
+
+class GroundTruthPose(Sensor):
+    def sample(self, sim: Simulation, stamp_ns: int) -> list[Envelope]:
+        pos, rot = self.pose_world(sim)
+        lin = rot.T @ mount_velocity_world(self, sim)
+        ang = self.mount_rot.T @ sim.state.omega_body[self.body]
+        msg = ros.odometry_msg(stamp_ns, "world", self.frame_id, pos, self.quat_world(sim), lin, ang)
+        return [Envelope(self.topic, stamp_ns, msg)]

@@ -1,0 +1,103 @@
+"""`SensorSuite`: every sensor of every vessel, ticked once per physics step by the simulation.
+
+Wiring (in `Simulation`): build it after the vessels, ground truth and RNG exist, call `on_step(sim)`
+after `clock.tick()` and `_update_kinematics()`, and emit what it returns; put `static_transforms()` into
+the one `/tf_static` message together with GroundTruth's.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from typing import TYPE_CHECKING, Any
+
+from usvsim.core.errors import ScenarioError
+from usvsim.messages import ros
+from usvsim.messages.envelope import Envelope
+from usvsim.sensors.base import Sensor
+from usvsim.sensors.imu import Imu
+from usvsim.sensors.navigation import Gnss, GroundTruthPose, Odometry
+
+if TYPE_CHECKING:
+    from usvsim.simulation import Simulation
+
+
+def _lidar(cfg, vessel, sim, shared):
+    from usvsim.sensors.lidar.sensor import Lidar  # embreex is imported only when a LiDAR exists
+
+    return Lidar(cfg, vessel, sim, shared)
+
+
+def _camera(cfg, vessel, sim, shared):
+    from usvsim.sensors.camera.sensor import Camera  # MuJoCo GL is set up only when a camera exists
+
+    return Camera(cfg, vessel, sim, shared)
+
+
+def _plain(cls):
+    return lambda cfg, vessel, sim, shared: cls(cfg, vessel, sim)
+
+
+# YAML `type` → factory(cfg, vessel, sim, shared); `shared` holds per-suite resources (ray scenes, renderers)
+REGISTRY = {"imu": _plain(Imu), "odometry": _plain(Odometry), "gnss": _plain(Gnss),
+            "ground_truth": _plain(GroundTruthPose), "lidar": _lidar, "camera": _camera}  # fmt: skip
+
+
+class SensorSuite:
+    """All sensors, keyed `<vessel>/<name>`. `configs` maps vessel name → sensor configs; by default it is
+    read from each scenario vessel's `sensors` key."""
+
+    def __init__(self, sim: Simulation, configs: Mapping[str, Sequence[Any]] | None = None):
+        if configs is None:
+            configs = {v.name: getattr(v, "sensors", None) or () for v in sim.scenario.vessels}
+        self.sensors: dict[str, Sensor] = {}
+        self.shared: dict[str, Any] = {}
+        names = list(sim.vessels)
+        for vessel, cfgs in configs.items():
+            for k, cfg in enumerate(cfgs):
+                key = f"vessels[{names.index(vessel) if vessel in names else '?'}].sensors[{k}]"
+                self._add(sim, vessel, cfg, key)
+
+    def _add(self, sim: Simulation, vessel: str, cfg: Any, key: str) -> None:
+        source = getattr(sim.scenario, "_source", sim.scenario.name)
+        if vessel not in sim.vessels:
+            raise ScenarioError(source, key, f"no vessel named {vessel!r}")
+        name = f"{vessel}/{cfg.name}"
+        if name in self.sensors:
+            raise ScenarioError(source, f"{key}.name", f"sensor name {cfg.name!r} is used twice on {vessel!r}")
+        try:
+            self.sensors[name] = REGISTRY[cfg.type](cfg, vessel, sim, self.shared)
+        except ValueError as exc:  # rates that are not whole multiples of the physics step, bad patterns
+            field = "rate_hz" if "Hz" in str(exc) else ""
+            raise ScenarioError(source, f"{key}.{field}".rstrip("."), str(exc)) from None
+
+    def __getitem__(self, name: str) -> Sensor:
+        return self.sensors[name]
+
+    def __len__(self) -> int:
+        return len(self.sensors)
+
+    def on_step(self, sim: Simulation) -> list[Envelope]:
+        """Call after every physics step (after the clock tick): the messages due now, in sensor order."""
+        out: list[Envelope] = []
+        for sensor in self.sensors.values():
+            out += sensor.tick(sim)
+        return out
+
+    def static_transforms(self) -> list[Any]:
+        """Mount transforms (geometry_msgs/TransformStamped, stamp 0) for the one `/tf_static` message."""
+        return [t for s in self.sensors.values() for t in s.static_transforms()]
+
+    def static_envelope(self) -> Envelope | None:
+        """`/tf_static` with only the sensor mounts (prefer merging `static_transforms()` into one message)."""
+        transforms = self.static_transforms()
+        return Envelope("/tf_static", 0, ros.tf_message(transforms)) if transforms else None
+
+    def reset(self) -> None:
+        for sensor in self.sensors.values():
+            sensor.reset()
+
+    def close(self) -> None:
+        """Release thread pools and GL contexts."""
+        for resource in self.shared.values():
+            getattr(resource, "close", lambda: None)()
+        self.shared.clear()

@@ -1,0 +1,74 @@
+"""Drawing one viewer frame into the current GL context: scene, wave surface, points, inset, HUD.
+
+The same `FrameRenderer` serves the window (GLFW) and offscreen rendering (EGL, for screenshots and
+tests): the caller makes a GL context current and picks the framebuffer (`window=True` or offscreen).
+"""
+
+from __future__ import annotations
+
+import mujoco
+import numpy as np
+
+from usvsim.viewer.camera import CameraPose
+from usvsim.viewer.hud import HELP, overlay_columns
+from usvsim.viewer.layers import MAX_POINTS, add_points, draw_inset
+from usvsim.world.water_visual import update_water_visual
+
+VISIBLE_GROUPS = (0, 1, 1, 0, 0, 0)  # visuals and water; collision pieces (group 3) stay hidden
+
+
+class FrameRenderer:
+    """Scene + MuJoCo render context for one model. Create it with the GL context current."""
+
+    def __init__(self, model: mujoco.MjModel, window: bool = False, shadows: bool = False,
+                 reflections: bool = False, max_points: int = MAX_POINTS, multisample: bool = False,
+                 font_scale=mujoco.mjtFontScale.mjFONTSCALE_150):  # fmt: skip
+        self.model = model
+        self.max_points = max_points
+        self.scene = mujoco.MjvScene(model, maxgeom=model.ngeom + max_points + 200)
+        self.scene.flags[mujoco.mjtRndFlag.mjRND_SHADOW] = int(shadows)
+        self.scene.flags[mujoco.mjtRndFlag.mjRND_REFLECTION] = int(reflections)
+        self.option = mujoco.MjvOption()
+        self.option.geomgroup[:] = VISIBLE_GROUPS
+        self.option.flags[mujoco.mjtVisFlag.mjVIS_TENDON] = 1  # mooring lines
+        self.camera = mujoco.MjvCamera()
+        samples = model.vis.quality.offsamples
+        if not multisample:  # multisampling doubles the cost on a software renderer (llvmpipe)
+            model.vis.quality.offsamples = 0
+        self.context = mujoco.MjrContext(model, font_scale.value)
+        model.vis.quality.offsamples = samples
+        self.buffer = mujoco.mjtFramebuffer.mjFB_WINDOW if window else mujoco.mjtFramebuffer.mjFB_OFFSCREEN
+        mujoco.mjr_setBuffer(self.buffer, self.context)
+
+    def update_water(self, sim, center_xy) -> None:
+        """Re-sample the drawn wave surface from `sim.ocean` around `center_xy` and upload it."""
+        update_water_visual(sim, self.context, center_xy)
+
+    def draw(self, sim, viewport: mujoco.MjrRect, pose: CameraPose, hud_rows=None, points=None, inset=None,
+             help_text: str | None = HELP) -> None:  # fmt: skip
+        """Render the scene from `pose` with the optional layers; the caller swaps or reads the pixels."""
+        mujoco.mjr_setBuffer(self.buffer, self.context)
+        pose.apply(self.camera)
+        mujoco.mjv_updateScene(sim.model, sim.data, self.option, None, self.camera, mujoco.mjtCatBit.mjCAT_ALL.value,
+                               self.scene)  # fmt: skip
+        if points is not None and len(points):
+            add_points(self.scene, points, max_points=self.max_points)
+        mujoco.mjr_render(viewport, self.scene, self.context)
+        if inset is not None:
+            draw_inset(inset, viewport, self.context)
+        if hud_rows:
+            left, right = overlay_columns(hud_rows)
+            mujoco.mjr_overlay(mujoco.mjtFont.mjFONT_NORMAL, mujoco.mjtGridPos.mjGRID_TOPLEFT, viewport, left, right,
+                               self.context)  # fmt: skip
+        if help_text:
+            mujoco.mjr_overlay(mujoco.mjtFont.mjFONT_NORMAL, mujoco.mjtGridPos.mjGRID_BOTTOMLEFT, viewport, help_text,
+                               None, self.context)  # fmt: skip
+
+    def read_rgb(self, viewport: mujoco.MjrRect) -> np.ndarray:
+        """The drawn pixels (h, w, 3) uint8, top row first."""
+        rgb = np.empty((viewport.height, viewport.width, 3), dtype=np.uint8)
+        mujoco.mjr_readPixels(rgb, None, viewport, self.context)
+        return rgb[::-1].copy()
+
+    def free(self) -> None:
+        self.context.free()

@@ -1,0 +1,108 @@
+"""Cameras (MuJoCo EGL offscreen): CameraInfo consistency, projection within 1 px, depth vs LiDAR, noise."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from sensor_rig import make_sim, sensor_configs
+from test_lidar import BOX, _box_distance, _world_points
+
+from usvsim.sensors import SensorSuite
+from usvsim.sensors.base import OPTICAL_ROT
+from usvsim.sensors.camera.intrinsics import Intrinsics, distort, undistort
+
+MOUNT = {"position": [0.7, 0.0, 1.2], "yaw_deg": 5.0}
+DIST = {"k1": -0.15, "k2": 0.03, "p1": 0.001, "p2": -0.0015, "k3": 0.002}
+CAM = {"type": "camera", "width": 320, "height": 240, "horizontal_fov_deg": 70.0, "streams": ["rgb", "depth", "segmentation"],
+       "mount": MOUNT}  # fmt: skip
+
+
+@pytest.fixture(scope="module")
+def scene():
+    sim = make_sim(objects=(BOX,))
+    suite = SensorSuite(sim, {"wamv": sensor_configs({**CAM, "name": "pin"}, {**CAM, "name": "dist", "distortion": DIST},
+                                                     {"type": "lidar", "name": "lidar", "preset": "os1_128",
+                                                      "range_stddev_m": 0.0, "mount": MOUNT})})  # fmt: skip
+    sim.run(0.5)
+    yield sim, suite
+    suite.close()
+
+
+def _box_geom(sim):
+    return int(np.argmax((sim.model.geom_group == 1) & (np.abs(sim.model.geom_size[:, 1] - 2.0) < 1e-9))) + 1
+
+
+def _to_optical(cam, sim, world):
+    pos, rot = cam.pose_world(sim)
+    return (world - pos) @ (rot @ OPTICAL_ROT)
+
+
+def test_undistort_inverts_distort():
+    xy = np.random.default_rng(0).uniform(-0.6, 0.6, (1000, 2))
+    D = [DIST[k] for k in ("k1", "k2", "p1", "p2", "k3")]
+    assert np.abs(undistort(distort(xy, D), D) - xy).max() < 1e-9
+
+
+@pytest.mark.parametrize("name", ["pin", "dist"])
+def test_camera_info_and_projection_within_one_pixel(scene, name):
+    sim, suite = scene
+    cam = suite[f"wamv/{name}"]
+    envs = {e.topic: e for e in cam.sample(sim, sim.clock_ns)}
+    info = envs[f"/wamv/{name}/camera_info"].msg
+    seg_msg = envs[f"/wamv/{name}/segmentation/image_raw"].msg
+    assert info.distortion_model == "plumb_bob" and info.header.frame_id == "wamv/" + name + "_optical"
+    assert info.header.stamp == seg_msg.header.stamp and info.header.frame_id == seg_msg.header.frame_id
+    K, D = np.asarray(info.k).reshape(3, 3), np.asarray(info.d)
+    assert np.allclose(np.asarray(info.p).reshape(3, 4)[:, :3], K) and np.allclose(info.r, np.eye(3).ravel())
+    published = Intrinsics(info.width, info.height, K[0, 0], K[1, 1], K[0, 2], K[1, 2], tuple(D))
+    seg = np.frombuffer(bytes(seg_msg.data), np.uint16).reshape(info.height, info.width)
+    box = _box_geom(sim)
+    # points on the box's surface, from the LiDAR (independent ray caster), projected with the published info
+    lidar = suite["wamv/lidar"]
+    world, _ = _world_points(sim, lidar, lidar.sample(sim, 1)[0].msg)
+    world = world[_box_distance(world) < 1e-3]
+    uv = published.project(_to_optical(cam, sim, world))
+    inside = (uv[:, 0] > 1) & (uv[:, 0] < info.width - 2) & (uv[:, 1] > 1) & (uv[:, 1] < info.height - 2)
+    assert inside.sum() > 200
+    u, v = np.rint(uv[inside]).astype(int).T
+    window = np.stack([seg[v + dv, u + du] for dv in (-1, 0, 1) for du in (-1, 0, 1)])
+    assert (window == box).any(axis=0).all()  # every projected box point has a box pixel within 1 px
+
+
+@pytest.mark.parametrize("name", ["pin", "dist"])
+def test_depth_back_projected_matches_lidar_surface(scene, name):
+    sim, suite = scene
+    cam = suite[f"wamv/{name}"]
+    images = cam.render(sim)
+    depth, seg = images["depth"], images["segmentation"]
+    box = (seg == _box_geom(sim)) & np.isfinite(depth)
+    assert box.sum() > 500
+    xy = cam.intrinsics.rays()[box]
+    pts_opt = np.concatenate([xy, np.ones((len(xy), 1))], axis=1) * depth[box, None]
+    pos, rot = cam.pose_world(sim)
+    world = pts_opt @ (rot @ OPTICAL_ROT).T + pos
+    d = _box_distance(world)
+    assert np.percentile(d, 99) < 0.02 and np.median(d) < 0.005
+    sky = seg == 0
+    assert np.isnan(depth[sky & (np.arange(depth.shape[0])[:, None] < depth.shape[0] // 3)]).all()
+
+
+def test_noise_is_applied_and_seeded():
+    sim = make_sim(objects=(BOX,))
+    cams = sensor_configs({**CAM, "name": "clean", "streams": ["rgb", "depth"]},
+                          {**CAM, "name": "noisy", "streams": ["rgb", "depth"], "rgb_noise_stddev": 0.05,
+                           "depth_noise_stddev_m": 0.01})  # fmt: skip
+    suite = SensorSuite(sim, {"wamv": cams})
+    sim.step()
+    try:
+        a = {e.topic.split("/", 3)[-1]: e.msg for e in suite["wamv/clean"].sample(sim, 10)}
+        b = {e.topic.split("/", 3)[-1]: e.msg for e in suite["wamv/noisy"].sample(sim, 10)}
+    finally:
+        suite.close()
+    rgb_a, rgb_b = (np.frombuffer(bytes(m["image_raw"].data), np.uint8).astype(float) for m in (a, b))
+    assert a["image_raw"].encoding == "rgb8" and a["depth/image_raw"].encoding == "32FC1"
+    ratio = (rgb_b / np.maximum(rgb_a, 1))[rgb_a > 100]
+    assert ratio.std() == pytest.approx(0.05, rel=0.15)
+    da, db = (np.frombuffer(bytes(m["depth/image_raw"].data), np.float32) for m in (a, b))
+    ok = np.isfinite(da)
+    assert (db - da)[ok].std() == pytest.approx(0.01, rel=0.1)

@@ -1,0 +1,156 @@
+"""LiDAR: message conformance (REP 117, Nav2/slam_toolbox rules), geometry against a known box, water."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from sensor_rig import Collector, make_sim, sensor_configs
+
+from usvsim.config.sensors import Lidar as LidarConfig
+from usvsim.sensors import SensorSuite
+from usvsim.sensors.lidar import patterns
+from usvsim.sensors.messages import FLOAT32, UINT16, points_from_cloud
+
+BOX = {"type": "box", "name": "crate", "position": [9.0, 1.0, 0.5], "size": [2.0, 4.0, 3.0], "yaw_deg": 30.0}
+MOUNT = {"position": [0.7, 0.0, 1.2]}
+
+
+def _suite(*sensors, objects=(BOX,)):
+    sim = make_sim(objects=objects)
+    suite = SensorSuite(sim, {"wamv": sensor_configs(*sensors)})
+    sim.step()
+    return sim, suite
+
+
+def _world_points(sim, sensor, msg):
+    pts = points_from_cloud(msg).reshape(-1)
+    xyz = np.stack([pts["x"], pts["y"], pts["z"]], axis=1).astype(float)
+    pos, rot = sensor.pose_world(sim)
+    return xyz @ rot.T + pos, pts
+
+
+def _box_distance(points_world):
+    """Unsigned distance (m) of world points to the surface of BOX."""
+    c, half, yaw = np.array(BOX["position"]), np.array(BOX["size"]) / 2, math.radians(BOX["yaw_deg"])
+    rot = np.array([[math.cos(yaw), -math.sin(yaw), 0], [math.sin(yaw), math.cos(yaw), 0], [0, 0, 1]])
+    local = np.abs((points_world - c) @ rot)
+    outside = np.linalg.norm(np.maximum(local - half, 0.0), axis=1)
+    return np.where((local <= half).all(axis=1), (half - local).min(axis=1), outside)
+
+
+@pytest.mark.parametrize("stddev", [0.0, 0.01])
+def test_points_on_a_known_box_lie_on_its_faces(stddev):
+    sim, suite = _suite({"type": "lidar", "name": "lidar", "preset": "vlp16", "range_stddev_m": stddev, "mount": MOUNT})
+    lidar = suite["wamv/lidar"]
+    msg = lidar.sample(sim, sim.clock_ns)[0].msg
+    world, pts = _world_points(sim, lidar, msg)
+    near = np.linalg.norm(world[:, :2] - np.array(BOX["position"][:2]), axis=1) < 4.0
+    assert near.sum() > 100
+    d = _box_distance(world[near])
+    assert d.max() < 1e-3 + 4.5 * stddev  # float32 coordinates; 4.5 sigma over a few hundred points
+    assert world[:, 2].min() > -1e-3 or stddev > 0  # nothing from below the water surface
+    assert pts["intensity"][near].min() > 0 and pts["intensity"].max() <= 1.0
+
+
+def test_pointcloud2_layout_float32_ring_time_and_organized():
+    sim, suite = _suite({"type": "lidar", "name": "a", "preset": "os1_64", "columns": 512, "mount": MOUNT},
+                        {"type": "lidar", "name": "b", "preset": "os1_64", "columns": 512, "organized": True,
+                         "mount": MOUNT})  # fmt: skip
+    flat = suite["wamv/a"].sample(sim, 10)[0].msg
+    org = suite["wamv/b"].sample(sim, 10)[0].msg
+    fields = {f.name: (f.offset, f.datatype, f.count) for f in flat.fields}
+    assert fields == {"x": (0, FLOAT32, 1), "y": (4, FLOAT32, 1), "z": (8, FLOAT32, 1), "intensity": (12, FLOAT32, 1),
+                      "ring": (16, UINT16, 1), "time": (20, FLOAT32, 1)}  # fmt: skip
+    assert flat.height == 1 and flat.is_dense and flat.row_step == flat.point_step * flat.width
+    assert (org.height, org.width) == (64, 512) and not org.is_dense
+    grid = points_from_cloud(org)
+    assert np.isnan(grid["x"]).any() and np.all(grid["ring"] == np.arange(64)[:, None])
+    assert np.isfinite(grid["x"]).sum() == flat.width
+    assert not flat.is_bigendian and len(flat.data) == flat.width * flat.point_step
+
+
+def test_laser_scan_has_n_ranges_and_inf_for_no_return():
+    sim, suite = _suite({"type": "lidar", "name": "scan", "preset": "seed_2d", "rate_hz": 5, "mount": MOUNT})
+    scan = suite["wamv/scan"].sample(sim, 10)[0].msg
+    n = 8000
+    assert len(scan.ranges) == n == len(scan.intensities)
+    assert scan.angle_max == pytest.approx(scan.angle_min + (n - 1) * scan.angle_increment, abs=1e-6)
+    assert scan.angle_increment == pytest.approx(2 * math.pi / n) and scan.angle_min == pytest.approx(-math.pi)
+    ranges = np.asarray(scan.ranges)
+    assert np.isposinf(ranges).sum() > 0.5 * n and not np.isnan(ranges).any()
+    finite = ranges[np.isfinite(ranges)]
+    assert finite.min() >= scan.range_min and finite.max() <= scan.range_max
+    assert scan.scan_time == pytest.approx(0.2)
+
+
+def test_partial_fov_scan_edges():
+    cfg = LidarConfig(type="lidar", name="s", preset="custom", output="scan", channels=1, columns=256,
+                      horizontal_fov_deg=120.0, vertical_fov_deg=(0.0, 0.0))  # fmt: skip
+    az, inc = patterns.azimuths(patterns.resolve(cfg))
+    assert len(az) == 256 and az[0] == pytest.approx(-math.radians(60)) and az[-1] == pytest.approx(math.radians(60))
+
+
+def test_presets():
+    cases = {"vlp16": (16, 1800), "os1_64": (64, 2048), "os1_128": (128, 2048), "vrx": (16, 1875), "seed_3d": (16, 500)}
+    for preset, (ch, cols) in cases.items():
+        p = patterns.resolve(LidarConfig(type="lidar", name="l", preset=preset))
+        assert (len(p.elevations_deg), p.columns) == (ch, cols)
+    seed = patterns.resolve(LidarConfig(type="lidar", name="l", preset="seed_3d"))
+    assert seed.elevations_deg[0] == -39.375 and seed.elevations_deg[-1] == 45.0
+
+
+def test_water_gives_no_returns_by_default_and_some_with_the_option():
+    down = {"position": [0.7, 0.0, 1.2], "pitch_deg": 30.0}  # pitched down: the front half looks at the sea
+    lidar = {"type": "lidar", "preset": "vlp16", "columns": 360, "range_stddev_m": 0.0, "mount": down}
+    sim, suite = _suite({**lidar, "name": "dry"}, {**lidar, "name": "wet", "water_returns": True}, objects=())
+    dry, wet = (suite[f"wamv/{n}"] for n in ("dry", "wet"))
+    world_dry, _ = _world_points(sim, dry, dry.sample(sim, 10)[0].msg)
+    assert (world_dry[:, 2] > 0.05).all()  # only the boat itself, nothing at the water
+    world_wet, pts = _world_points(sim, wet, wet.sample(sim, 10)[0].msg)
+    water = np.abs(world_wet[:, 2]) < 1e-3
+    assert water.sum() > 100
+    assert 0 < pts["intensity"][water].min() and pts["intensity"][water].max() <= 0.02 + 1e-6  # ρ_water·cosθ
+
+
+def test_dropout_and_noise_statistics():
+    sim, suite = _suite({"type": "lidar", "name": "a", "preset": "vlp16", "mount": MOUNT},
+                        {"type": "lidar", "name": "b", "preset": "vlp16", "dropout": 0.3, "mount": MOUNT})  # fmt: skip
+    full = suite["wamv/a"].sample(sim, 10)[0].msg.width
+    dropped = suite["wamv/b"].sample(sim, 10)[0].msg.width
+    assert dropped / full == pytest.approx(0.7, abs=0.05)
+
+
+def test_rate_and_motion_distortion_timing():
+    sim = make_sim(objects=(BOX,))
+    cfgs = sensor_configs({"type": "lidar", "name": "l", "preset": "vlp16", "columns": 360, "rate_hz": 10,
+                           "motion_distortion": True, "mount": MOUNT})  # fmt: skip
+    suite = SensorSuite(sim, {"wamv": cfgs})
+    col = Collector(sim, suite).run(2.0)
+    got = col.by_topic["/wamv/l/points"]
+    assert len(got) == 20
+    now, env = got[-1]
+    assert env.stamp_ns == now - round(0.1 * 359 / 360 * 1e9)  # header = first column's firing time
+    t = points_from_cloud(env.msg)["time"]
+    assert t.min() >= 0.0 and t.max() == pytest.approx(0.1 * 359 / 360, abs=1e-6)
+
+
+def test_distortion_moves_points_of_a_turning_boat():
+    """A yawing boat: with distortion the early columns were cast from an earlier heading."""
+    sim = make_sim(objects=(BOX,))
+    base = {"type": "lidar", "name": "a", "preset": "vlp16", "columns": 720, "organized": True, "range_stddev_m": 0.0,
+            "mount": MOUNT}  # fmt: skip
+    suite = SensorSuite(sim, {"wamv": sensor_configs(base, {**base, "name": "b", "motion_distortion": True})})
+
+    def turn(sim):
+        for t in sim.vessels["wamv"].thrusters.values():
+            t.command(0.9 if "right" in t.name else -0.9)
+
+    sim.run(4.0, on_step=turn)
+    assert abs(sim.vessels["wamv"].angular_velocity_body[2]) > 0.05
+    a = points_from_cloud(suite["wamv/a"].sample(sim, 10)[0].msg)
+    b = points_from_cloud(suite["wamv/b"].sample(sim, 10)[0].msg)
+    both = np.isfinite(a["x"]) & np.isfinite(b["x"])
+    assert both.sum() > 50
+    assert not np.allclose(a["x"][both], b["x"][both], atol=1e-3)

@@ -1,0 +1,145 @@
+"""IMU (REP 145), odometry, GNSS and ground truth against closed-form or independent answers."""
+
+from __future__ import annotations
+
+import numpy as np
+import pymap3d
+import pytest
+from sensor_rig import make_sim, quat_angle, sensor_configs
+
+from usvsim.core.errors import ScenarioError
+from usvsim.core.transforms import matrix_from_quat, quat_multiply
+from usvsim.messages.ros import time_to_ns
+from usvsim.sensors import SensorSuite
+from usvsim.sensors.base import OPTICAL_QUAT, OPTICAL_ROT
+
+IMU_MOUNT = {"position": [0.4, -0.3, 1.0], "yaw_deg": 30.0}
+
+
+def _vec(v):
+    return np.array([v.x, v.y, v.z])
+
+
+def test_imu_at_rest_reads_plus_g_on_z(rig):
+    sim, suite, col = rig({"type": "imu", "name": "imu", "mount": {"position": [0.4, -0.3, 1.0]}},
+                          {"type": "imu", "name": "vrx", "preset": "vrx"})  # fmt: skip
+    col.run(15.0)  # settle at the floating equilibrium
+    quat, gyro, accel = suite["wamv/imu"].true_values(sim)
+    expected = matrix_from_quat(quat).T @ np.array([0.0, 0.0, sim.g])  # gravity reaction in the sensor frame
+    assert np.allclose(accel, expected, atol=2e-3)
+    assert accel[2] == pytest.approx(9.81, abs=0.01) and np.abs(gyro).max() < 1e-4
+    msgs = [e.msg for _, e in col.by_topic["/wamv/vrx/data"][-500:]]  # last 5 s at 100 Hz
+    acc = np.array([_vec(m.linear_acceleration) for m in msgs])
+    assert np.allclose(acc.mean(axis=0), [0.0, 0.0, 9.81], atol=0.12)  # within the VRX turn-on bias
+    assert np.allclose(acc.std(axis=0), 0.021, rtol=0.15)  # white noise sigma
+    assert msgs[-1].linear_acceleration_covariance[0] == pytest.approx(0.021**2)
+
+
+def test_gyro_integration_reproduces_attitude_change(rig):
+    sim, suite, col = rig({"type": "imu", "name": "imu", "rate_hz": 100, "mount": IMU_MOUNT})
+    col.run(2.0)
+    boat = sim.vessels["wamv"]
+    thrusters = list(boat.thrusters.values())
+    q0, q = suite["wamv/imu"].true_values(sim)[0], None
+    q = q0.copy()
+    start = len(col.by_topic["/wamv/imu/data"])
+    for _k in range(1000):  # 10 s turning hard: left thrusters back, right forward
+        for t in thrusters:
+            t.command(0.8 if "right" in t.name else -0.6)
+        sim.step()
+        col(sim)
+    for _, env in col.by_topic["/wamv/imu/data"][start:]:
+        w = _vec(env.msg.angular_velocity) * 0.01
+        angle = np.linalg.norm(w)
+        dq = np.concatenate([[np.cos(angle / 2)], np.sin(angle / 2) * w / max(angle, 1e-15)])
+        q = quat_multiply(q, dq)
+    q_true = suite["wamv/imu"].true_values(sim)[0]
+    assert np.degrees(quat_angle(q0, q_true)) > 20.0  # it really turned
+    assert np.degrees(quat_angle(q, q_true)) < 1.0
+
+
+def test_imu_vrx_bias_walks_and_streams_are_independent():
+    def readings(extra):
+        sim = make_sim(seed=3)
+        cfgs = sensor_configs({"type": "imu", "name": "imu", "preset": "vrx"}, *extra)
+        suite = SensorSuite(sim, {"wamv": cfgs})
+        out = []
+        sim.run(1.0, on_step=lambda s: out.extend(e.msg.angular_velocity.x for e in suite.on_step(s) if "imu" in e.topic))
+        return np.array(out), suite["wamv/imu"]
+
+    a, imu = readings([])
+    b, _ = readings([{"type": "gnss", "name": "gps", "horizontal_stddev_m": 1.0}])
+    assert np.array_equal(a, b)  # adding a sensor does not change another sensor's noise
+    assert np.any(imu.gyro.walk != 0.0) and np.any(imu.gyro.turn_on != 0.0)
+
+
+def test_gnss_without_noise_converts_back_to_enu_within_1mm(rig):
+    pose = {"position": [812.0, -1534.0, 0.0], "yaw_deg": 70.0}
+    sim, suite, col = rig({"type": "gnss", "name": "gps", "rate_hz": 10, "velocity": True,
+                           "mount": {"position": [-1.0, 0.5, 1.3]}}, vessel_pose=pose)  # fmt: skip
+    col.run(3.0)
+    fix = col.by_topic["/wamv/gps/fix"][-1][1].msg
+    o = sim.scenario.world.origin
+    enu = pymap3d.geodetic2enu(fix.latitude, fix.longitude, fix.altitude, o.latitude_deg, o.longitude_deg, o.altitude_m)
+    truth, _ = suite["wamv/gps"].pose_world(sim)
+    assert np.linalg.norm(np.array(enu) - truth) < 1e-3
+    assert fix.status.status == 0 and fix.position_covariance_type == 0
+    vel = col.by_topic["/wamv/gps/vel"][-1][1].msg
+    assert vel.header.frame_id == "world"
+
+
+def test_gnss_noise_statistics(rig):
+    sim, suite, col = rig({"type": "gnss", "name": "gps", "rate_hz": 50, "horizontal_stddev_m": 2.0,
+                           "vertical_stddev_m": 4.0})  # fmt: skip
+    col.run(10.0)
+    o = sim.scenario.world.origin
+    fixes = [e.msg for _, e in col.by_topic["/wamv/gps/fix"]]
+    enu = np.array([pymap3d.geodetic2enu(f.latitude, f.longitude, f.altitude, o.latitude_deg, o.longitude_deg,
+                                         o.altitude_m) for f in fixes])  # fmt: skip
+    truth, _ = suite["wamv/gps"].pose_world(sim)
+    std = (enu - truth).std(axis=0)
+    assert np.allclose(std, [2.0, 2.0, 4.0], rtol=0.2)
+    assert fixes[0].position_covariance[0] == pytest.approx(4.0) and fixes[0].position_covariance_type == 2
+
+
+@pytest.mark.parametrize("latency_s", [0.0, 0.05])
+def test_rates_in_simulation_time_and_latency(rig, latency_s):
+    sensors = [{"type": "imu", "name": "imu", "rate_hz": 100, "latency_s": latency_s},
+               {"type": "odometry", "name": "odom", "rate_hz": 50, "latency_s": latency_s},
+               {"type": "gnss", "name": "gps", "rate_hz": 5, "latency_s": latency_s},
+               {"type": "ground_truth", "name": "truth", "rate_hz": 20, "latency_s": latency_s}]  # fmt: skip
+    sim, suite, col = rig(*sensors)
+    col.run(60.0)
+    for topic, rate in [("/wamv/imu/data", 100), ("/wamv/odom", 50), ("/wamv/gps/fix", 5), ("/wamv/truth", 20)]:
+        got = col.by_topic[topic]
+        assert abs(len(got) - 60 * rate) <= 1 + round(latency_s * rate), topic  # the last ones are still in flight
+        stamps = np.array([env.stamp_ns for _, env in got])
+        assert np.all(np.diff(stamps) == 1e9 / rate)
+        assert all(now - env.stamp_ns == round(latency_s * 1e9) for now, env in got)
+        assert all(time_to_ns(env.msg.header.stamp) == env.stamp_ns for _, env in got[:5])
+
+
+def test_static_transforms_and_frames(rig):
+    sim, suite, _ = rig({"type": "imu", "name": "imu", "mount": IMU_MOUNT})
+    (tf,) = suite.static_transforms()
+    assert (tf.header.frame_id, tf.child_frame_id) == ("wamv/base_link", "wamv/imu")
+    assert tf.transform.translation.x == pytest.approx(0.4)
+    assert np.allclose(matrix_from_quat(OPTICAL_QUAT), OPTICAL_ROT)
+    assert suite.static_envelope().topic == "/tf_static"
+
+
+def test_odometry_noise_and_covariance(rig):
+    sim, suite, col = rig({"type": "odometry", "name": "odom", "rate_hz": 50, "position_stddev_m": 0.1,
+                           "linear_velocity_stddev_mps": 0.05})  # fmt: skip
+    col.run(10.0)
+    msgs = [e.msg for _, e in col.by_topic["/wamv/odom"]]
+    assert msgs[0].header.frame_id == "wamv/odom" and msgs[0].child_frame_id == "wamv/base_link"
+    xs = np.array([m.pose.pose.position.x for m in msgs[-250:]])
+    assert xs.std() == pytest.approx(0.1, rel=0.2)
+    assert msgs[0].pose.covariance[0] == pytest.approx(0.01) and msgs[0].twist.covariance[7] == pytest.approx(0.0025)
+
+
+def test_bad_rate_is_a_scenario_error():
+    sim = make_sim()
+    with pytest.raises(ScenarioError, match=r"sensors\[0\]\.rate_hz"):
+        SensorSuite(sim, {"wamv": sensor_configs({"type": "imu", "name": "imu", "rate_hz": 33})})

@@ -1,0 +1,62 @@
+"""Scripts the rendering tests run in a fresh interpreter (the GL platform is chosen when MuJoCo loads).
+
+python render_scripts.py offscreen OUT.png     # MUJOCO_GL=egl: waves, HUD, points and inset
+python render_scripts.py lap OUT.png           # DISPLAY=...: the windowed viewer drives the harbour lap
+"""
+
+from __future__ import annotations
+
+import json
+import sys
+
+import numpy as np
+
+
+def synthetic_inset() -> np.ndarray:
+    image = np.zeros((120, 160, 3), dtype=np.uint8)
+    image[:, :80] = (255, 0, 0)
+    image[:, 80:] = (0, 255, 0)
+    return image
+
+
+def offscreen(out: str) -> None:
+    from usvsim.simulation import Simulation
+    from usvsim.viewer.demo import harbor_with_waves
+    from usvsim.viewer.offscreen import OffscreenViewer
+
+    sim = Simulation(harbor_with_waves())
+    for _ in range(300):
+        sim.vessels["wamv"].command(0.8, 0.0)
+        sim.step()
+    boat = sim.vessels["wamv"].position
+    ring = np.linspace(0, 2 * np.pi, 400, endpoint=False)
+    points = np.stack(
+        [boat[0] + 6 * np.cos(ring), boat[1] + 6 * np.sin(ring), np.full_like(ring, 1.0)], axis=1
+    )
+    viewer = OffscreenViewer(sim, 1280, 720)
+    viewer.view.points, viewer.view.inset = points, synthetic_inset()
+    viewer.save(out)
+    viewer.view.points = viewer.view.inset = None
+    viewer.view.show_hud = False
+    plain = out.replace(".png", "_plain.png")
+    viewer.save(plain)
+    viewer.close()
+    print(json.dumps({"frame": out, "plain": plain}))
+
+
+def lap(out: str) -> None:
+    from usvsim.simulation import Simulation
+    from usvsim.viewer.app import run_viewer
+    from usvsim.viewer.demo import HARBOR_LAP, HARBOR_LAP_SECONDS
+
+    sim = Simulation.from_scenario("harbor")
+    boat = sim.vessels["wamv"]
+    start, track = boat.position[:2].copy(), []
+    stats = run_viewer(sim, script=HARBOR_LAP, max_seconds=HARBOR_LAP_SECONDS, screenshot=out, time_scale=4.0,
+                       points=lambda s: track.append(s.vessels["wamv"].position.copy()) or np.array(track))  # fmt: skip
+    stats.update(start=start.tolist(), track=[p[:2].tolist() for p in track], sim_time=sim.time)
+    print(json.dumps(stats))
+
+
+if __name__ == "__main__":
+    {"offscreen": offscreen, "lap": lap}[sys.argv[1]](sys.argv[2])
