@@ -37,10 +37,14 @@ class Directed(Section):
 
 
 class FFTRealization(Section):
-    """FFT tiles (cascades); tile sizes default to 10 peak wavelengths, each next one 7.3 times smaller."""
+    """FFT tiles (cascades); tile sizes default to 10 peak wavelengths, each next one 7.3 times smaller.
+
+    `resolution` trades accuracy for speed: every physics step updates 3 bands of N x N height and
+    velocity spectra. One WAM-V on this 2-core machine: N = 64 runs ~13x real time, 128 ~3.5x,
+    256 ~0.6x (bilinear error between tile vertices ~1.4 % of sigma at 256, ~4x that at 128)."""
 
     method: Literal["fft"] = "fft"
-    resolution: Resolution = 256
+    resolution: Resolution = 128
     tile_sizes_m: tuple_of(PositiveFloat) | None = None
     bands: Annotated[int, Field(ge=1, le=6)] = 3
     gaussian_amplitudes: bool = False

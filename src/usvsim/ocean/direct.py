@@ -14,6 +14,7 @@ import numpy as np
 from numba import njit, prange
 
 from usvsim.ocean.components import WaveComponents
+from usvsim.ocean.dispatch import pick, serial_and_parallel
 from usvsim.ocean.field import WaveField, as_points
 
 
@@ -43,8 +44,7 @@ def _evaluate(x0, y0, t, amp, kx, ky, om, ph, qx, qy, s):
     return X, Y, z, j00, j01, j11, zx, zy
 
 
-@njit(cache=True, parallel=True)
-def _invert(px, py, t, amp, kx, ky, om, ph, qx, qy, s, tol, max_iter, x0_out, y0_out, z_out, it_out):
+def _invert_impl(px, py, t, amp, kx, ky, om, ph, qx, qy, s, tol, max_iter, x0_out, y0_out, z_out, it_out):
     """Newton inversion per point; writes labels, height and iteration count."""
     for p in prange(px.shape[0]):
         x0 = px[p]
@@ -70,8 +70,7 @@ def _invert(px, py, t, amp, kx, ky, om, ph, qx, qy, s, tol, max_iter, x0_out, y0
         it_out[p] = it
 
 
-@njit(cache=True, parallel=True)
-def _displaced(x0, y0, t, amp, kx, ky, om, ph, qx, qy, s, out, normals):
+def _displaced_impl(x0, y0, t, amp, kx, ky, om, ph, qx, qy, s, out, normals):
     """Displaced surface points and unit normals at labels (x0, y0)."""
     for p in prange(x0.shape[0]):
         X, Y, z, j00, j01, j11, zx, zy = _evaluate(x0[p], y0[p], t, amp, kx, ky, om, ph, qx, qy, s)
@@ -98,8 +97,7 @@ def _profiles(k, z, depth):
     return math.cosh(k * (z + depth)) / sh, math.sinh(k * (z + depth)) / sh
 
 
-@njit(cache=True, parallel=True)
-def _kinematics(x0, y0, zeff, t, amp, kx, ky, om, ph, s, depth, vel, acc):
+def _kinematics_impl(x0, y0, zeff, t, amp, kx, ky, om, ph, s, depth, vel, acc):
     """Orbital velocity and acceleration (ENU) of linear waves, phases at labels, depth factors at zeff."""
     for p in prange(x0.shape[0]):
         u = v = w = au = av = aw = 0.0
@@ -135,6 +133,11 @@ def naive_elevation_kernel(px, py, t, amp, kx, ky, om, ph, s, out):
         out[p] = s * z
 
 
+INVERT = serial_and_parallel(_invert_impl)
+DISPLACED = serial_and_parallel(_displaced_impl)
+KINEMATICS = serial_and_parallel(_kinematics_impl)
+
+
 class DirectWaveField(WaveField):
     """A sea given by explicit components, queried exactly anywhere (no tiles, no repetition).
 
@@ -165,7 +168,7 @@ class DirectWaveField(WaveField):
         px, py = as_points(x, y)
         x0, y0, z = np.empty_like(px), np.empty_like(px), np.empty_like(px)
         iters = np.empty(px.shape, dtype=np.int64)
-        _invert(px, py, float(t), *self._args, self.ramp(t), self.tol, self.max_iter, x0, y0, z, iters)
+        pick(INVERT, len(px))(px, py, float(t), *self._args, self.ramp(t), self.tol, self.max_iter, x0, y0, z, iters)
         return (x0, y0, z, iters) if return_iterations else (x0, y0, z)
 
     def naive_elevation(self, x, y, t: float) -> np.ndarray:
@@ -186,7 +189,7 @@ class DirectWaveField(WaveField):
     def _displaced(self, x0, y0, t):
         x0, y0 = as_points(x0, y0)
         out, normals = np.empty((len(x0), 3)), np.empty((len(x0), 3))
-        _displaced(x0, y0, float(t), *self._args, self.ramp(t), out, normals)
+        pick(DISPLACED, len(x0))(x0, y0, float(t), *self._args, self.ramp(t), out, normals)
         return out, normals
 
     def kinematics(self, x, y, z, t: float) -> tuple[np.ndarray, np.ndarray]:
@@ -203,7 +206,7 @@ class DirectWaveField(WaveField):
         else:
             zeff = np.clip((pz - eta) * self.depth / (self.depth + eta), -self.depth, 0.0)
         vel, acc = np.empty((len(px), 3)), np.empty((len(px), 3))
-        _kinematics(x0, y0, zeff, float(t), *self._args[:5], self.ramp(t), self.depth, vel, acc)
+        pick(KINEMATICS, len(x0))(x0, y0, zeff, float(t), *self._args[:5], self.ramp(t), self.depth, vel, acc)
         return vel, acc
 
     def velocity(self, x, y, z, t: float) -> np.ndarray:

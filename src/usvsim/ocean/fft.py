@@ -21,6 +21,7 @@ import scipy.fft
 
 from usvsim.ocean import fft_kernels as kern
 from usvsim.ocean.components import WaveComponents
+from usvsim.ocean.dispatch import pick
 from usvsim.ocean.field import WaveField, as_points
 from usvsim.ocean.spectra import G, cos2s
 
@@ -155,14 +156,14 @@ class FFTWaveField(WaveField):
         x0, y0, z = np.empty_like(px), np.empty_like(px), np.empty_like(px)
         iters = np.empty(px.shape, dtype=np.int64)
         args = (self._geo, self.inv_cells, self.ramp(t), self.choppiness, self.tol, self.max_iter)
-        kern.invert(px, py, *args, x0, y0, z, iters)
+        pick(kern.INVERT, len(px))(px, py, *args, x0, y0, z, iters)
         return (x0, y0, z, iters) if return_iterations else (x0, y0, z)
 
     def _surface(self, x0, y0, t):
         x0, y0 = as_points(x0, y0)
         self.update(t)
         out, normals = np.empty((len(x0), 3)), np.empty((len(x0), 3))
-        kern.surface_points(x0, y0, self._geo, self.inv_cells, self.ramp(t), self.choppiness, out, normals)
+        pick(kern.SURFACE_POINTS, len(x0))(x0, y0, self._geo, self.inv_cells, self.ramp(t), self.choppiness, out, normals)
         return out, normals
 
     def displaced_surface(self, x0, y0, t: float) -> np.ndarray:
@@ -184,7 +185,7 @@ class FFTWaveField(WaveField):
         self.update_kinematics(t)
         zeff = np.minimum(pz - eta, 0.0)
         vel, acc = np.empty((len(px), 3)), np.empty((len(px), 3))
-        kern.sample_kinematics(
+        pick(kern.SAMPLE_KINEMATICS, len(x0))(
             x0, y0, zeff, self._geo, self._kin, self.inv_cells, self.decay_k, self.ramp(t), vel, acc
         )
         return vel, acc

@@ -12,6 +12,8 @@ import math
 
 from numba import njit, prange
 
+from usvsim.ocean.dispatch import serial_and_parallel
+
 
 @njit(cache=True, inline="always")
 def _pair(amp, omega, b, iy, ix, jy, jx, t):
@@ -29,7 +31,7 @@ def _rows(n, iy):
     return n // 2 + 1 if iy == 0 or iy == n // 2 else n
 
 
-@njit(cache=True, parallel=True)
+@njit(cache=True)
 def geometry_spectra(amp, omega, khx, khy, t, out):
     """Write the geometry spectra of every band at time t into out[b, 0:2] (see module docstring).
 
@@ -52,7 +54,7 @@ def geometry_spectra(amp, omega, khx, khy, t, out):
                 out[b, 1, jy, jx] = 1j * hy * h.conjugate() + 1j * g.conjugate()
 
 
-@njit(cache=True, parallel=True)
+@njit(cache=True)
 def kinematic_spectra(amp, omega, khx, khy, t, out):
     """Write the kinematics spectra of every band at time t into out[b, 0:3] (see module docstring)."""
     nb, n = amp.shape[0], amp.shape[1]
@@ -124,8 +126,7 @@ def _evaluate(geo, inv_cells, x0, y0, s, chop):
     return X, Y, z, jxx, jxy, jyx, jyy
 
 
-@njit(cache=True, parallel=True)
-def invert(px, py, geo, inv_cells, s, chop, tol, max_iter, x0_out, y0_out, z_out, it_out):
+def _invert(px, py, geo, inv_cells, s, chop, tol, max_iter, x0_out, y0_out, z_out, it_out):
     """Newton inversion of X(x0) = p on the interpolated tiles; fixed-point step where det J ≤ 1e-3."""
     for p in prange(px.shape[0]):
         x0 = px[p]
@@ -151,8 +152,7 @@ def invert(px, py, geo, inv_cells, s, chop, tol, max_iter, x0_out, y0_out, z_out
         it_out[p] = it
 
 
-@njit(cache=True, parallel=True)
-def surface_points(x0, y0, geo, inv_cells, s, chop, out, normals):
+def _surface_points(x0, y0, geo, inv_cells, s, chop, out, normals):
     """Displaced points and unit normals (of the interpolated surface) at labels (x0, y0)."""
     mask = geo.shape[2] - 1
     for p in prange(x0.shape[0]):
@@ -183,8 +183,7 @@ def _lerp(tiles, b, slot, iy0, iy1, ix0, ix1, fx, fy):
     return top * (1 - fy) + bottom * fy
 
 
-@njit(cache=True, parallel=True)
-def sample_kinematics(x0, y0, zeff, geo, kin, inv_cells, decay_k, s, vel, acc):
+def _sample_kinematics(x0, y0, zeff, geo, kin, inv_cells, decay_k, s, vel, acc):
     """Bilinear velocity/acceleration at labels, each band attenuated by exp(κ_b z') (deep water)."""
     mask = geo.shape[2] - 1
     for p in prange(x0.shape[0]):
@@ -203,3 +202,9 @@ def sample_kinematics(x0, y0, zeff, geo, kin, inv_cells, decay_k, s, vel, acc):
             acc[p, 0] += f * axy.real
             acc[p, 1] += f * axy.imag
             acc[p, 2] += f * az.real
+
+
+# Per-point kernels: (serial, parallel) pairs, chosen by batch size with `dispatch.pick`.
+INVERT = serial_and_parallel(_invert)
+SURFACE_POINTS = serial_and_parallel(_surface_points)
+SAMPLE_KINEMATICS = serial_and_parallel(_sample_kinematics)

@@ -12,12 +12,12 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit, prange
+from numba import njit
 
 from usvsim.ocean.field import as_points
 
 
-@njit(cache=True, parallel=True)
+@njit(cache=True)
 def interpolate_patch(px, py, x_min, y_min, cell_x, cell_y, heights, out):
     """Piecewise-linear height on the patch triangles; heights[j, i] at (x_min + i·cell_x, y_min + j·cell_y).
 
@@ -26,7 +26,7 @@ def interpolate_patch(px, py, x_min, y_min, cell_x, cell_y, heights, out):
     """
     nj, ni = heights.shape[0] - 1, heights.shape[1] - 1
     outside = 0
-    for p in prange(px.shape[0]):
+    for p in range(px.shape[0]):
         u = (px[p] - x_min) / cell_x
         v = (py[p] - y_min) / cell_y
         if not (0.0 <= u <= ni and 0.0 <= v <= nj):
