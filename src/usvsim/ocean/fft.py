@@ -133,14 +133,14 @@ class FFTWaveField(WaveField):
     def update(self, t: float) -> None:
         """Recompute the geometry tiles (h, Dx, Dy, w) of every band for time t (s)."""
         if self._geo_t != t:
-            kern.geometry_spectra(self._amp, self._omega, self._khx, self._khy, float(t), self._geo)
+            pick(kern.GEOMETRY_SPECTRA, self._amp.size)(self._amp, self._omega, self._khx, self._khy, float(t), self._geo)
             self._geo = scipy.fft.ifft2(self._geo, norm="forward", workers=-1, overwrite_x=True)
             self._geo_t = t
 
     def update_kinematics(self, t: float) -> None:
         """Recompute the velocity/acceleration tiles for time t (only needed by `kinematics`)."""
         if self._kin_t != t:
-            kern.kinematic_spectra(self._amp, self._omega, self._khx, self._khy, float(t), self._kin)
+            pick(kern.KINEMATIC_SPECTRA, self._amp.size)(self._amp, self._omega, self._khx, self._khy, float(t), self._kin)
             self._kin = scipy.fft.ifft2(self._kin, norm="forward", workers=-1, overwrite_x=True)
             self._kin_t = t
 

@@ -31,8 +31,7 @@ def _rows(n, iy):
     return n // 2 + 1 if iy == 0 or iy == n // 2 else n
 
 
-@njit(cache=True)
-def geometry_spectra(amp, omega, khx, khy, t, out):
+def _geometry_spectra(amp, omega, khx, khy, t, out):
     """Write the geometry spectra of every band at time t into out[b, 0:2] (see module docstring).
 
     Each (k, -k) pair is evaluated once (one sine and cosine per pair); bins without amplitude are zeroed.
@@ -54,8 +53,7 @@ def geometry_spectra(amp, omega, khx, khy, t, out):
                 out[b, 1, jy, jx] = 1j * hy * h.conjugate() + 1j * g.conjugate()
 
 
-@njit(cache=True)
-def kinematic_spectra(amp, omega, khx, khy, t, out):
+def _kinematic_spectra(amp, omega, khx, khy, t, out):
     """Write the kinematics spectra of every band at time t into out[b, 0:3] (see module docstring)."""
     nb, n = amp.shape[0], amp.shape[1]
     for b in range(nb):
@@ -204,7 +202,9 @@ def _sample_kinematics(x0, y0, zeff, geo, kin, inv_cells, decay_k, s, vel, acc):
             acc[p, 2] += f * az.real
 
 
-# Per-point kernels: (serial, parallel) pairs, chosen by batch size with `dispatch.pick`.
+# (serial, parallel) kernel pairs, chosen by batch size (points or spectrum bins) with `dispatch.pick`.
+GEOMETRY_SPECTRA = serial_and_parallel(_geometry_spectra)
+KINEMATIC_SPECTRA = serial_and_parallel(_kinematic_spectra)
 INVERT = serial_and_parallel(_invert)
 SURFACE_POINTS = serial_and_parallel(_surface_points)
 SAMPLE_KINEMATICS = serial_and_parallel(_sample_kinematics)
