@@ -1,14 +1,18 @@
 """Hydro model kernels: µs per call against a plain-NumPy baseline measured in the same run, and the seed.
 
     python benchmarks/bench_hydro_models.py
-Workloads (one core, numba kernels are serial):
+Workloads (one core unless stated; numba kernels are serial unless stated):
 1. Kerner full set (viscous, pressure/suction, slamming, air) on a 5120-triangle hull half under
    water, moving and turning, with per-vertex water velocities; also with the hydrostatics added.
    Baseline: NumPy over whole triangles (no cutting: faces with a submerged centroid count whole,
    the rest get air drag) — less work than the kernel, so its ratio understates the speed-up.
 2. Voxel buoyancy with cutting, 4140 voxels (R = 0.5 m sphere, s = 0.05 m, the seed's 4154 case):
    centre transform + kernel. Baseline: the same arithmetic vectorized in NumPy.
-3. 100 hulls of 396 triangles each under Kerner forces (hydrostatics + all Kerner terms), one call.
+3. 100 hulls of 396 triangles each under Kerner forces (hydrostatics + all Kerner terms), one call;
+   the whole step and the Kerner share, with the Kerner bodies on 1 thread and on 2 threads
+   (KernerForces(parallel=True), prange over bodies; hydrostatics stays serial).
+Previous implementation (per-face pow, normals by division, no per-body bounds; this machine,
+benchmarks/results/hydro_models.json before the rewrite): Kerner 5120 292 µs, fleet step 3004 µs.
 Seed (Unity/C#, seed-repository.md §6, hardware unknown): triangle submersion 5120 tris 4787 µs;
 voxel cut 4154 voxels 954 µs, not cut 879 µs.
 Writes benchmarks/results/hydro_models.json.
@@ -22,6 +26,10 @@ import platform
 import time
 from pathlib import Path
 
+# OpenMP threads sleep at barriers instead of spinning: on a shared 2-core machine a spinning
+# worker waiting for a descheduled one made the 2-thread fleet step ~10x slower (set before numba).
+os.environ.setdefault("OMP_WAIT_POLICY", "PASSIVE")
+
 import numpy as np
 import trimesh
 
@@ -34,6 +42,7 @@ from usvsim.vessels.hulls import loft
 
 RESULTS = Path(__file__).parent / "results" / "hydro_models.json"
 SEED_US = {"triangle_submersion_5120": 4787.0, "voxel_cut_4154": 954.0, "voxel_not_cut_4154": 879.0}
+PREVIOUS_US = {"kerner_5120": 292.0, "fleet_step": 3004.0}  # before the Kerner kernel rewrite, same machine
 
 
 def best_us(fn, loops: int, repeats: int = 5) -> float:
@@ -86,6 +95,9 @@ def bench_kerner_5120() -> dict:
     base = best_us(lambda: numpy_kerner(tri, water_c, pos[0], v[0], w[0], wind[0]), 200)
     return {"triangles": len(sph.faces), "usvsim_kerner_us": kern, "usvsim_kerner_plus_hydrostatics_us": with_hs,
             "numpy_baseline_us": base, "ratio_numpy_over_usvsim": base / kern,
+            "previous_implementation_us": PREVIOUS_US["kerner_5120"],
+            "speedup_over_previous": PREVIOUS_US["kerner_5120"] / kern,
+            "ratio_seed_over_usvsim_kerner_only": SEED_US["triangle_submersion_5120"] / kern,
             "seed_submersion_only_us": SEED_US["triangle_submersion_5120"],
             "ratio_seed_over_usvsim_full": SEED_US["triangle_submersion_5120"] / with_hs, "target_us": 150.0}  # fmt: skip
 
@@ -124,10 +136,13 @@ def bench_voxels(tmp_cache: Path) -> dict:
 
 
 def bench_fleet(n_bodies: int = 100) -> dict:
+    import numba
+
     x = np.linspace(-2.0, 2.0, 11)
     hull = loft(x, np.zeros(11), np.full(11, 0.6), np.full(11, 0.4), n_around=18)
     hulls = HullSet([(hull.vertices, hull.faces)] * n_bodies)
-    k = KernerForces(hulls, [KernerHydrodynamics()] * n_bodies, [300.0] * n_bodies)
+    cfgs, masses = [KernerHydrodynamics()] * n_bodies, [300.0] * n_bodies
+    serial, parallel = KernerForces(hulls, cfgs, masses), KernerForces(hulls, cfgs, masses, parallel=True)
     rng = np.random.default_rng(0)
     pos = np.column_stack([np.arange(n_bodies) * 10.0, np.zeros(n_bodies), np.full(n_bodies, -0.25)])
     rot = np.tile(np.eye(3), (n_bodies, 1, 1))
@@ -135,24 +150,37 @@ def bench_fleet(n_bodies: int = 100) -> dict:
     z3 = np.zeros((n_bodies, 3))
     com = pos + [0.0, 0.0, 0.3]
 
-    def step():
+    def step(k):
         verts = hulls.world_vertices(pos, rot)
         eta = np.zeros(len(verts))
         water = np.zeros_like(verts)
         hulls.compute(verts, eta, com, 1025.0, 9.81)
         k.compute(verts, eta, water, com, v, w, z3, z3, 0.01)
 
-    us = best_us(step, 300)
-    step_budget_us = 1e6 / 100 / 5  # 5x real time at 100 Hz
-    return {"bodies": n_bodies, "triangles_per_hull": len(hull.faces), "usvsim_us_per_step": us,
-            "real_time_factor_at_100hz_kernels_only": 1e4 / us, "budget_us_for_5x": step_budget_us}  # fmt: skip
+    verts = hulls.world_vertices(pos, rot).copy()
+    eta, water = np.zeros(len(verts)), np.zeros_like(verts)
+    threads = numba.get_num_threads()
+    res = {}
+    for label, k, nt in (("1_thread", serial, 1), ("2_threads", parallel, min(2, numba.config.NUMBA_NUM_THREADS))):
+        numba.set_num_threads(nt)
+        us = best_us(lambda k=k: step(k), 300)
+        kern = best_us(lambda k=k: k.compute(verts, eta, water, com, v, w, z3, z3, 0.01), 300)
+        res[label] = {"threads": nt, "usvsim_us_per_step": us, "kerner_us_per_step": kern, "kerner_share": kern / us,
+                      "real_time_factor_at_100hz": 1e4 / us}  # fmt: skip
+    numba.set_num_threads(threads)
+    one = res["1_thread"]
+    return {"bodies": n_bodies, "triangles_per_hull": len(hull.faces),
+            "usvsim_us_per_step": one["usvsim_us_per_step"], "real_time_factor_at_100hz_kernels_only": 1e4 / one["usvsim_us_per_step"],
+            **res, "previous_implementation_us_per_step": PREVIOUS_US["fleet_step"],
+            "speedup_over_previous_1_thread": PREVIOUS_US["fleet_step"] / one["usvsim_us_per_step"],
+            "budget_us_for_5x": 1e6 / 100 / 5}  # 5x real time at 100 Hz; fmt: skip
 
 
 def main() -> None:
     import tempfile
 
     with tempfile.TemporaryDirectory() as tmp:
-        result = {"machine": f"{platform.machine()}, {os.cpu_count()} cores", "single_thread": True,
+        result = {"machine": f"{platform.machine()}, {os.cpu_count()} cores", "single_thread": "except fleet 2_threads",
                   "kerner_5120": bench_kerner_5120(), "voxels_4154": bench_voxels(Path(tmp)),
                   "fleet_100x400": bench_fleet()}  # fmt: skip
     RESULTS.parent.mkdir(parents=True, exist_ok=True)

@@ -61,9 +61,9 @@ def test_heave_decay(tmp_path):
 
 
 def test_endurance_short_run(tmp_path):
-    """The endurance experiment's checks on a 1-minute run of every model (the CLI runs one hour)."""
+    """The endurance experiment's checks on a 2-minute run of every model (the CLI runs one hour)."""
     from usvsim.experiments import endurance
 
-    result = endurance.run(tmp_path, duration_s=60.0)
+    result = endurance.run(tmp_path, duration_s=120.0)
     assert result["passed"], result["summary"]
     assert (tmp_path / "endurance.json").exists() and (tmp_path / "endurance.png").exists()

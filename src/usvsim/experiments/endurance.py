@@ -1,11 +1,12 @@
-"""Endurance: a WAM-V for one simulated hour in sea state 6 (Hs 5 m, Tp 12.4 s) with each model in turn.
+"""Endurance: a vessel for one simulated hour in sea state 6 (Hs 5 m, Tp 12.4 s) with each model in turn.
 
 Each run checks that nothing goes non-finite, the hull stays afloat (displaced volume > 0 at every
-sample) and upright (|roll|, |pitch| < 60 degrees), and that the energy does not run away: the
-largest kinetic energy of the last 10 minutes is at most 3 times that of the first 10 minutes after
-the ramp (a bounded, statistically stationary response). Samples start when the 20 s ramp ends
-(the boat is launched with its keel on still water). The boat idles at 30 % thrust on a
-constant heading command (thrusters straight), as a drifting survey boat would.
+sample) and upright (|roll|, |pitch| < 60 degrees), and that the energy does not run away: the mean
+kinetic energy of the last 10 minutes is at most 3 times that of the first 10 minutes after the ramp
+(a bounded, statistically stationary response; shorter runs use thirds of the record). The Fossen
+run uses the Otter, whose parameter set has added mass (integrated through MuJoCo's armature).
+Samples start when the 20 s ramp ends (the boat is launched with its keel on still water). The boat
+idles (no thrust): the hull drifts freely, as a survey boat waiting on station would.
 """
 
 from __future__ import annotations
@@ -19,26 +20,25 @@ import numpy as np
 from usvsim.config.loader import parse_scenario
 from usvsim.simulation import Simulation
 
-MODELS = {
-    "state_space": ({"type": "triangles"}, None),
-    "kerner": ({"type": "triangles"}, {"type": "kerner"}),
-    "fossen": ({"type": "triangles"}, {"type": "fossen", "parameters": "wamv_vrx"}),
-    "voxels": ({"type": "voxels", "voxel_size_m": 0.05}, None),
+MODELS = {  # name: (vessel model, buoyancy, hydrodynamics or None for the vessel's own state-space drag)
+    "state_space": ("wamv", {"type": "triangles"}, None),
+    "kerner": ("wamv", {"type": "triangles"}, {"type": "kerner"}),
+    "fossen": ("otter", {"type": "triangles"}, {"type": "fossen", "parameters": "otter"}),  # with added mass
+    "voxels": ("wamv", {"type": "voxels", "voxel_size_m": 0.05}, None),
 }
 SEA = {"sea": {"type": "sea_state", "code": 6, "realization": {"resolution": 64}}, "ramp_time_s": 20.0}
 
 
 def run_model(name: str, duration_s: float, seed: int = 0) -> dict:
-    buoyancy, hydro = MODELS[name]
-    vessel = {"name": "wamv", "model": "wamv", "buoyancy": buoyancy}
+    model, buoyancy, hydro = MODELS[name]
+    vessel = {"name": "boat", "model": model, "buoyancy": buoyancy}
     if hydro:
         vessel["hydrodynamics"] = hydro
     sim = Simulation(parse_scenario({"version": 1, "environment": SEA, "vessels": [vessel]}, f"endurance/{name}"),
                      seed=seed)  # fmt: skip
-    boat, rows = sim.vessels["wamv"], []
+    boat, rows = sim.vessels["boat"], []
     every = round(1.0 / sim.clock.dt)
     for k in range(round(duration_s / sim.clock.dt)):
-        boat.command(0.3, 0.0)
         sim.step()
         if k % every == 0 and sim.time > SEA["ramp_time_s"]:  # judged once the sea is fully up
             v = sim.origin_velocity(0)
@@ -49,13 +49,13 @@ def run_model(name: str, duration_s: float, seed: int = 0) -> dict:
 
 def _verdict(name: str, rows: np.ndarray, duration_s: float) -> dict:
     t, roll, pitch, _, volume, energy = rows.T
-    window = max(1, int(min(600.0, duration_s / 6)))
-    early, late = energy[window : 2 * window], energy[-window:]
+    window = max(1, int(min(600.0, len(energy) / 3)))
+    early, late = energy[:window], energy[-window:]
     checks = {
         "finite": bool(np.isfinite(rows).all()),
         "afloat": bool(volume.min() > 0),
         "upright": bool(np.abs(roll).max() < math.radians(60) and np.abs(pitch).max() < math.radians(60)),
-        "bounded_energy": bool(late.max() <= 3.0 * max(early.max(), 1e-9)),
+        "bounded_energy": bool(late.mean() <= 3.0 * max(early.mean(), 1e-9)),
     }
     return {
         "model": name,
@@ -64,7 +64,7 @@ def _verdict(name: str, rows: np.ndarray, duration_s: float) -> dict:
         "max_roll_deg": float(np.degrees(np.abs(roll).max())),
         "max_pitch_deg": float(np.degrees(np.abs(pitch).max())),
         "min_volume_m3": float(volume.min()),
-        "kinetic_energy_early_late_j": [float(early.max()), float(late.max())],
+        "kinetic_energy_mean_early_late_j": [float(early.mean()), float(late.mean())],
         "series": {"t": t.tolist(), "roll": roll.tolist(), "pitch": pitch.tolist(), "energy": energy.tolist()},
     }
 
@@ -97,7 +97,7 @@ def _plot(path: pathlib.Path, results: list[dict]) -> None:
         ax.set_ylabel(f"{r['model']}\n[deg]")
         ax.legend(loc="upper right", fontsize=7)
     np.atleast_1d(axes)[-1].set_xlabel("t [s]")
-    fig.suptitle("WAM-V in sea state 6 (Hs 5 m, Tp 12.4 s), one model per run")
+    fig.suptitle("Sea state 6 (Hs 5 m, Tp 12.4 s), one model per run (Fossen: Otter, others: WAM-V)")
     fig.tight_layout()
     fig.savefig(path, dpi=110)
     plt.close(fig)
