@@ -9,10 +9,13 @@ import pytest
 from usvsim.simulation import Simulation
 from usvsim.viewer.demo import harbor_with_waves
 from usvsim.world.water_visual import (
+    SURFACE_POINTS,
+    SURFACE_SIZE_M,
     WaterSurfaceIds,
     drawn_heights,
     grid_points,
     height_colors,
+    snapped_center,
     update_water_visual,  # fmt: skip
 )
 
@@ -32,9 +35,8 @@ def test_drawn_heights_equal_ocean_elevation(waves):
     span = waves.model.hfield_size[WaterSurfaceIds.of(waves.model).hfield, 2]
     quantum = span * np.finfo(np.float32).eps * 4  # float32 storage of the normalized heights
     assert np.abs(drawn_heights(waves.model) - truth).max() <= quantum + 1e-9
-    assert np.array_equal(
-        heights, waves.ocean.height_grid((7.0, -4.0), 120.0, 121, waves.time)
-    )  # snapped centre
+    centre = snapped_center((7.3, -4.1), SURFACE_SIZE_M, SURFACE_POINTS)  # snapped to the grid spacing
+    assert np.array_equal(heights, waves.ocean.height_grid(centre, SURFACE_SIZE_M, SURFACE_POINTS, waves.time))
 
 
 def test_ray_cast_onto_the_drawn_surface_finds_the_ocean(waves):
@@ -45,7 +47,7 @@ def test_ray_cast_onto_the_drawn_surface_finds_the_ocean(waves):
     water_only = np.array([0, 0, 1, 0, 0, 0], dtype=np.uint8)
     hit = np.zeros(1, dtype=np.int32)
     rng = np.random.default_rng(0)
-    for i, j in rng.integers(5, 116, size=(25, 2)):
+    for i, j in rng.integers(5, SURFACE_POINTS - 5, size=(25, 2)):
         origin = np.array([gx[i, j] + 1e-6, gy[i, j] + 1e-6, 10.0])
         dist = mujoco.mj_ray(
             waves.model, waves.data, origin, np.array([0.0, 0.0, -1.0]), water_only, 1, -1, hit
