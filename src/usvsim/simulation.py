@@ -1,8 +1,10 @@
 """The Simulation: owns the world, ocean, floating bodies, thrusters and clock; runs the one step loop.
 
-Step: hull vertices → water heights → hydrostatics (one batched kernel) → relative velocities → drag
-→ thruster dynamics → wrenches into MuJoCo (`xfrc_applied`, world frame, about each CoM) → `mj_step`
-→ clock tick → body kinematics → messages due at this tick go to subscribers.
+Step: vessel controllers (at their rates) → ocean advanced → hull vertices → water heights (direct or
+patch) → hydrostatics (one batched kernel) → relative velocities → each body's buoyancy and
+hydrodynamics models + wind (hydro/models.py) → thruster dynamics → wrenches into MuJoCo
+(`xfrc_applied`, world frame, about each CoM) → `mj_step` (divergence check) → clock tick → body
+kinematics → sensors → messages due at this tick go to subscribers.
 """
 
 from __future__ import annotations
