@@ -119,6 +119,7 @@ class Simulation:
         self._com_body = np.array([fb.model.com for fb in floating], dtype=float).reshape(n, 3)
         self._body_wrenches = np.zeros((2, n, 6))  # body-frame: marine (damping + wind), thrust
         self._xfrc = np.zeros((n, 6))
+        self._air = np.zeros((n, 3))
         self._warnings = self.data.warning.number  # a live view of MuJoCo's warning counters
         self.state = BodyState(n)
         entries, timeouts = [], np.zeros(n)
@@ -236,8 +237,8 @@ class Simulation:
         self.hydrostatics = self.hulls.compute(verts, eta, s.com_world, self.rho, self.g)
         water = self.ocean.velocity(s.com_world[:, 0], s.com_world[:, 1], s.com_world[:, 2], t)
         relative_velocity_body(s.rot, s.vcom_world, s.omega_body, water, s.nu)
-        air = np.tile(self.ocean.wind_velocity(t), (len(s.pos), 1))
-        self.marine.compute(s, self.hydrostatics, verts, eta, self.ocean, t, self.clock.dt, water, air)
+        self._air[:] = self.ocean.wind_velocity(t)  # one wind for every body, no allocation per step
+        self.marine.compute(s, self.hydrostatics, verts, eta, self.ocean, t, self.clock.dt, water, self._air)
         self._body_wrenches[0] = self.marine.body_wrench
         self._body_wrenches[1] = self.thrusters.step(self.clock.now_ns, self.clock.dt, self._com_body)
         assemble(s.rot, self._body_wrenches, self.marine.world_force, self.marine.world_torque, self._xfrc)

@@ -13,7 +13,6 @@ from pydantic import Field
 from usvsim.config.base import PositiveFloat, Section, Vec3
 
 Name = Annotated[str, Field(pattern=r"^[A-Za-z][A-Za-z0-9_]*$")]
-Rgba = Annotated[tuple[float, float, float, float], Field()]
 
 COLORS = {
     "red": (0.85, 0.1, 0.1, 1.0),
