@@ -1,10 +1,10 @@
 """The Simulation: owns the world, ocean, floating bodies, thrusters and clock; runs the one step loop.
 
-Step: vessel controllers (at their rates) → ocean advanced → hull vertices → water heights (direct or
-patch) → hydrostatics (one batched kernel) → relative velocities → each body's buoyancy and
-hydrodynamics models + wind (hydro/models.py) → thruster dynamics → wrenches into MuJoCo
-(`xfrc_applied`, world frame, about each CoM) → `mj_step` (divergence check) → clock tick → body
-kinematics → sensors → messages due at this tick go to subscribers.
+Step: queued commands from bridges (bridges/commands.py) → vessel controllers (at their rates) → ocean
+advanced → hull vertices → water heights (direct or patch) → hydrostatics (one batched kernel) → relative
+velocities → each body's buoyancy and hydrodynamics models + wind (hydro/models.py) → thruster dynamics →
+wrenches into MuJoCo (`xfrc_applied`, world frame, about each CoM) → `mj_step` (divergence check) → clock
+tick → body kinematics → sensors → messages due at this tick go to subscribers.
 """
 
 from __future__ import annotations
@@ -18,6 +18,7 @@ from pathlib import Path
 import mujoco
 import numpy as np
 
+from usvsim.bridges.commands import CommandInbox
 from usvsim.config.loader import base_dir, load_scenario, source_of
 from usvsim.config.objects import Buoy
 from usvsim.config.scenario import Scenario
@@ -85,6 +86,7 @@ class Simulation:
         rec = scenario.outputs.recording
         self.ground_truth = GroundTruth(self, rec.clock_rate_hz, rec.ground_truth_rate_hz)
         self.sensors = SensorSuite(self)
+        self.commands = CommandInbox(self)
         self._subscribers: list[Callable[[Envelope], None]] = []
         self._announced = False  # /tf_static and the t = 0 messages go out before the first step
 
@@ -166,6 +168,7 @@ class Simulation:
             self._announced = True
             static = self.ground_truth.static_transforms(self.sensors.static_transforms())
             self._emit(static + self.ground_truth.due(0, 0))
+        self.commands.apply()
         for loop in self.controllers.values():
             loop(self)
         self._apply_marine_wrenches()

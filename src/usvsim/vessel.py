@@ -25,6 +25,10 @@ class Thruster:
         """Set the command; returns False (and counts it) if rejected: NaN/inf or |thrust| > 1."""
         return self._sim.thrusters.command(self._i, float(thrust), angle_rad, self._sim.clock_ns)
 
+    def command_angle(self, angle_rad: float) -> bool:
+        """Set only the azimuth command (rad, REP 103); False (counted) if not finite."""
+        return self._sim.thrusters.command_angle(self._i, float(angle_rad))
+
     @property
     def thrust_n(self) -> float:
         """Current thrust (N) after the thruster's dynamics."""

@@ -124,6 +124,15 @@ class ThrusterBank:
         self.last_cmd_ns[i] = now_ns
         return True
 
+    def command_angle(self, i: int, angle_rad: float) -> bool:
+        """Set thruster i's azimuth command only (rad); rejects non-finite values. The thrust command and
+        its watchdog are untouched: only thrust commands keep a thruster running."""
+        if not math.isfinite(angle_rad):
+            self.rejected += 1
+            return False
+        self.cmd_angle[i] = angle_rad
+        return True
+
     def step(self, now_ns: int, dt: float, com_body: np.ndarray) -> np.ndarray:
         """Advance the dynamics one step; returns per-body wrenches (nb, 6) in the body frame."""
         if len(self.names):

@@ -1,0 +1,168 @@
+"""Commands into a running simulation from any bridge (DDS, ROS-TCP, Foxglove) or thread.
+
+Command topics (absolute ROS names; `<v>` a vessel, `<t>` one of its thrusters):
+
+| topic | type | meaning |
+|---|---|---|
+| `/<v>/thrusters/<t>/thrust` | std_msgs/msg/Float64 | normalized thrust u in [-1, 1] (refreshes the watchdog) |
+| `/<v>/thrusters/<t>/angle` | std_msgs/msg/Float64 | azimuth angle, rad, REP 103 (positive turns the thrust CCW seen from above) |
+| `/<v>/cmd_vel` | geometry_msgs/msg/Twist | base_link velocity, body FLU: linear.x, linear.y (m/s), angular.z (rad/s) |
+| `/reset` | std_msgs/msg/Empty | back to the scenario's initial state |
+
+Bridges call `post_cdr` (raw CDR from the wire) or `post` (a decoded message with the ROS fields) from
+their own threads. Nothing touches the simulation there: commands are validated, counted and queued
+(bounded, drop-oldest), and `apply` (called by `Simulation.step`, in the simulation thread) executes them
+before the step's physics. Malformed, unknown, NaN/inf or out-of-range commands are rejected and counted in
+`stats`, never raised. `cmd_vel` drives the vessel's velocity controller (the scenario's, or a default one
+created on the first `cmd_vel`); when `cmd_vel` stops for the vessel's `command_timeout_s`, a controller
+created for it is removed (thrusters then fall back to their own watchdog) and a scenario controller gets
+back the reference it had before (zero velocity, or its station-keeping target).
+"""
+
+from __future__ import annotations
+
+import math
+import threading
+from collections import deque
+from typing import TYPE_CHECKING, Any
+
+from usvsim.messages.ros import typestore
+
+if TYPE_CHECKING:
+    from usvsim.simulation import Simulation
+
+FLOAT64, TWIST, EMPTY = "std_msgs/msg/Float64", "geometry_msgs/msg/Twist", "std_msgs/msg/Empty"
+QUEUE_LIMIT = 1024  # commands waiting for the next step; the oldest is dropped beyond this
+STAT_KEYS = ("received", "applied", "rejected", "malformed", "unknown", "dropped")
+
+
+class CommandInbox:
+    """Thread-safe command queue of one simulation; `topics` maps each command topic to its ROS type."""
+
+    def __init__(self, sim: Simulation):
+        self._sim = sim
+        self.topics: dict[str, str] = {"/reset": EMPTY}
+        self._targets: dict[str, tuple[str, str, str | None]] = {"/reset": ("reset", "", None)}
+        for vname, vessel in sim.vessels.items():
+            self.topics[f"/{vname}/cmd_vel"] = TWIST
+            self._targets[f"/{vname}/cmd_vel"] = ("cmd_vel", vname, None)
+            for tname in vessel.thrusters:
+                for kind in ("thrust", "angle"):
+                    topic = f"/{vname}/thrusters/{tname}/{kind}"
+                    self.topics[topic], self._targets[topic] = FLOAT64, (kind, vname, tname)
+        self._queue: deque[tuple[str, str, str | None, Any]] = deque()
+        self._lock = threading.Lock()
+        self.stats = dict.fromkeys(STAT_KEYS, 0)
+        self._velocity_deadline_ns: dict[str, int] = {}  # vessels driven by cmd_vel → when it goes stale
+        self._created_loops: set[str] = set()
+        self._held_references: dict[str, Any] = {}  # a scenario controller's reference before cmd_vel
+
+    # -- any thread ---------------------------------------------------------------------------
+    def post_cdr(self, topic: str, data: bytes | bytearray | memoryview) -> bool:
+        """Queue a command from its CDR bytes (with the 4-byte encapsulation header); False if refused."""
+        msgtype = self.topics.get(topic)
+        if msgtype is None:
+            return self._count("unknown")
+        try:
+            msg = typestore().deserialize_cdr(bytes(data), msgtype)
+        except Exception:  # untrusted bytes: any decoding failure is a malformed message
+            return self._count("malformed")
+        return self.post(topic, msg)
+
+    def post(self, topic: str, msg: Any) -> bool:
+        """Queue a decoded command (any object with the ROS fields); False (counted) if refused."""
+        target = self._targets.get(topic)
+        if target is None:
+            return self._count("unknown")
+        kind, vessel, thruster = target
+        try:
+            value = _value(kind, msg)
+        except (AttributeError, TypeError, ValueError):
+            return self._count("malformed")
+        if value is None:
+            return self._count("rejected")
+        with self._lock:
+            self.stats["received"] += 1
+            if len(self._queue) >= QUEUE_LIMIT:
+                self._queue.popleft()
+                self.stats["dropped"] += 1
+            self._queue.append((kind, vessel, thruster, value))
+        return True
+
+    def _count(self, key: str) -> bool:
+        with self._lock:
+            self.stats[key] += 1
+        return False
+
+    # -- simulation thread --------------------------------------------------------------------
+    def apply(self) -> None:
+        """Execute the queued commands (called at the start of every step)."""
+        if self._velocity_deadline_ns:
+            self._expire_velocity_commands()
+        while self._queue:
+            with self._lock:
+                kind, vessel, thruster, value = self._queue.popleft()
+            ok = self._execute(kind, vessel, thruster, value)
+            self._count("applied" if ok else "rejected")
+
+    def _execute(self, kind: str, vessel: str, thruster: str | None, value: Any) -> bool:
+        sim = self._sim
+        if kind == "reset":
+            self._velocity_deadline_ns.clear()
+            for name in self._created_loops:
+                sim.controllers.pop(name, None)
+            self._created_loops.clear()
+            for name, reference in self._held_references.items():
+                sim.controllers[name].reference = reference
+            self._held_references.clear()
+            sim.reset()
+            return True
+        if kind == "thrust":
+            return sim.vessels[vessel].thrusters[thruster].command(value)
+        if kind == "angle":
+            return sim.vessels[vessel].thrusters[thruster].command_angle(value)
+        loop = sim.controllers.get(vessel)
+        if loop is None:
+            loop = sim.controllers[vessel] = _default_velocity_loop(sim, vessel)
+            self._created_loops.add(vessel)
+        elif vessel not in self._created_loops:
+            self._held_references.setdefault(vessel, loop.reference)
+        loop.reference, loop.force = value, None
+        timeout_s = sim.scenario.vessels[sim.vessels[vessel].index].command_timeout_s
+        if timeout_s > 0:
+            self._velocity_deadline_ns[vessel] = sim.clock_ns + round(timeout_s * 1e9)
+        return True
+
+    def _expire_velocity_commands(self) -> None:
+        now = self._sim.clock_ns
+        for vessel, deadline in list(self._velocity_deadline_ns.items()):
+            if now <= deadline:
+                continue
+            del self._velocity_deadline_ns[vessel]
+            if vessel in self._created_loops:
+                self._created_loops.discard(vessel)
+                self._sim.controllers.pop(vessel, None)
+            elif vessel in self._held_references:
+                self._sim.controllers[vessel].reference = self._held_references.pop(vessel)
+
+
+def _value(kind: str, msg: Any):
+    """The command's value from a decoded message, or None when it is out of range or not finite."""
+    if kind == "reset":
+        return True
+    if kind in ("thrust", "angle"):
+        x = float(msg.data)
+        if not math.isfinite(x) or (kind == "thrust" and abs(x) > 1.0):
+            return None
+        return x
+    nu = (float(msg.linear.x), float(msg.linear.y), float(msg.angular.z))
+    return nu if all(math.isfinite(v) for v in nu) else None
+
+
+def _default_velocity_loop(sim: Simulation, vessel: str):
+    """A velocity controller with gains derived from the vessel, at 20 Hz (or the nearest whole step count)."""
+    from usvsim.config.control import VelocityController
+    from usvsim.control.factory import control_loop
+
+    rate_hz = 1e9 / (max(1, round(50_000_000 / sim.clock.step_ns)) * sim.clock.step_ns)
+    return control_loop(sim, vessel, VelocityController(rate_hz=rate_hz))
