@@ -2,7 +2,7 @@
 
 Frames (REP 105): `world` is ENU at the geodetic origin; `<vessel>/odom` is fixed in the world at the
 vessel's initial pose (static TF `world → <vessel>/odom`); `<vessel>/base_link` is the body frame
-(FLU). Odometry `/<vessel>/ground_truth/odometry` gives base_link in `<vessel>/odom`, twist in base_link.
+(FLU). `outputs.tf` turns either transform off for nodes that publish their own (SLAM, robot_localization). Odometry `/<vessel>/ground_truth/odometry` gives base_link in `<vessel>/odom`, twist in base_link.
 """
 
 from __future__ import annotations
@@ -25,11 +25,12 @@ class GroundTruth:
         self.odom_every = steps_per_period(odometry_rate_hz, sim.clock.step_ns)
         self.vessels = list(sim.vessels.values())
         self.odom_origin = {v.name: (v.position, v.quat) for v in self.vessels}
+        self.tf = sim.scenario.outputs.tf
 
     def static_transforms(self, extra=()) -> list[Envelope]:
         """The one `/tf_static` message: `world → <vessel>/odom` plus `extra` transforms (sensor mounts)."""
         transforms = [ros.transform_stamped(0, "world", f"{name}/odom", pos, quat)
-                      for name, (pos, quat) in self.odom_origin.items()]  # fmt: skip
+                      for name, (pos, quat) in self.odom_origin.items() if self.tf.world_to_odom]  # fmt: skip
         transforms += list(extra)
         return [Envelope("/tf_static", 0, ros.tf_message(transforms))] if transforms else []
 
@@ -53,6 +54,7 @@ class GroundTruth:
             msg = ros.odometry_msg(stamp_ns, odom, base, pos, quat, v.velocity_body, v.angular_velocity_body)
             out.append(Envelope(f"/{v.name}/ground_truth/odometry", stamp_ns, msg))
             transforms.append(ros.transform_stamped(stamp_ns, odom, base, pos, quat))
-        out.append(Envelope("/tf", stamp_ns, ros.tf_message(transforms)))
+        if self.tf.odom_to_base_link:
+            out.append(Envelope("/tf", stamp_ns, ros.tf_message(transforms)))
         return out
 

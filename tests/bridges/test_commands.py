@@ -100,7 +100,9 @@ def test_cmd_vel_creates_a_controller_that_goes_away_when_commands_stop(sim):
 
 
 def test_cmd_vel_timeout_restores_a_scenario_station_keeping_target(scenario_of):
-    sc = scenario_of({"vessels": [{"name": "wamv", "model": "wamv", "controller": {"type": "station_keeping"}}]})
+    sc = scenario_of(
+        {"vessels": [{"name": "wamv", "model": "wamv", "controller": {"type": "station_keeping"}}]}
+    )
     sim = Simulation(sc)
     target = sim.controllers["wamv"].reference
     sim.commands.post_cdr("/wamv/cmd_vel", twist(1.0, 0.0, 0.0))

@@ -36,8 +36,18 @@ class Recording(Section):
     ground_truth_rate_hz: PositiveFloat = 50.0
 
 
+class Tf(Section):
+    """Which ground-truth transforms the simulation publishes (REP 105). Turn one off when another node owns
+    it: SLAM or AMCL publishing `map → odom` needs `world_to_odom: false` (a frame has one parent), and
+    robot_localization's EKF publishing `odom → base_link` needs `odom_to_base_link: false`."""
+
+    world_to_odom: bool = Field(True, description="static world → <vessel>/odom at the start pose")
+    odom_to_base_link: bool = Field(True, description="dynamic <vessel>/odom → <vessel>/base_link (true pose)")
+
+
 class Outputs(Section):
     recording: Recording = Recording()
+    tf: Tf = Tf()
 
 
 class Scenario(Section):
