@@ -14,18 +14,29 @@ from rich.table import Table
 
 from usvsim.core.errors import UsvsimError
 
-app = typer.Typer(add_completion=False, no_args_is_help=True, help="usvsim: unmanned surface vehicle simulator.")
+app = typer.Typer(
+    add_completion=False, no_args_is_help=True, help="usvsim: unmanned surface vehicle simulator."
+)
 console = Console(stderr=True)
 EXPERIMENTS = {
     "sphere": ("usvsim.experiments.sphere", "sphere lowered through flat water: volume vs the analytic cap"),
-    "voxel-sphere": ("usvsim.experiments.voxel_sphere", "voxel buoyancy of the sphere, with and without cutting"),
-    "box-righting": ("usvsim.experiments.box_righting", "heeled box: righting moment vs the wall-sided formula"),
+    "voxel-sphere": (
+        "usvsim.experiments.voxel_sphere",
+        "voxel buoyancy of the sphere, with and without cutting",
+    ),
+    "box-righting": (
+        "usvsim.experiments.box_righting",
+        "heeled box: righting moment vs the wall-sided formula",
+    ),
     "drafts": ("usvsim.experiments.drafts", "library vessels' equilibrium drafts vs Archimedes"),
     "heave-decay": ("usvsim.experiments.heave_decay", "heave natural period vs the analytic value"),
     "otter": ("usvsim.experiments.otter", "Fossen's Otter straight runs vs PythonVehicleSimulator"),
     "kerner-vectors": ("usvsim.experiments.kerner_vectors", "single-triangle Kerner forces vs test vectors"),
     "waves": ("usvsim.experiments.waves", "wave statistics, dispersion and height queries"),
-    "endurance": ("usvsim.experiments.endurance", "one hour in sea state 6 with each model: afloat, upright, bounded"),
+    "endurance": (
+        "usvsim.experiments.endurance",
+        "one hour in sea state 6 with each model: afloat, upright, bounded",
+    ),
 }
 
 
@@ -41,17 +52,45 @@ def run(
     realtime: Annotated[bool, typer.Option(help="pace to the wall clock")] = False,
     record: Annotated[Path | None, typer.Option(help="write an MCAP file (rosbag2 layout)")] = None,
     seed: Annotated[int, typer.Option(help="random seed")] = 0,
-    view: Annotated[bool, typer.Option(help="open the interactive viewer (W/S/A/D drive, R reset, Space pause)")] = False,
+    view: Annotated[
+        bool, typer.Option(help="open the interactive viewer (W/S/A/D drive, R reset, Space pause)")
+    ] = False,
+    ros2: Annotated[bool, typer.Option("--ros2", help="live ROS 2 topics over DDS (extra: ros2)")] = False,
+    domain_id: Annotated[
+        int | None, typer.Option(help="ROS 2 domain id (default $ROS_DOMAIN_ID or 0)", min=0, max=232)
+    ] = None,
+    ros2_interface: Annotated[
+        str,
+        typer.Option(
+            help="DDS network interface; 'lo' keeps traffic on this machine, 'any' lets Cyclone choose"
+        ),
+    ] = "lo",
+    ros_tcp: Annotated[str | None, typer.Option(help="connect to a ros_tcp_endpoint at HOST:PORT")] = None,
+    ros_tcp_profile: Annotated[str, typer.Option(help="topic names on ROS-TCP: usvsim or seed")] = "usvsim",
+    ros_tcp_vessel: Annotated[
+        str | None, typer.Option(help="vessel the seed profile renames (default: first)")
+    ] = None,
+    foxglove: Annotated[
+        bool, typer.Option("--foxglove", help="Foxglove WebSocket live view (extra: ros2)")
+    ] = False,
+    foxglove_host: Annotated[str, typer.Option(help="address the Foxglove server binds")] = "127.0.0.1",
+    foxglove_port: Annotated[int, typer.Option(help="Foxglove server port", min=0, max=65535)] = 8765,
 ) -> None:
-    """Run a scenario headless or in the viewer, optionally recording it."""
+    """Run a scenario headless or in the viewer, optionally recording it and bridging it to ROS 2 / Foxglove."""
+    from usvsim.cli.bridges import BridgeOptions, close_all, open_bridges
     from usvsim.io.mcap_recorder import McapRecorder
     from usvsim.simulation import Simulation
 
+    options = BridgeOptions(ros2, domain_id, ros2_interface, ros_tcp, ros_tcp_profile, ros_tcp_vessel, foxglove,
+                            foxglove_host, foxglove_port)  # fmt: skip
     try:
         sim = Simulation.from_scenario(scenario, seed=seed)
-    except UsvsimError as exc:
+        bridges = open_bridges(sim, options)
+    except (UsvsimError, OSError) as exc:
         _fail(exc)
-    path = record or (Path(sim.scenario.outputs.recording.path) if sim.scenario.outputs.recording.path else None)
+    path = record or (
+        Path(sim.scenario.outputs.recording.path) if sim.scenario.outputs.recording.path else None
+    )
     recorder = McapRecorder(path) if path else None
     if recorder:
         sim.subscribe(recorder.write)
@@ -67,6 +106,7 @@ def run(
     except UsvsimError as exc:
         _fail(exc)
     finally:
+        close_all(bridges)
         if recorder:
             recorder.close()
         sim.close()
@@ -76,8 +116,14 @@ def run(
     console.print(f"{status}: simulated {sim.time:.2f} s in {wall:.2f} s wall ({rtf:.1f}x real time)")
     if recorder:
         console.print(f"recorded {recorder.message_count} messages to {path}")
+    for bridge in bridges:
+        console.print(f"{type(bridge).__name__}: {_stats_line(bridge.stats)}", highlight=False)
     if interrupted:
         raise typer.Exit(130)
+
+
+def _stats_line(stats: dict) -> str:
+    return ", ".join(f"{k} {v}" for k, v in stats.items() if isinstance(v, int | float))
 
 
 def _run_with_progress(sim, duration: float, realtime: bool) -> None:

@@ -1,0 +1,67 @@
+"""Start the live bridges `usvsim run` asks for (each an optional extra, imported only when asked for)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from usvsim.core.errors import UsvsimError
+
+
+@dataclass(frozen=True)
+class BridgeOptions:
+    ros2: bool = False
+    domain_id: int | None = None  # None: $ROS_DOMAIN_ID, else 0
+    ros2_interface: str = "lo"
+    ros_tcp: str | None = None  # HOST:PORT of a ros_tcp_endpoint
+    ros_tcp_profile: str = "usvsim"
+    ros_tcp_vessel: str | None = None  # the vessel the seed profile renames (default: the first)
+    foxglove: bool = False
+    foxglove_host: str = "127.0.0.1"
+    foxglove_port: int = 8765
+
+
+def host_port(text: str) -> tuple[str, int]:
+    """`HOST:PORT` → (host, port), or a UsvsimError saying what is wrong."""
+    host, sep, port = text.rpartition(":")
+    if not sep or not host or not port.isdigit() or not 0 < int(port) < 65536:
+        raise UsvsimError(f"--ros-tcp expects HOST:PORT (e.g. 127.0.0.1:10000), got {text!r}")
+    return host, int(port)
+
+
+def _extra(module: str, extra: str):
+    import importlib
+
+    try:
+        return importlib.import_module(module)
+    except ImportError as exc:
+        raise UsvsimError(f"{exc.name or module} is not installed: pip install 'usvsim[{extra}]'") from None
+
+
+def open_bridges(sim, options: BridgeOptions) -> list:
+    """The bridges `options` asks for, attached to `sim`; each has `close()` and `stats`."""
+    bridges = []
+    try:
+        if options.ros2:
+            dds = _extra("usvsim.bridges.dds", "ros2")
+            interface = None if options.ros2_interface in ("", "any") else options.ros2_interface
+            bridges.append(dds.DdsBridge(sim, domain_id=options.domain_id, interface=interface))
+        if options.ros_tcp:
+            from usvsim.bridges.ros_tcp import RosTcpBridge
+
+            host, port = host_port(options.ros_tcp)
+            bridges.append(RosTcpBridge(sim, host, port, options.ros_tcp_profile, options.ros_tcp_vessel))
+        if options.foxglove:
+            fox = _extra("usvsim.bridges.foxglove", "ros2")
+            bridges.append(fox.FoxgloveBridge(sim, host=options.foxglove_host, port=options.foxglove_port))
+    except ValueError as exc:  # a bad option value (profile, vessel name, port)
+        close_all(bridges)
+        raise UsvsimError(str(exc)) from None
+    except BaseException:
+        close_all(bridges)
+        raise
+    return bridges
+
+
+def close_all(bridges: list) -> None:
+    for bridge in reversed(bridges):
+        bridge.close()

@@ -1,0 +1,90 @@
+"""The simulation side of test_dds_ros2.py; runs inside a loopback-only network namespace.
+
+1. harbor_sensors + DdsBridge; /tf_static goes out before any subscriber exists (late joiner).
+2. The rclpy peer (Fast DDS with 4 MiB socket buffers, type propagation off: see docs/ros2.md) (`accept`) subscribes to everything and drives the boats; the sim steps paced to the
+   wall clock until the peer is done.
+3. Two `noisy` peers are started and killed (SIGKILL) in turn while they send garbage; the step times
+   of this phase are compared with phase 2. Prints one JSON object.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import statistics
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+from usvsim.bridges.dds import DdsBridge
+from usvsim.simulation import Simulation
+
+HERE = Path(__file__).parent
+FASTDDS_PROFILE = """<?xml version="1.0" encoding="UTF-8" ?>
+<dds xmlns="http://www.eprosima.com"><profiles>
+  <transport_descriptors><transport_descriptor><transport_id>udp</transport_id><type>UDPv4</type>
+    <sendBufferSize>4194304</sendBufferSize><receiveBufferSize>4194304</receiveBufferSize>
+  </transport_descriptor></transport_descriptors>
+  <participant profile_name="usvsim_test" is_default_profile="true"><rtps>
+    <propertiesPolicy><properties><property><name>fastdds.type_propagation</name><value>disabled</value>
+    </property></properties></propertiesPolicy>
+    <userTransports><transport_id>udp</transport_id></userTransports>
+    <useBuiltinTransports>false</useBuiltinTransports>
+  </rtps></participant>
+</profiles></dds>
+"""
+
+
+def peer(mode: str, *args: str) -> subprocess.Popen:
+    profile = Path(os.environ.get("TMPDIR", "/tmp")) / f"usvsim_fastdds_{os.getpid()}.xml"
+    profile.write_text(FASTDDS_PROFILE)
+    env = dict(os.environ, RMW_IMPLEMENTATION="rmw_fastrtps_cpp", FASTDDS_DEFAULT_PROFILES_FILE=str(profile),
+               PYTHONPATH=str(HERE), ROS_DOMAIN_ID="0")  # fmt: skip
+    cmd = [sys.executable, str(HERE / "dds_rclpy_peer.py"), mode, *args]
+    return subprocess.Popen(cmd, env=env, stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, text=True)
+
+
+def step_while(sim: Simulation, alive, wall_limit_s: float) -> list[float]:
+    """Step paced to the wall clock while `alive()`; returns the wall time of every step."""
+    durations, start_wall, start_ns = [], time.perf_counter(), sim.clock_ns
+    while alive() and time.perf_counter() - start_wall < wall_limit_s:
+        t = time.perf_counter()
+        sim.step()
+        durations.append(time.perf_counter() - t)
+        ahead = (sim.clock_ns - start_ns) / 1e9 - (time.perf_counter() - start_wall)
+        if ahead > 0:
+            time.sleep(ahead)
+    return durations
+
+
+def main(seconds: float) -> dict:
+    sim = Simulation.from_scenario("harbor_sensors")
+    bridge = DdsBridge(sim)
+    try:
+        for _ in range(10):
+            sim.step()  # /tf_static is written now, long before the peer exists
+        start = {name: v.position.copy() for name, v in sim.vessels.items()}
+        accept = peer("accept", str(seconds))
+        steps = step_while(sim, lambda: accept.poll() is None, 90.0)
+        result = json.loads(accept.stdout.read() or "{}")
+        moved = {name: float(abs(v.position - start[name])[:2].max()) for name, v in sim.vessels.items()}
+        noisy_steps = []
+        for _ in range(2):
+            noisy, refused = peer("noisy"), bridge.stats["commands_refused"]
+            noisy_steps += step_while(sim, lambda r=refused: bridge.stats["commands_refused"] == r, 8.0)
+            noisy_steps += step_while(sim, lambda: True, 0.5)  # killed mid-stream, while sending
+            noisy.kill()
+            noisy.wait()
+        after = step_while(sim, lambda: True, 1.0)
+    finally:
+        bridge.close()
+        sim.close()
+    return {"peer": result, "moved_m": moved, "bridge": bridge.stats, "commands": dict(sim.commands.stats),
+            "step_s": {"accept_median": statistics.median(steps), "noisy_median": statistics.median(noisy_steps),
+                       "accept_max": max(steps), "noisy_max": max(noisy_steps), "after_steps": len(after),
+                       "after_sim_s": len(after) * sim.clock.dt}}  # fmt: skip
+
+
+if __name__ == "__main__":
+    print("RESULT " + json.dumps(main(float(sys.argv[1]) if len(sys.argv) > 1 else 3.0)), flush=True)

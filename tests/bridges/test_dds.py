@@ -1,0 +1,156 @@
+"""DDS bridge against a Cyclone DDS reader/writer in this process (loopback-only configuration).
+
+Checks ROS 2 naming, QoS, the type hash, byte-identical CDR, the transient-local late joiner, commands
+in (raw CDR through DDS moves the boat), bounded queue accounting and the network-safe configuration.
+The independent-stack (rclpy / Fast DDS) acceptance test is test_dds_ros2.py.
+"""
+
+from __future__ import annotations
+
+import time
+
+import numpy as np
+import pytest
+
+pytest.importorskip("cyclonedds")
+
+from usvsim.bridges import dds_types
+from usvsim.bridges.dds import DdsBridge, _qos
+from usvsim.bridges.dds_config import cyclone_config
+from usvsim.messages.envelope import Envelope, QosProfile
+from usvsim.messages.ros import clock_msg, msg_class, typestore
+from usvsim.simulation import Simulation
+
+
+@pytest.fixture
+def sim(scenario_of):
+    scenario = scenario_of({"vessels": [{"name": "wamv", "model": "wamv", "command_timeout_s": 1.0,
+                                         "sensors": [{"type": "imu", "name": "imu", "rate_hz": 50}]}]})  # fmt: skip
+    return Simulation(scenario)
+
+
+def _raw_reader(bridge: DdsBridge, topic: str, msgtype: str, profile: QosProfile):
+    from cyclonedds.sub import DataReader
+    from cyclonedds.topic import Topic
+
+    dds_topic = Topic(bridge.participant, dds_types.dds_topic_name(topic), dds_types.idl_type(msgtype))
+    return DataReader(bridge.participant, dds_topic, qos=_qos(profile, msgtype))
+
+
+def _take_until(reader, count: int, timeout_s: float = 3.0) -> list[bytes]:
+    got, deadline = [], time.monotonic() + timeout_s
+    while len(got) < count and time.monotonic() < deadline:
+        got += dds_types.take_cdr(reader)
+        time.sleep(0.01)
+    return got
+
+
+def test_names_and_types_follow_ros2_conventions():
+    assert dds_types.dds_topic_name("/wamv/lidar/points") == "rt/wamv/lidar/points"
+    assert dds_types.dds_type_name("sensor_msgs/msg/PointCloud2") == "sensor_msgs::msg::dds_::PointCloud2_"
+    image = dds_types.idl_type("sensor_msgs/msg/Image")
+    assert image.__idl_typename__ == "sensor_msgs::msg::dds_::Image_"
+    assert image.__idl_annotations__["extensibility"] == "final"  # XCDR1, as ROS 2 RMWs expect
+
+
+def test_idl_types_serialize_like_rosbags():
+    """Golden check of the type mapping: cyclonedds' own serializer equals rosbags' CDR for a CameraInfo."""
+    store, t = typestore(), dds_types.idl_type
+    msg = msg_class("sensor_msgs/msg/CameraInfo")(
+        header=msg_class("std_msgs/msg/Header")(stamp=msg_class("builtin_interfaces/msg/Time")(sec=3, nanosec=4),
+                                                frame_id="cam_optical"),
+        height=480, width=640, distortion_model="plumb_bob", d=np.zeros(5), k=np.ones(9), r=np.full(9, 2.0),
+        p=np.full(12, 3.0), binning_x=0, binning_y=0, roi=msg_class("sensor_msgs/msg/RegionOfInterest")(0, 0, 0, 0, False))  # fmt: skip
+    sample = t("sensor_msgs/msg/CameraInfo")(
+        header=t("std_msgs/msg/Header")(stamp=t("builtin_interfaces/msg/Time")(sec=3, nanosec=4), frame_id="cam_optical"),
+        height=480, width=640, distortion_model="plumb_bob", d=[0.0] * 5, k=[1.0] * 9, r=[2.0] * 9, p=[3.0] * 12,
+        binning_x=0, binning_y=0, roi=t("sensor_msgs/msg/RegionOfInterest")(0, 0, 0, 0, False))  # fmt: skip
+    assert sample.serialize() == bytes(store.serialize_cdr(msg, "sensor_msgs/msg/CameraInfo"))
+
+
+def test_every_topic_is_published_with_its_cdr_and_qos(sim):
+    with DdsBridge(sim) as bridge:
+        clock = _raw_reader(bridge, "/clock", "rosgraph_msgs/msg/Clock", QosProfile(depth=100))
+        seen: list[Envelope] = []
+        sim.subscribe(seen.append)
+        time.sleep(0.3)  # reader and writer match within the process
+        sim.run(0.2)
+        got = _take_until(clock, 20)
+        late = _raw_reader(bridge, "/tf_static", "tf2_msgs/msg/TFMessage",
+                           QosProfile(durability="transient_local", depth=1))  # fmt: skip
+        static = _take_until(late, 1)
+        sent = {e.topic: e for e in seen}
+        assert set(bridge.topics) == set(sent)  # one writer per emitted topic
+        assert bridge.topics["/wamv/imu/data"] == "sensor_msgs/msg/Imu"
+        assert len(got) >= 20 and got == [e.cdr for e in seen if e.topic == "/clock"][: len(got)]  # the envelopes' bytes, as they are
+        assert static and static[0][: len(sent["/tf_static"].cdr)] == sent["/tf_static"].cdr
+        assert bridge.stats["published"] == len(seen) and bridge.stats["write_errors"] == 0
+
+
+def test_writer_qos_carries_reliability_durability_depth_and_type_hash():
+    from cyclonedds.qos import Policy
+
+    qos = _qos(QosProfile(durability="transient_local", depth=1), "tf2_msgs/msg/TFMessage")
+    assert qos[Policy.Durability] == Policy.Durability.TransientLocal
+    assert qos[Policy.History] == Policy.History.KeepLast(1)
+    assert qos[Policy.DataRepresentation].use_cdrv0_representation
+    rihs = typestore().hash_rihs01("tf2_msgs/msg/TFMessage")
+    assert rihs.startswith("RIHS01_") and qos[Policy.Userdata].data == f"typehash={rihs};".encode()
+
+
+def test_commands_over_dds_move_the_boat_and_bad_ones_are_counted(sim):
+    from cyclonedds.pub import DataWriter
+    from cyclonedds.topic import Topic
+
+    with DdsBridge(sim) as bridge:
+        writers = {}
+        for name in sim.vessels["wamv"].thrusters:
+            topic = Topic(bridge.participant, f"rt/wamv/thrusters/{name}/thrust", dds_types.idl_type("std_msgs/msg/Float64"))
+            writers[name] = DataWriter(bridge.participant, topic, qos=_qos(QosProfile(), "std_msgs/msg/Float64"))
+        time.sleep(0.3)
+        one, nan = (bytes(typestore().serialize_cdr(msg_class("std_msgs/msg/Float64")(data=x), "std_msgs/msg/Float64"))
+                    for x in (1.0, float("nan")))  # fmt: skip
+        for writer in writers.values():
+            dds_types.write_cdr(writer, one)
+        dds_types.write_cdr(writers["rear_left"], nan)
+        deadline = time.monotonic() + 3.0
+        while bridge.stats["commands_received"] + bridge.stats["commands_refused"] < 5 and time.monotonic() < deadline:
+            time.sleep(0.01)
+        sim.run(1.0)
+    assert bridge.stats["commands_received"] == 4 and bridge.stats["commands_refused"] == 1
+    assert sim.commands.stats["rejected"] == 1
+    assert sim.vessels["wamv"].velocity_body[0] > 0.1
+
+
+def test_a_slow_sender_drops_the_oldest_and_counts_it(sim):
+    bridge = DdsBridge(sim, queue_limit=4)
+    try:
+        bridge._wake.wait = lambda timeout=None: time.sleep(0.5)  # the sender thread stalls
+        time.sleep(0.2)
+        for i in range(50):
+            bridge._on_envelope(Envelope("/clock", i, clock_msg(i)))
+        assert len(bridge._queue) == 4 and bridge.stats["dropped"] == 46
+        assert bridge._queue[0].stamp_ns == 46  # the newest kept
+    finally:
+        bridge.close()
+    assert sim._subscribers == []
+
+
+def test_default_configuration_keeps_traffic_on_loopback():
+    xml = cyclone_config()
+    assert '<NetworkInterface name="lo"/>' in xml and "<AllowMulticast>false</AllowMulticast>" in xml
+    assert '<Peer address="127.0.0.1"/>' in xml
+    wide = cyclone_config("eth0")
+    assert '<NetworkInterface name="eth0"/>' in wide and "AllowMulticast" not in wide and "Peer" not in wide
+
+
+def test_unknown_cyclonedds_version_fails_clearly(monkeypatch):
+    import importlib.metadata
+
+    dds_types.check_raw_api.cache_clear()
+    monkeypatch.setattr(importlib.metadata, "version", lambda name: "99.0.0")
+    try:
+        with pytest.raises(RuntimeError, match="cyclonedds 11.0.x; found 99.0.0"):
+            dds_types.check_raw_api()
+    finally:
+        dds_types.check_raw_api.cache_clear()
