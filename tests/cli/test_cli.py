@@ -120,3 +120,24 @@ def test_sensor_messages_are_recorded(tmp_path):
         assert count(messages, "/wamv/imu/data") == 50  # 50 Hz for 1 s
         static = [m for t, _, m in messages if t == "/tf_static"][0]
         assert "wamv/lidar" in {tf.child_frame_id for tf in static.transforms}
+
+
+@pytest.mark.parametrize(
+    ("args", "words"),
+    [
+        (["--ros-tcp", "nohostport"], ["--ros-tcp", "HOST:PORT"]),
+        (["--ros-tcp", "127.0.0.1:1", "--ros-tcp-profile", "bogus"], ["profile", "bogus", "seed"]),
+        (["--ros-tcp", "127.0.0.1:1", "--ros-tcp-profile", "seed", "--ros-tcp-vessel", "nope"], ["nope"]),
+    ],
+)
+def test_bad_bridge_options_fail_with_one_line(args, words):
+    assert_one_line_error(usvsim("run", "--duration", "0.1", *args), *words)
+
+
+def test_run_with_live_bridges_reports_their_counts():
+    """DDS pinned to loopback (the default) and a Foxglove server on a free port of 127.0.0.1."""
+    result = usvsim("run", "--duration", "1", "--ros2", "--foxglove", "--foxglove-port", "0")
+    assert result.returncode == 0, result.stderr
+    assert "DdsBridge: published" in result.stderr and "FoxgloveBridge:" in result.stderr
+    published = int(result.stderr.split("DdsBridge: published ")[1].split(",")[0])
+    assert published >= 100 + 50 * 2  # /clock at 100 Hz, /tf and two odometry topics at 50 Hz (+ t = 0)
