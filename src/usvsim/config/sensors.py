@@ -148,6 +148,28 @@ class Distortion(Section):
     k3: float = 0.0
 
 
+Category = Literal["vessel", "buoy", "static"]
+ALL_CATEGORIES = ("vessel", "buoy", "static")
+
+
+class ObjectFilter(Section):
+    """Which objects are reported: by category (static = docks, walls, piers, berths, mesh obstacles)."""
+
+    categories: tuple_of(Category) = ALL_CATEGORIES
+    include_own_vessel: bool = False
+
+
+class CameraDetections(ObjectFilter):
+    """Ground-truth 2D boxes with every frame on `<camera topic>/detections` (vision_msgs/Detection2DArray, same
+    stamp and optical frame as the image). An object is reported when at least `min_visible_pixels` of its pixels
+    are visible in the frame's segmentation (occluders and the image border hide the rest). `box: projected`: the
+    box around its 3D box projected with the published CameraInfo model (distortion included), clipped to the
+    image; `box: visible`: the tight box around its visible pixels."""
+
+    box: Literal["projected", "visible"] = "projected"
+    min_visible_pixels: Annotated[int, Field(ge=1)] = 10
+
+
 class Camera(SensorBase):
     """Pinhole camera rendered by MuJoCo: RGB (rgb8), depth (32FC1, metres along the optical z axis;
     NaN = no surface within `far_m`) and segmentation (16UC1: geom id + 1, 0 = background). Looks along
@@ -166,6 +188,7 @@ class Camera(SensorBase):
     shadows: bool = False
     fog: bool = False
     water_surface: bool = Field(True, description="draw the wave surface from the ocean (else the flat plane)")
+    detections: CameraDetections | None = None
 
     @model_validator(mode="after")
     def _streams(self):
@@ -174,5 +197,17 @@ class Camera(SensorBase):
         return self
 
 
-Sensor = Annotated[Imu | Odometry | Gnss | GroundTruth | Lidar | Camera, Field(discriminator="type")]
+# -- ground-truth detections ------------------------------------------------------------------------
+class Detections(SensorBase, ObjectFilter):
+    """Ground-truth 3D boxes of the scene's objects (sensors/objects.py): vision_msgs/Detection3DArray on
+    `/<vessel>/<name>`, one oriented box per object with id = object name and class label. `frame: world`:
+    boxes in `world` (ENU); `frame: sensor`: in this sensor's frame `<vessel>/<name>` (FLU, at `mount`).
+    `range_max_m` drops objects whose box centre is farther from the sensor."""
+
+    type: Literal["detections"]
+    frame: Literal["world", "sensor"] = "world"
+    range_max_m: PositiveFloat | None = None
+
+
+Sensor = Annotated[Imu | Odometry | Gnss | GroundTruth | Lidar | Camera | Detections, Field(discriminator="type")]
 Sensors = tuple_of(Sensor)

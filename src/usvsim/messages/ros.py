@@ -6,7 +6,9 @@ Conventions (see docs in `design.md`):
 - `nav_msgs/Odometry` twist is expressed in the child frame (REP 105), the pose in the parent frame.
 
 All builders are pure functions; the only shared object is the typestore, built once per process on
-first use and never mutated.
+first use and never mutated afterwards. The Jazzy store lacks vision_msgs, so its ten message types
+(vision_msgs 4.1, ROS 2 Jazzy) are registered when the store is built: CDR, MCAP schemas and DDS types
+then work for them like for any other type, in every part of the process.
 """
 
 from __future__ import annotations
@@ -16,7 +18,7 @@ from collections.abc import Sequence
 from typing import Any
 
 import numpy as np
-from rosbags.typesys import Stores, get_typestore
+from rosbags.typesys import Stores, get_types_from_msg, get_typestore
 
 NS_PER_S = 1_000_000_000
 _INT32_MAX = 2**31 - 1
@@ -32,10 +34,32 @@ _IMAGE_ENCODINGS = {  # encoding -> (numpy dtype, channels) for the encodings th
 }
 
 
+# vision_msgs 4.1 (ros-perception/vision_msgs, branch ros2): the message definitions, comments left out
+VISION_MSGS = {
+    "Point2D": "float64 x\nfloat64 y\n",
+    "Pose2D": "vision_msgs/Point2D position\nfloat64 theta\n",
+    "BoundingBox2D": "vision_msgs/Pose2D center\nfloat64 size_x\nfloat64 size_y\n",
+    "BoundingBox3D": "geometry_msgs/Pose center\ngeometry_msgs/Vector3 size\n",
+    "ObjectHypothesis": "string class_id\nfloat64 score\n",
+    "ObjectHypothesisWithPose": "vision_msgs/ObjectHypothesis hypothesis\ngeometry_msgs/PoseWithCovariance pose\n",
+    "Detection2D": "std_msgs/Header header\nvision_msgs/ObjectHypothesisWithPose[] results\n"
+                   "vision_msgs/BoundingBox2D bbox\nstring id\n",
+    "Detection2DArray": "std_msgs/Header header\nvision_msgs/Detection2D[] detections\n",
+    "Detection3D": "std_msgs/Header header\nvision_msgs/ObjectHypothesisWithPose[] results\n"
+                   "vision_msgs/BoundingBox3D bbox\nstring id\n",
+    "Detection3DArray": "std_msgs/Header header\nvision_msgs/Detection3D[] detections\n",
+}  # fmt: skip
+
+
 @functools.cache
 def typestore() -> Any:
-    """The ROS 2 Jazzy typestore (message classes, CDR (de)serializer, message definitions)."""
-    return get_typestore(Stores.ROS2_JAZZY)
+    """The ROS 2 Jazzy typestore (message classes, CDR (de)serializer, message definitions) + vision_msgs."""
+    store = get_typestore(Stores.ROS2_JAZZY)
+    types: dict = {}
+    for name, text in VISION_MSGS.items():
+        types |= get_types_from_msg(text, f"vision_msgs/msg/{name}")
+    store.register(types)
+    return store
 
 
 @functools.cache

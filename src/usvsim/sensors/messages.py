@@ -9,7 +9,7 @@ from typing import Any
 
 import numpy as np
 
-from usvsim.messages.ros import header, msg_class, quaternion, vector3
+from usvsim.messages.ros import header, msg_class, point, quaternion, vector3
 
 FLOAT32, UINT16 = 7, 4  # sensor_msgs/PointField datatypes
 NO_ESTIMATE = np.array([-1.0] + [0.0] * 8)  # Imu.msg: element 0 = -1 means "no estimate"
@@ -96,3 +96,38 @@ def camera_info_msg(stamp_ns: int, frame_id: str, width: int, height: int, K: np
 def points_from_cloud(msg: Any) -> np.ndarray:
     """Inverse of `point_cloud2_msg` (for tests and tools): a POINT_DTYPE view of the data."""
     return np.frombuffer(bytes(msg.data), dtype=POINT_DTYPE).reshape(msg.height, msg.width)
+
+
+def _hypothesis(label: str, pos, quat_wxyz) -> Any:
+    """vision_msgs/ObjectHypothesisWithPose: ground truth, score 1, the object's pose, zero covariance."""
+    pose = msg_class("geometry_msgs/msg/Pose")(position=point(pos), orientation=quaternion(quat_wxyz))
+    return msg_class("vision_msgs/msg/ObjectHypothesisWithPose")(
+        hypothesis=msg_class("vision_msgs/msg/ObjectHypothesis")(class_id=label, score=1.0),
+        pose=msg_class("geometry_msgs/msg/PoseWithCovariance")(pose=pose, covariance=np.zeros(36)),
+    )
+
+
+def detection3d_msg(stamp_ns: int, frame_id: str, object_id: str, label: str, center, quat_wxyz, size_m) -> Any:
+    """vision_msgs/Detection3D: an oriented box (centre pose + full size, m) in `frame_id`."""
+    pose = msg_class("geometry_msgs/msg/Pose")(position=point(center), orientation=quaternion(quat_wxyz))
+    bbox = msg_class("vision_msgs/msg/BoundingBox3D")(center=pose, size=vector3(size_m))
+    return msg_class("vision_msgs/msg/Detection3D")(header=header(stamp_ns, frame_id),
+                                                    results=[_hypothesis(label, center, quat_wxyz)], bbox=bbox,
+                                                    id=object_id)  # fmt: skip
+
+
+def detection2d_msg(stamp_ns: int, frame_id: str, object_id: str, label: str, box_px, pos_optical, quat_optical) -> Any:
+    """vision_msgs/Detection2D: axis-aligned pixel box (u_min, v_min, u_max, v_max; pixel centres at integers)
+    and, as the hypothesis pose, the object's box pose in the camera's optical frame."""
+    u0, v0, u1, v1 = (float(b) for b in box_px)
+    centre = msg_class("vision_msgs/msg/Pose2D")(position=msg_class("vision_msgs/msg/Point2D")(x=0.5 * (u0 + u1),
+                                                 y=0.5 * (v0 + v1)), theta=0.0)  # fmt: skip
+    bbox = msg_class("vision_msgs/msg/BoundingBox2D")(center=centre, size_x=u1 - u0, size_y=v1 - v0)
+    return msg_class("vision_msgs/msg/Detection2D")(header=header(stamp_ns, frame_id),
+                                                    results=[_hypothesis(label, pos_optical, quat_optical)], bbox=bbox,
+                                                    id=object_id)  # fmt: skip
+
+
+def detection_array_msg(stamp_ns: int, frame_id: str, detections: list, dims: int) -> Any:
+    """vision_msgs/Detection2DArray (dims 2) or Detection3DArray (dims 3)."""
+    return msg_class(f"vision_msgs/msg/Detection{dims}DArray")(header=header(stamp_ns, frame_id), detections=detections)

@@ -33,13 +33,20 @@ def _camera(cfg, vessel, sim, shared):
     return Camera(cfg, vessel, sim, shared)
 
 
+def _detections(cfg, vessel, sim, shared):
+    from usvsim.sensors.detections import Detections3D
+
+    return Detections3D(cfg, vessel, sim, shared)
+
+
 def _plain(cls):
     return lambda cfg, vessel, sim, shared: cls(cfg, vessel, sim)
 
 
 # YAML `type` → factory(cfg, vessel, sim, shared); `shared` holds per-suite resources (ray scenes, renderers)
 REGISTRY = {"imu": _plain(Imu), "odometry": _plain(Odometry), "gnss": _plain(Gnss),
-            "ground_truth": _plain(GroundTruthPose), "lidar": _lidar, "camera": _camera}  # fmt: skip
+            "ground_truth": _plain(GroundTruthPose), "lidar": _lidar, "camera": _camera,
+            "detections": _detections}  # fmt: skip
 
 
 class SensorSuite:

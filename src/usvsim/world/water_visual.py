@@ -86,6 +86,35 @@ def update_water_visual(sim, renderer_context=None, center_xy=(0.0, 0.0)) -> np.
     `renderer_context`: a `mujoco.MjrContext` (current GL context), a `mujoco.Renderer`, or None (only the
     model is updated). Returns the (n, n) heights [iy, ix] that were written, or None if the model has no field.
     """
+    written = _write_model(sim, center_xy)
+    if written is not None:
+        _upload(sim.model, renderer_context, written[0])
+    return None if written is None else written[1]
+
+
+@dataclass
+class WaterUpload:
+    """What one GL context holds of the surface: the heights and centre it was last sent."""
+
+    heights: np.ndarray | None = None
+    center_xy: tuple[float, float] | None = None
+
+
+def refresh_water_visual(sim, context: mujoco.MjrContext, center_xy, uploaded: WaterUpload) -> None:
+    """`update_water_visual` that skips the GL upload (display list + texture, ~2 ms on llvmpipe) when the
+    context already holds this field: a calm sea uploads once, and cameras sharing a context upload once per tick.
+    The model side (heights, pose of the field and the plane) is always rewritten, so other contexts may share it."""
+    written = _write_model(sim, center_xy)
+    if written is None:
+        return
+    ids, heights, center = written
+    if uploaded.center_xy == center and uploaded.heights is not None and np.array_equal(uploaded.heights, heights):
+        return
+    _upload(sim.model, context, ids)
+    uploaded.heights, uploaded.center_xy = heights.copy(), center
+
+
+def _write_model(sim, center_xy) -> tuple[WaterSurfaceIds, np.ndarray, tuple[float, float]] | None:
     model, data = sim.model, sim.data
     ids = WaterSurfaceIds.of(model)
     if ids is None:
@@ -104,8 +133,7 @@ def update_water_visual(sim, renderer_context=None, center_xy=(0.0, 0.0)) -> np.
         model.geom_pos[ids.plane, 2] = data.geom_xpos[ids.plane, 2] = low - PLANE_GAP_M
     if ids.texture >= 0:
         _paint(model, ids.texture, heights, size_m / (n - 1), float(sim.ocean.level_m))
-    _upload(model, renderer_context, ids)
-    return heights
+    return ids, heights, (cx, cy)
 
 
 def _palette(levels: int = 64) -> np.ndarray:

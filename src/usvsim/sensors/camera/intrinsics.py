@@ -16,6 +16,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from usvsim.sensors.camera.kernels import remap_bilinear
+
 
 def distort(xy: np.ndarray, D) -> np.ndarray:
     """Undistorted normalized points (n, 2) → distorted normalized points (plumb_bob D = k1, k2, p1, p2, k3)."""
@@ -87,20 +89,18 @@ class Remap:
         sv = self.render.fy * xy[..., 1] + cam.cy
         self.nearest = (np.clip(np.rint(sv), 0, cam.height - 1).astype(np.intp) * cam.width
                         + np.clip(np.rint(su), 0, cam.width - 1).astype(np.intp)).ravel()  # fmt: skip
-        u0 = np.clip(np.floor(su), 0, cam.width - 2).astype(np.intp)
-        v0 = np.clip(np.floor(sv), 0, cam.height - 2).astype(np.intp)
-        fu, fv = (su - u0).clip(0, 1)[..., None], (sv - v0).clip(0, 1)[..., None]
-        base = v0 * cam.width + u0
-        self.corners = [base.ravel(), (base + 1).ravel(), (base + cam.width).ravel(), (base + cam.width + 1).ravel()]
-        self.weights = [((1 - fu) * (1 - fv)).reshape(-1, 1), (fu * (1 - fv)).reshape(-1, 1),
-                        ((1 - fu) * fv).reshape(-1, 1), (fu * fv).reshape(-1, 1)]  # fmt: skip
-        self.weights = [w.astype(np.float32) for w in self.weights]
+        u0 = np.clip(np.floor(su), 0, cam.width - 2).astype(np.int64)
+        v0 = np.clip(np.floor(sv), 0, cam.height - 2).astype(np.int64)
+        fu, fv = (su - u0).clip(0, 1).ravel(), (sv - v0).clip(0, 1).ravel()
+        base = (v0 * cam.width + u0).ravel()
+        self.corners = np.stack([base, base + 1, base + cam.width, base + cam.width + 1], axis=1)
+        self.weights = np.stack([(1 - fu) * (1 - fv), fu * (1 - fv), (1 - fu) * fv, fu * fv], axis=1).astype(np.float32)
 
     def linear(self, image: np.ndarray) -> np.ndarray:
-        """Bilinear resampling of an (H, W, C) image (RGB)."""
-        flat = image.reshape(-1, image.shape[-1]).astype(np.float32)
-        out = sum(flat[c] * w for c, w in zip(self.corners, self.weights))
-        return out.reshape(image.shape).round().astype(image.dtype)
+        """Bilinear resampling of an (H, W, C) uint8 image (RGB)."""
+        out = np.empty_like(image)
+        remap_bilinear(np.ascontiguousarray(image), self.corners, self.weights, out)
+        return out
 
     def closest(self, image: np.ndarray) -> np.ndarray:
         """Nearest-pixel resampling (depth, labels): never blends two surfaces."""

@@ -1,11 +1,19 @@
 """Offscreen MuJoCo rendering with an exact pinhole projection: RGB + depth in one pass, segmentation in a second.
 
 The GL context is EGL unless MUJOCO_GL names another backend (osmesa, glfw); it is created here, so it
-works even when `mujoco` was imported before MUJOCO_GL was set. The camera is placed by overwriting
-the scene's GL cameras after `mjv_updateScene`: position, forward (= optical z), up (= -optical y) and
-an off-axis frustum from (fx, fy, cx, cy) at the near plane. Geoms come from a private MjData whose
-kinematics are recomputed from the simulation's current qpos (MuJoCo's own `geom_xpos` lag one step).
-Visible groups: visual (1) and water (2); collision geoms (3) are hidden.
+works even when `mujoco` was imported before MUJOCO_GL was set. One `RenderContext` (GL context + MjrContext)
+serves all cameras of a suite: the drawn water surface is uploaded to it once per change, not once per camera.
+
+The camera is placed by overwriting the scene's GL cameras after `mjv_updateScene`: position, forward (=
+optical z), up (= -optical y) and an off-axis frustum from (fx, fy, cx, cy) at the near plane. Geoms come
+from a private MjData whose kinematics are recomputed from the simulation's current qpos (MuJoCo's own
+`geom_xpos` lag one step). Visible groups: visual (1) and water (2); collision geoms (3) are hidden.
+
+Speed on llvmpipe (measured, see benchmarks/bench_sensors.py): the sky is never drawn by GL (MuJoCo's skybox
+costs a third of the RGB pass and writes depth); the kernels paint it from the same gradient where depth is
+empty. Planes are compiled with a coarse render grid (MuJoCo's default grid of up to 200 x 200 quads per
+plane cost more than the rest of the scene; the plane is uniformly lit, so the image is unchanged), and the
+offscreen buffer is only as large as the largest camera, without MSAA.
 """
 
 from __future__ import annotations
@@ -16,10 +24,13 @@ import mujoco
 import numpy as np
 
 from usvsim.sensors.camera.intrinsics import Intrinsics
+from usvsim.sensors.camera.kernels import finish_rgb_depth, finish_segmentation
+from usvsim.world.water_visual import WaterUpload, refresh_water_visual
 
 _R = mujoco.mjtRndFlag
 SKY_ZENITH = np.array([0.55, 0.72, 0.92]) * 255  # the builder's skybox gradient (world/builder.py)
 SKY_HORIZON = np.array([0.95, 0.97, 1.0]) * 255
+PLANE_RENDER_GRID_M = 1e6  # render-grid spacing of planes in sensor contexts: one quad (+ padding strips)
 
 
 def gl_context(width: int, height: int):
@@ -34,34 +45,76 @@ def gl_context(width: int, height: int):
     return GLContext(width, height)
 
 
-class PinholeRenderer:
-    """Renders `Intrinsics` (no distortion) from a world pose. Not thread-safe; one GL context each."""
+class RenderContext:
+    """A GL context and its MjrContext for one model; offscreen buffer grown to the largest camera."""
 
-    def __init__(self, model: mujoco.MjModel, cam: Intrinsics, near: float, far: float, shadows=False, fog=False):
-        self.model, self.cam, self.near, self.far = model, cam, near, far
-        self.gl = gl_context(cam.width, cam.height)
+    def __init__(self, model: mujoco.MjModel, width: int, height: int):
+        self.model, self.width, self.height = model, width, height
+        self.gl = gl_context(width, height)
         self.gl.make_current()
-        samples = model.vis.quality.offsamples
-        model.vis.quality.offsamples = 0  # no MSAA: 3-4x faster on llvmpipe, and labels stay crisp
+        quality, glob, planes = model.vis.quality, model.vis.global_, model.geom_type == mujoco.mjtGeom.mjGEOM_PLANE
+        saved = quality.offsamples, glob.offwidth, glob.offheight, model.geom_size[planes, 2].copy()
+        quality.offsamples, glob.offwidth, glob.offheight = 0, width, height  # no MSAA: labels stay crisp
+        model.geom_size[planes, 2] = PLANE_RENDER_GRID_M
         try:
             self.ctx = mujoco.MjrContext(model, mujoco.mjtFontScale.mjFONTSCALE_150)
         finally:
-            model.vis.quality.offsamples = samples
+            quality.offsamples, glob.offwidth, glob.offheight = saved[:3]
+            model.geom_size[planes, 2] = saved[3]
         mujoco.mjr_setBuffer(mujoco.mjtFramebuffer.mjFB_OFFSCREEN, self.ctx)
+        self.water = WaterUpload()
+
+    def fit(self, width: int, height: int) -> None:
+        """Grow the offscreen buffer to hold a `width` x `height` image."""
+        if width > self.width or height > self.height:
+            self.width, self.height = max(width, self.width), max(height, self.height)
+            self.gl.make_current()
+            mujoco.mjr_resizeOffscreen(self.width, self.height, self.ctx)
+            mujoco.mjr_setBuffer(mujoco.mjtFramebuffer.mjFB_OFFSCREEN, self.ctx)
+
+    def refresh_water(self, sim, center_xy) -> None:
+        """Draw the ocean's surface at `sim.time` around `center_xy` (world ENU, m); uploads only on change."""
+        self.gl.make_current()
+        refresh_water_visual(sim, self.ctx, center_xy, self.water)
+
+    def close(self) -> None:
+        if self.gl is not None:
+            self.gl.make_current()
+            self.ctx.free()
+            self.gl.free()
+            self.gl = None
+
+
+class PinholeRenderer:
+    """Renders `Intrinsics` (no distortion) from a world pose into a (shared) `RenderContext`."""
+
+    def __init__(self, model: mujoco.MjModel, cam: Intrinsics, near: float, far: float, shadows=False, fog=False,
+                 context: RenderContext | None = None):  # fmt: skip
+        self.model, self.cam, self.near, self.far = model, cam, near, far
+        self._own = context is None
+        self.context = context or RenderContext(model, cam.width, cam.height)
+        self.context.fit(cam.width, cam.height)
         self.rect = mujoco.MjrRect(0, 0, cam.width, cam.height)
         self.scene = mujoco.MjvScene(model, maxgeom=10_000)
         self.option = mujoco.MjvOption()
         self.option.geomgroup[:] = 0
         self.option.geomgroup[1] = self.option.geomgroup[2] = 1
         self.data = mujoco.MjData(model)
-        self.free = mujoco.MjvCamera()
-        self.pert = mujoco.MjvPerturb()
-        self.flags = {_R.mjRND_SHADOW: shadows, _R.mjRND_REFLECTION: False, _R.mjRND_FOG: fog, _R.mjRND_SKYBOX: True}
-        self._rgb = np.empty((cam.height, cam.width, 3), np.uint8)
-        v, u = np.mgrid[0 : cam.height, 0 : cam.width]
-        self._rays = np.stack([(u - cam.cx) / cam.fx, (v - cam.cy) / cam.fy, np.ones(u.shape)], axis=-1)
-        self._rot = np.eye(3)
-        self._depth = np.empty((cam.height, cam.width), np.float32)
+        self.free, self.pert = mujoco.MjvCamera(), mujoco.MjvPerturb()
+        self.flags = {_R.mjRND_SHADOW: shadows, _R.mjRND_REFLECTION: False, _R.mjRND_FOG: fog, _R.mjRND_SKYBOX: False}
+        self._gl_rgb = np.empty((cam.height, cam.width, 3), np.uint8)
+        self._gl_depth = np.empty((cam.height, cam.width), np.float32)
+        self._gl_ids = np.empty((cam.height, cam.width, 3), np.uint8)
+        self._intrinsics = np.array([cam.fx, cam.fy, cam.cx, cam.cy])
+        self._up_optical = np.array([0.0, -1.0, 0.0])
+
+    @property
+    def gl(self):
+        return self.context.gl
+
+    @property
+    def ctx(self) -> mujoco.MjrContext:
+        return self.context.ctx
 
     def update(self, qpos: np.ndarray, pos_world: np.ndarray, rot_optical: np.ndarray) -> None:
         """Pose the world (`qpos`) and the camera (optical frame → world rotation, origin in ENU m)."""
@@ -69,7 +122,8 @@ class PinholeRenderer:
         mujoco.mj_kinematics(self.model, self.data)
         mujoco.mjv_updateScene(self.model, self.data, self.option, self.pert, self.free,
                                mujoco.mjtCatBit.mjCAT_ALL, self.scene)  # fmt: skip
-        c, n, self._rot = self.cam, self.near, rot_optical
+        c, n = self.cam, self.near
+        self._up_optical = np.ascontiguousarray(rot_optical[2], dtype=np.float64)  # world z in the optical frame
         left, right = -(c.cx + 0.5) * n / c.fx, (c.width - c.cx - 0.5) * n / c.fx
         top, bottom = (c.cy + 0.5) * n / c.fy, -(c.height - c.cy - 0.5) * n / c.fy
         for gl in self.scene.camera:
@@ -79,55 +133,50 @@ class PinholeRenderer:
             gl.frustum_bottom, gl.frustum_top = bottom, top
             gl.orthographic = 0
 
-    def _render(self, segment: bool, skybox: bool = True) -> None:
-        self.gl.make_current()
+    def _render(self, segment: bool) -> None:
+        self.context.gl.make_current()
         for flag, on in self.flags.items():
             self.scene.flags[flag] = on and not segment
-        self.scene.flags[_R.mjRND_SKYBOX] = skybox and not segment
         self.scene.flags[_R.mjRND_SEGMENT] = self.scene.flags[_R.mjRND_IDCOLOR] = segment
         mujoco.mjr_render(self.rect, self.scene, self.ctx)
 
-    def rgb_depth(self, want_depth: bool = True) -> tuple[np.ndarray, np.ndarray | None]:
-        """(H, W, 3) uint8 and depth along optical z (m; NaN where nothing is nearer than `far`), top row first.
+    def capture(self, rgb_depth: bool = True, segmentation: bool = True) -> dict[str, np.ndarray]:
+        """'rgb' (H, W, 3) uint8 + 'depth' (H, W) float32 along optical z (m; NaN where nothing is nearer than
+        `far`) from one GL pass, and 'segmentation' (H, W) uint16 (geom id + 1, 0 = background) from a second;
+        top row first. The sky (empty depth) is painted from the skybox's gradient. The segmentation pass is
+        drawn by llvmpipe's threads while this thread finishes the RGB and depth images."""
+        out: dict[str, np.ndarray] = {}
+        if rgb_depth:
+            self._render(segment=False)
+            mujoco.mjr_readPixels(self._gl_rgb, self._gl_depth, self.rect, self.ctx)
+        if segmentation:
+            self._render(segment=True)  # returns before the pixels are drawn
+        if rgb_depth:
+            out["rgb"], out["depth"] = np.empty_like(self._gl_rgb), np.empty_like(self._gl_depth)
+            zero_near = self.ctx.readDepthMap == mujoco.mjtDepthMap.mjDEPTH_ZERONEAR  # else reversed Z
+            finish_rgb_depth(self._gl_rgb, self._gl_depth, float(self.near), float(self.far), zero_near,
+                             self._up_optical, self._intrinsics, SKY_ZENITH, SKY_HORIZON, out["rgb"], out["depth"])  # fmt: skip
+        if segmentation:
+            mujoco.mjr_readPixels(self._gl_ids, None, self.rect, self.ctx)
+            out["segmentation"] = np.empty(self._gl_depth.shape, np.uint16)
+            finish_segmentation(self._gl_ids, self._segment_lut(), out["segmentation"])
+        return out
 
-        MuJoCo's skybox writes depth, so with depth the sky is painted here instead, from the same gradient."""
-        self._render(segment=False, skybox=not want_depth)
-        mujoco.mjr_readPixels(self._rgb, self._depth if want_depth else None, self.rect, self.ctx)
-        rgb = self._rgb[::-1].copy()
-        if not want_depth:
-            return rgb, None
-        raw = self._depth[::-1].astype(np.float64)
-        n, f = self.near, self.far
-        if self.ctx.readDepthMap == mujoco.mjtDepthMap.mjDEPTH_ZERONEAR:  # window z: 0 at near, 1 at far
-            depth = n / (1.0 - raw * (1.0 - n / f))
-            empty = raw >= 1.0
-        else:  # reversed Z: 1 at near, 0 at far
-            depth = n / (raw + (1.0 - raw) * n / f)
-            empty = raw <= 0.0
-        depth = depth.astype(np.float32)
-        empty |= depth >= 0.999 * f
-        depth[empty] = np.nan
-        up = self._rays[empty] @ self._rot[2]  # world z of each empty pixel's ray (unnormalized)
-        t = np.clip(up / np.linalg.norm(self._rays[empty], axis=1), 0.0, 1.0)[:, None]
-        rgb[empty] = (SKY_HORIZON + t * (SKY_ZENITH - SKY_HORIZON)).astype(np.uint8)
-        return rgb, depth
+    def rgb_depth(self) -> tuple[np.ndarray, np.ndarray]:
+        images = self.capture(segmentation=False)
+        return images["rgb"], images["depth"]
 
     def segmentation(self) -> np.ndarray:
-        """(H, W) uint16: MuJoCo geom id + 1 of the visible geom, 0 for sky/background."""
-        self._render(segment=True)
-        mujoco.mjr_readPixels(self._rgb, None, self.rect, self.ctx)
-        img = self._rgb[::-1].astype(np.int32)
-        seg = img[..., 0] + (img[..., 1] << 8) + (img[..., 2] << 16)  # scene geom index + 1
+        return self.capture(rgb_depth=False)["segmentation"]
+
+    def _segment_lut(self) -> np.ndarray:
+        """Scene geom index + 1 → model geom id + 1 (0: not a geom)."""
         lut = np.zeros(self.scene.ngeom + 1, np.uint16)
-        for i in range(self.scene.ngeom):
-            g = self.scene.geoms[i]
+        for i, g in enumerate(self.scene.geoms[: self.scene.ngeom]):
             if g.objtype == mujoco.mjtObj.mjOBJ_GEOM:
                 lut[i + 1] = g.objid + 1
-        return lut[np.clip(seg, 0, self.scene.ngeom)]
+        return lut
 
     def close(self) -> None:
-        if self.gl is not None:
-            self.gl.make_current()
-            self.ctx.free()
-            self.gl.free()
-            self.gl = None
+        if self._own:
+            self.context.close()

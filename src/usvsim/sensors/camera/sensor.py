@@ -6,8 +6,10 @@ Frames: mounted at `<vessel>/<name>` (FLU, looking along +x); images and CameraI
 share one stamp. Depth is metres along the optical z axis; NaN = no surface within `far_m` (sky, REP 117),
 and depth noise is added per pixel as N(0, depth_noise_stddev_m²). RGB noise is multiplicative:
 out = clip(in·(1 + σ n)), n ~ N(0, 1) per pixel and channel. Segmentation holds MuJoCo geom id + 1 (0 =
-background); no noise, no blending. The water surface is the ocean's own height field (world/water_visual),
-refreshed around the camera before each frame.
+background); no noise, no blending. With `detections`, `<topic>/detections` carries ground-truth 2D boxes
+(vision_msgs/Detection2DArray, camera/boxes2d.py) with the same stamp and frame. The water surface is the
+ocean's own height field (world/water_visual), refreshed around the vessel before each frame and uploaded to
+GL only when it changed.
 """
 
 from __future__ import annotations
@@ -19,17 +21,17 @@ import numpy as np
 from usvsim.messages.envelope import Envelope
 from usvsim.messages.ros import image_msg
 from usvsim.sensors.base import OPTICAL_ROT, Sensor
+from usvsim.sensors.camera.boxes2d import BoxMaker
 from usvsim.sensors.camera.intrinsics import Intrinsics, Remap
-from usvsim.sensors.camera.render import PinholeRenderer
-from usvsim.sensors.messages import camera_info_msg
+from usvsim.sensors.camera.kernels import rgb_gain_noise
+from usvsim.sensors.camera.render import PinholeRenderer, RenderContext
+from usvsim.sensors.detections import selected, shared_objects
+from usvsim.sensors.messages import camera_info_msg, detection_array_msg
 
 if TYPE_CHECKING:
     from usvsim.simulation import Simulation
 
-try:  # the drawn ocean surface (another module); without it the flat still-water plane is drawn
-    from usvsim.world.water_visual import update_water_visual
-except ImportError:  # pragma: no cover
-    update_water_visual = None
+GL_KEY = "camera/gl"  # the suite's one RenderContext in `shared`, closed by SensorSuite.close()
 
 
 class Camera(Sensor):
@@ -41,25 +43,28 @@ class Camera(Sensor):
         self.intrinsics = Intrinsics.from_fov(cfg.width, cfg.height, cfg.horizontal_fov_deg, (d.k1, d.k2, d.p1, d.p2, d.k3))
         self.remap = Remap(self.intrinsics) if self.intrinsics.distorted else None
         render_cam = self.remap.render if self.remap else self.intrinsics
-        self.renderer = PinholeRenderer(sim.model, render_cam, cfg.near_m, cfg.far_m, cfg.shadows, cfg.fog)
-        shared[f"camera/{self.name}"] = self.renderer  # closed by SensorSuite.close()
+        if GL_KEY not in shared:
+            shared[GL_KEY] = RenderContext(sim.model, cfg.width, cfg.height)
+        self.renderer = PinholeRenderer(sim.model, render_cam, cfg.near_m, cfg.far_m, cfg.shadows, cfg.fog, shared[GL_KEY])
         self.streams = set(cfg.streams)
+        self.boxes = None
+        if cfg.detections is not None:  # 2D ground truth needs the segmentation pass, published or not
+            objects = selected(shared_objects(sim, shared), cfg.detections, vessel)
+            self.boxes = BoxMaker(cfg.detections, objects, sim.model, self.intrinsics, cfg.near_m)
+        self._rgb_normal = np.empty((cfg.height, cfg.width, 3) if cfg.rgb_noise_stddev > 0 else 0, np.float32)
+        self._depth_normal = np.empty((cfg.height, cfg.width) if cfg.depth_noise_stddev_m > 0 else 0, np.float32)
 
     def render(self, sim: Simulation) -> dict[str, np.ndarray]:
-        """Images of the current state: 'rgb' (H, W, 3) uint8, 'depth' (H, W) float32 m, 'segmentation' uint16."""
+        """Images of the current state: 'rgb' (H, W, 3) uint8, 'depth' (H, W) float32 m, 'segmentation' uint16
+        (the configured streams, and segmentation when detections need it)."""
         pos, rot = self.pose_world(sim)
         r = self.renderer
-        if self.cfg.water_surface and update_water_visual is not None:
-            r.gl.make_current()
-            update_water_visual(sim, r.ctx, pos[:2])
+        if self.cfg.water_surface:  # centred on the vessel: its cameras share one upload per tick
+            r.context.refresh_water(sim, sim.state.pos[self.body, :2])
         r.update(sim.data.qpos, pos, rot @ OPTICAL_ROT)
-        out: dict[str, np.ndarray] = {}
-        if self.streams & {"rgb", "depth"}:
-            out["rgb"], depth = r.rgb_depth(want_depth="depth" in self.streams)
-            if depth is not None:
-                out["depth"] = depth
-        if "segmentation" in self.streams:
-            out["segmentation"] = r.segmentation()
+        images = r.capture(rgb_depth=bool(self.streams & {"rgb", "depth"}),
+                           segmentation="segmentation" in self.streams or self.boxes is not None)  # fmt: skip
+        out = {k: v for k, v in images.items() if k in self.streams or k == "segmentation"}
         if self.remap is not None:
             out = {k: (self.remap.linear(v) if k == "rgb" else self.remap.closest(v)) for k, v in out.items()}
         return out
@@ -67,11 +72,11 @@ class Camera(Sensor):
     def _noisy(self, images: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
         c = self.cfg
         if "rgb" in images and c.rgb_noise_stddev > 0:
-            gain = 1.0 + c.rgb_noise_stddev * self.rng.standard_normal(images["rgb"].shape, np.float32)
-            images["rgb"] = np.clip(images["rgb"] * gain, 0, 255).round().astype(np.uint8)
+            self.rng.standard_normal(dtype=np.float32, out=self._rgb_normal)  # buffers reused every frame
+            rgb_gain_noise(images["rgb"], self._rgb_normal, np.float32(c.rgb_noise_stddev))
         if "depth" in images and c.depth_noise_stddev_m > 0:
-            images["depth"] = images["depth"] + c.depth_noise_stddev_m * self.rng.standard_normal(
-                images["depth"].shape, np.float32)  # fmt: skip
+            self.rng.standard_normal(dtype=np.float32, out=self._depth_normal)
+            images["depth"] += np.float32(c.depth_noise_stddev_m) * self._depth_normal
         return images
 
     def sample(self, sim: Simulation, stamp_ns: int) -> list[Envelope]:
@@ -82,10 +87,18 @@ class Camera(Sensor):
         if "rgb" in self.streams:
             out += [Envelope(f"{base}/image_raw", stamp_ns, image_msg(stamp_ns, frame, images["rgb"], "rgb8")),
                     Envelope(f"{base}/camera_info", stamp_ns, info)]  # fmt: skip
-        if "depth" in images:
+        if "depth" in self.streams:
             out += [Envelope(f"{base}/depth/image_raw", stamp_ns, image_msg(stamp_ns, frame, images["depth"], "32FC1")),
                     Envelope(f"{base}/depth/camera_info", stamp_ns, info)]  # fmt: skip
-        if "segmentation" in images:
+        if "segmentation" in self.streams:
             seg = image_msg(stamp_ns, frame, images["segmentation"], "16UC1")
             out.append(Envelope(f"{base}/segmentation/image_raw", stamp_ns, seg))
+        if self.boxes is not None:
+            out.append(Envelope(f"{base}/detections", stamp_ns, self._detections(sim, images["segmentation"], stamp_ns)))
         return out
+
+    def _detections(self, sim: Simulation, seg: np.ndarray, stamp_ns: int):
+        pos, rot = self.pose_world(sim)
+        frame = self.optical_frame_id
+        boxes = self.boxes.detections(sim, seg, pos, rot @ OPTICAL_ROT, stamp_ns, frame)
+        return detection_array_msg(stamp_ns, frame, boxes, 2)

@@ -1,17 +1,17 @@
-"""Ray casting against the world's geometry with Embree (embreex), for LiDARs (and any ray sensor).
+"""The world's geometry as Embree (embreex) scenes for ray sensors: one static scene and one per moving body.
 
 Every MuJoCo geom of one group (visual 1 by default, so LiDAR sees what cameras see; or collision 3)
 becomes triangles: boxes exactly, spheres/cylinders/capsules/ellipsoids tessellated within `TOL_M` of the
-true surface, meshes as compiled. Static geoms (world body) go into one Embree scene built once; geoms of
-moving bodies go into a second scene rebuilt from the bodies' current poses (`sim.state`, the post-step
-pose, not MuJoCo's one-step-old `geom_xpos`) when a ray sensor first needs it at a tick. Each scene is one
+true surface, meshes as compiled. Static geoms (world body) go into one scene in the world frame; the geoms
+of each moving body go into one scene in that body's frame. All scenes are built once: a moving body's
+scene never changes, the rays are brought into its frame instead (`raycast.RayWorld`). Each scene is one
 Embree geometry; `prim_geom[primID]` gives the MuJoCo geom id. Water (group 2) is never in a scene.
 """
 
 from __future__ import annotations
 
 import math
-from concurrent.futures import ThreadPoolExecutor
+from dataclasses import dataclass
 
 import mujoco
 import numpy as np
@@ -23,6 +23,7 @@ from usvsim.core.transforms import matrix_from_quat
 
 TOL_M = 0.004  # max distance of tessellated primitives from the true surface
 NO_HIT = -1
+STATIC = -1  # `BodyScene.body` of the static world scene
 _G = mujoco.mjtGeom
 
 
@@ -58,91 +59,53 @@ def geom_triangles(model: mujoco.MjModel, g: int) -> np.ndarray | None:
     return np.asarray(mesh.triangles, dtype=np.float64)
 
 
-def _scene(triangles: np.ndarray) -> rtcs.EmbreeScene | None:
-    if len(triangles) == 0:
-        return None
+def geom_triangles_body(model: mujoco.MjModel, g: int) -> np.ndarray | None:
+    """Triangles (n, 3, 3) of geom g in its body's frame (the world frame for static geoms), m."""
+    tris = geom_triangles(model, g)
+    return None if tris is None else tris @ matrix_from_quat(model.geom_quat[g]).T + model.geom_pos[g]
+
+
+@dataclass(frozen=True)
+class BodyScene:
+    """The geoms of one body as one Embree scene in the body frame, with a bounding sphere for culling."""
+
+    scene: rtcs.EmbreeScene
+    prim_geom: np.ndarray  # (triangles,) int32: MuJoCo geom id of each triangle
+    body: int  # index into `sim.state` arrays; STATIC for the world scene (frame = world)
+    center_body_m: np.ndarray  # (3,) bounding sphere centre, body frame
+    radius_m: float
+    part_centers_m: np.ndarray  # (geoms, 3) bounding sphere centre of each geom, body frame
+    part_radii_m: np.ndarray  # (geoms,)
+    box_lo_m: np.ndarray  # (3,) corners of the bounding box, body frame, 1 mm margin
+    box_hi_m: np.ndarray
+
+
+def bounding_sphere(verts: np.ndarray) -> tuple[np.ndarray, float]:
+    """A sphere (centre, radius m) around points (n, 3): centred on their box, 1 mm margin for float32."""
+    center = 0.5 * (verts.min(axis=0) + verts.max(axis=0))
+    return center, float(np.linalg.norm(verts - center, axis=1).max()) + 1e-3
+
+
+def _body_scene(geoms: list[int], tris: list[np.ndarray], body: int) -> BodyScene:
+    all_tris = np.concatenate(tris)
+    center, radius = bounding_sphere(all_tris.reshape(-1, 3))
+    parts = [bounding_sphere(t.reshape(-1, 3)) for t in tris]
     scene = rtcs.EmbreeScene()
-    TriangleMesh(scene, np.ascontiguousarray(triangles, dtype=np.float32))
-    return scene
+    TriangleMesh(scene, np.ascontiguousarray(all_tris, dtype=np.float32))
+    prim_geom = np.repeat(np.array(geoms, np.int32), [len(t) for t in tris])
+    verts = all_tris.reshape(-1, 3)
+    return BodyScene(scene, prim_geom, body, center, radius, np.array([c for c, _ in parts]),
+                     np.array([r for _, r in parts]), verts.min(axis=0) - 1e-3, verts.max(axis=0) + 1e-3)  # fmt: skip
 
 
-class RayWorld:
-    """The triangles of one geom group, static and moving, and a multi-threaded `cast`."""
-
-    def __init__(self, sim, group: int, threads: int = 2):
-        model = sim.model
-        self.sim, self.threads = sim, threads
-        self.pool = ThreadPoolExecutor(threads) if threads > 1 else None
-        geoms = [g for g in range(model.ngeom) if model.geom_group[g] == group]
-        local = {g: geom_triangles(model, g) for g in geoms}
-        local = {g: tri for g, tri in local.items() if tri is not None}
-        static = [g for g in local if model.geom_bodyid[g] == 0]
-        self.moving = [g for g in local if model.geom_bodyid[g] != 0]
-        world_tris = [self._transform(local[g], model.geom_pos[g], matrix_from_quat(model.geom_quat[g])) for g in static]
-        self.static_geom = np.repeat(np.array(static, dtype=np.int32), [len(local[g]) for g in static])
-        self.static = _scene(np.concatenate(world_tris) if world_tris else np.zeros((0, 3, 3)))
-        self.moving_local = [local[g] for g in self.moving]
-        self.moving_geom = np.repeat(np.array(self.moving, dtype=np.int32), [len(t) for t in self.moving_local])
-        self.moving_body = model.geom_bodyid[self.moving] - 1  # index into sim.state
-        self.moving_pos = model.geom_pos[self.moving].copy()
-        self.moving_rot = matrix_from_quat(model.geom_quat[self.moving]) if self.moving else np.zeros((0, 3, 3))
-        self._dynamic, self._dynamic_step = None, -1
-
-    @staticmethod
-    def _transform(tris: np.ndarray, pos: np.ndarray, rot: np.ndarray) -> np.ndarray:
-        return tris @ rot.T + pos
-
-    def moving_triangles(self) -> np.ndarray:
-        """All moving geoms' triangles in the world at the current state (n, 3, 3)."""
-        s = self.sim.state
-        out = [self._transform(tri, s.pos[b] + s.rot[b] @ p, s.rot[b] @ r)
-               for tri, b, p, r in zip(self.moving_local, self.moving_body, self.moving_pos, self.moving_rot)]  # fmt: skip
-        return np.concatenate(out) if out else np.zeros((0, 3, 3))
-
-    def _dynamic_scene(self):
-        step = self.sim.clock.steps
-        if self._dynamic_step != step:
-            self._dynamic, self._dynamic_step = _scene(self.moving_triangles()), step
-        return self._dynamic
-
-    def cast(self, origins: np.ndarray, dirs: np.ndarray, max_range: float):
-        """Nearest hits of rays (world ENU; `dirs` unit). Returns (distance m float32, +inf on a miss; MuJoCo
-        geom id, -1 on a miss; geometric normal (n, 3), world, unit where there is a hit)."""
-        origins = np.ascontiguousarray(origins, np.float32)
-        dirs = np.ascontiguousarray(dirs, np.float32)
-        dist = geom = normal = None
-        for scene, prim_geom in ((self.static, self.static_geom), (self._dynamic_scene(), self.moving_geom)):
-            if scene is None:
-                continue
-            hit = self._run(scene, origins, dirs, max_range)
-            found = hit["geomID"] != NO_HIT
-            if dist is None:
-                dist = np.where(found, hit["tfar"], np.float32(np.inf))
-                geom = np.where(found, prim_geom[hit["primID"]], NO_HIT).astype(np.int32)
-                normal = hit["Ng"]
-                continue
-            closer = np.flatnonzero(found & (hit["tfar"] < dist))
-            dist[closer] = hit["tfar"][closer]
-            geom[closer] = prim_geom[hit["primID"][closer]]
-            normal[closer] = hit["Ng"][closer]
-        if dist is None:
-            n = len(dirs)
-            return np.full(n, np.inf, np.float32), np.full(n, NO_HIT, np.int32), np.zeros((n, 3), np.float32)
-        idx = np.flatnonzero(geom != NO_HIT)
-        normal[idx] /= np.maximum(np.linalg.norm(normal[idx], axis=1, keepdims=True), 1e-12)
-        return dist, geom, normal
-
-    def _run(self, scene, origins, dirs, max_range):
-        n = len(dirs)
-        dists = np.full(n, max_range, np.float32)
-        if self.pool is None or n < 4096:
-            return scene.run(origins, dirs, dists=dists, output=1)
-        bounds = np.linspace(0, n, self.threads + 1).astype(int)
-        parts = list(self.pool.map(lambda ab: scene.run(origins[ab[0]:ab[1]], dirs[ab[0]:ab[1]], dists=dists[ab[0]:ab[1]],
-                                                        output=1), zip(bounds[:-1], bounds[1:])))  # fmt: skip
-        return {k: np.concatenate([p[k] for p in parts]) for k in ("tfar", "primID", "geomID", "Ng")}
-
-    def close(self) -> None:
-        if self.pool is not None:
-            self.pool.shutdown(wait=False)
-            self.pool = None
+def body_scenes(model: mujoco.MjModel, group: int) -> tuple[BodyScene | None, list[BodyScene]]:
+    """The static scene (None without static triangles) and one scene per moving body with triangles."""
+    by_body: dict[int, tuple[list[int], list[np.ndarray]]] = {}
+    for g in range(model.ngeom):
+        if model.geom_group[g] != group or (tris := geom_triangles_body(model, g)) is None or len(tris) == 0:
+            continue
+        geoms, tri_list = by_body.setdefault(int(model.geom_bodyid[g]), ([], []))
+        geoms.append(g)
+        tri_list.append(tris)
+    static = _body_scene(*by_body.pop(0), STATIC) if 0 in by_body else None
+    return static, [_body_scene(*by_body[b], b - 1) for b in sorted(by_body)]

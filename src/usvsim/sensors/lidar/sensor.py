@@ -1,7 +1,8 @@
 """Spinning LiDAR → sensor_msgs/PointCloud2 (3D) or sensor_msgs/LaserScan (2D), frame `<vessel>/<name>` (FLU).
 
 Per scan: beam directions (pattern) → world rays from the mount pose → Embree nearest hits against all
-static and moving geometry (`RayWorld`) → hits below the water removed (optional water returns) →
+static and moving geometry (`RayWorld`; the hits on the own vessel are cast once, in its frame, and kept)
+→ hits below the water removed (optional water returns) →
 range limits [range_min, range_max] → Gaussian range noise → dropout. A missing return is +inf in a
 LaserScan (REP 117) and NaN in an organized cloud; unorganized clouds hold returns only.
 
@@ -12,7 +13,7 @@ Timing: without motion distortion the whole sweep is taken at the sample instant
 `time` 0). With `motion_distortion`, column c fires at stamp + c·T/N (T = 1/rate), the header stamp is the
 first column's time (the sweep ends at the sample tick) and each column is cast from the mount pose
 extrapolated back from the current velocity and body rates (first order); the world geometry is taken
-at the sample tick.
+at the sample tick, except the vessel's own hull, which moves with the sensor (its returns stay put).
 """
 
 from __future__ import annotations
@@ -23,9 +24,10 @@ import numpy as np
 
 from usvsim.messages.envelope import Envelope
 from usvsim.sensors.base import Sensor
-from usvsim.sensors.lidar import patterns
-from usvsim.sensors.lidar.scene import NO_HIT, RayWorld
-from usvsim.sensors.lidar.water import surface_hits, underwater
+from usvsim.sensors.lidar import kernels, patterns
+from usvsim.sensors.lidar.raycast import RayWorld
+from usvsim.sensors.lidar.scene import NO_HIT
+from usvsim.sensors.lidar.water import sunk_hits, surface_hits
 from usvsim.sensors.messages import POINT_DTYPE, laser_scan_msg, point_cloud2_msg
 from usvsim.sensors.navigation import mount_velocity_world
 
@@ -34,6 +36,7 @@ if TYPE_CHECKING:
 
 GROUPS = {"visual": 1, "collision": 3}
 WATER = -2  # geom id of a water return
+_NO_DRAWS = np.zeros(0)
 
 
 def reflectivities(sim: Simulation, overrides: dict[str, float]) -> np.ndarray:
@@ -64,7 +67,8 @@ class Lidar(Sensor):
         self.pattern = p = patterns.resolve(cfg)
         self.azimuths, self.increment = patterns.azimuths(p)
         self.dirs_local = patterns.directions(p).reshape(-1, 3).astype(np.float32)  # row-major: ring, column
-        self._origins = np.empty_like(self.dirs_local)
+        self._origins, self._dirs_world = np.empty_like(self.dirs_local), np.empty_like(self.dirs_local)
+        self._no_times = np.zeros(len(self.dirs_local), np.float32)  # point times without motion distortion
         self.channels, self.columns = len(p.elevations_deg), p.columns
         self.ring = np.repeat(np.arange(self.channels, dtype=np.uint16), self.columns)
         self.column = np.tile(np.arange(self.columns), self.channels)
@@ -73,6 +77,8 @@ class Lidar(Sensor):
         if key not in shared:
             shared[key] = RayWorld(sim, GROUPS[cfg.geometry])
         self.world: RayWorld = shared[key]
+        self._own_scene = self.world.scene_of(self.body)  # the vessel's own geometry, None if it has none
+        self._own_hits = None  # hits of the beams on the own vessel: fixed in its frame, cast once
         self.reflectivity = reflectivities(sim, dict(cfg.reflectivity))
         self.reflectivity[WATER] = cfg.water_reflectivity
         self.sweep_s = self.every * sim.clock.dt
@@ -81,41 +87,46 @@ class Lidar(Sensor):
         """World origins (n, 3), directions (n, 3), header stamp offset (ns), per-point time (s)."""
         origin, rot = self.pose_world(sim)
         if not self.cfg.motion_distortion:
-            self._origins[:] = origin
-            return self._origins, self.dirs_local @ rot.T.astype(np.float32), 0, np.zeros(len(self.ring), np.float32)
+            kernels.world_rays(self.dirs_local, origin, rot, self._origins, self._dirs_world)
+            return self._origins, self._dirs_world, 0, self._no_times
         fire = np.arange(self.columns) * self.sweep_s / self.columns  # s after the first column
         back = fire[-1] - fire  # how long before the sample tick each column fired
         omega_sensor = self.mount_rot.T @ sim.state.omega_body[self.body]
         rot_col = rot @ rotations(-back[:, None] * omega_sensor)  # (columns, 3, 3)
         origin_col = origin - back[:, None] * mount_velocity_world(self, sim)
-        dirs = np.einsum("nij,nj->ni", rot_col[self.column].astype(np.float32), self.dirs_local)
-        return origin_col[self.column].astype(np.float32), dirs, -round(back[0] * 1e9), fire[self.column]
+        kernels.column_rays(self.dirs_local, self.column, origin_col, rot_col, self._origins, self._dirs_world)
+        return self._origins, self._dirs_world, -round(back[0] * 1e9), fire.astype(np.float32)[self.column]
+
+    def _cast(self, origins: np.ndarray, dirs: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """`RayWorld.cast` of the world rays. The beams are fixed in the vessel's frame (also while a distorted
+        sweep goes on: the hull moves with the sensor), so their hits on the vessel itself never change: they
+        are cast once there, and each scan casts only against the rest of the world."""
+        max_range = self.pattern.range_max_m
+        if self._own_scene is None:
+            return self.world.cast(origins, dirs, max_range)
+        if self._own_hits is None:
+            dirs_body = self.dirs_local @ self.mount_rot.T.astype(np.float32)
+            origins_body = np.broadcast_to(self.mount_pos.astype(np.float32), dirs_body.shape)
+            self._own_hits = self.world.cast_in_body(self._own_scene, origins_body, dirs_body, max_range)
+        return self.world.cast(origins, dirs, max_range, prior=self._own_hits, skip=self._own_scene)
 
     def measure(self, sim: Simulation) -> tuple[np.ndarray, np.ndarray, int, np.ndarray]:
         """Ranges (n,) m with +inf for no return, intensities (n,), stamp offset ns, point times (n,) s."""
         p, cfg = self.pattern, self.cfg
         origins, dirs, offset_ns, times = self._rays(sim)
-        dist, geom, normal = self.world.cast(origins, dirs, p.range_max_m)
-        hit = np.flatnonzero(geom != NO_HIT)
-        cos_inc = np.zeros(len(dist), np.float32)
-        cos_inc[hit] = np.abs(np.einsum("ij,ij->i", dirs[hit], normal[hit]))
-        sunk = hit[underwater(sim.ocean, origins[hit] + dirs[hit] * dist[hit, None], sim.time)]
+        dist, geom, cos_inc = self._cast(origins, dirs)
+        sunk = sunk_hits(sim.ocean, origins, dirs, dist, sim.time)
         dist[sunk], geom[sunk] = np.inf, NO_HIT
         if cfg.water_returns:
             w_dist, w_cos = surface_hits(sim.ocean, origins, dirs, sim.time)
             ret = (w_dist < dist) & (w_dist <= p.range_max_m) & (self.rng.random(len(dist)) < w_cos**2)
             dist[ret], geom[ret], cos_inc[ret] = w_dist[ret], WATER, w_cos[ret]
-        valid = (dist >= p.range_min_m) & (dist <= p.range_max_m)  # False for +inf
-        if cfg.dropout > 0:
-            valid &= self.rng.random(len(dist)) >= cfg.dropout
-        keep = np.flatnonzero(valid)
-        if p.range_stddev_m > 0:
-            dist[keep] += self.rng.normal(0.0, p.range_stddev_m, len(keep)).astype(np.float32)
-        out = np.full(len(dist), np.inf, np.float32)
-        out[keep] = dist[keep]
-        intensity = np.zeros(len(dist), np.float32)
-        intensity[keep] = self.reflectivity[geom[keep]] * cos_inc[keep]
-        return out, intensity, offset_ns, times
+        drops = self.rng.random(len(dist)) if cfg.dropout > 0 else _NO_DRAWS
+        count = kernels.drop_invalid(dist, p.range_min_m, drops, cfg.dropout)  # the cast stops at range_max_m
+        noise = self.rng.standard_normal(count, np.float32) if p.range_stddev_m > 0 else self._no_times[:0]
+        intensity = np.empty(len(dist), np.float32)
+        kernels.noisy_returns(dist, geom, cos_inc, noise, np.float32(p.range_stddev_m), self.reflectivity, intensity)
+        return dist, intensity, offset_ns, times
 
     def sample(self, sim: Simulation, stamp_ns: int) -> list[Envelope]:
         dist, intensity, offset_ns, times = self.measure(sim)
@@ -129,11 +140,10 @@ class Lidar(Sensor):
         return [Envelope(self.topic, stamp, self.cloud(stamp, dist, intensity, times))]
 
     def cloud(self, stamp_ns: int, dist: np.ndarray, intensity: np.ndarray, times: np.ndarray):
-        valid = np.isfinite(dist)
-        keep = slice(None) if self.cfg.organized else valid
-        pts = np.zeros(len(dist) if self.cfg.organized else int(valid.sum()), POINT_DTYPE)
-        xyz = self.dirs_local[keep] * np.where(valid, dist, np.nan)[keep, None]
-        pts["x"], pts["y"], pts["z"] = xyz[:, 0], xyz[:, 1], xyz[:, 2]
-        pts["intensity"], pts["ring"], pts["time"] = intensity[keep], self.ring[keep], times[keep]
-        height, width = (self.channels, self.columns) if self.cfg.organized else (1, len(pts))
+        """PointCloud2 in the sensor frame, packed by one kernel pass into one buffer (no per-point Python)."""
+        organized = bool(self.cfg.organized)
+        pts = np.empty(len(dist) if organized else int(np.isfinite(dist).sum()), POINT_DTYPE)
+        kernels.pack_points(self.dirs_local, dist, intensity, self.ring, times, organized,
+                            pts.view(np.float32).reshape(-1, 6), pts.view(np.uint16).reshape(-1, 12))  # fmt: skip
+        height, width = (self.channels, self.columns) if organized else (1, len(pts))
         return point_cloud2_msg(stamp_ns, self.frame_id, pts, height, width)

@@ -14,14 +14,18 @@ WAVE_MARGIN_M = 5.0  # hits higher than mean level + this are never tested again
 NEWTON_STEPS = 4
 
 
-def underwater(ocean, points: np.ndarray, t: float) -> np.ndarray:
-    """Boolean mask: world points (n, 3) below the water surface at time t."""
-    below = np.zeros(len(points), bool)
+def sunk_hits(ocean, origins: np.ndarray, dirs: np.ndarray, dist: np.ndarray, t: float) -> np.ndarray:
+    """Indices of the rays (world origins, unit dirs) whose hit at `dist` (m, +inf = none) lies below the water
+    surface at time t. Only hits lower than mean level + margin are looked up in the wave field."""
     margin = 0.0 if ocean.waves is None else WAVE_MARGIN_M
-    near = points[:, 2] < ocean.level_m + margin
-    if near.any():
-        below[near] = points[near, 2] < ocean.elevation(points[near, 0], points[near, 1], t)
-    return below
+    with np.errstate(invalid="ignore"):  # 0 * inf for horizontal misses: NaN compares False
+        z = origins[:, 2] + dirs[:, 2] * dist
+    near = np.flatnonzero((z < ocean.level_m + margin) & np.isfinite(dist))
+    if ocean.waves is None or len(near) == 0:
+        return near[z[near] < ocean.level_m]
+    x = origins[near, 0] + dirs[near, 0] * dist[near]
+    y = origins[near, 1] + dirs[near, 1] * dist[near]
+    return near[z[near] < ocean.elevation(x, y, t)]
 
 
 def surface_hits(ocean, origins: np.ndarray, dirs: np.ndarray, t: float) -> tuple[np.ndarray, np.ndarray]:

@@ -1,0 +1,82 @@
+"""numba kernels for the camera's per-pixel work: one pass over the GL buffers, no temporaries.
+
+GL buffers come bottom row first; every kernel writes top row first (image order). Pixel (u, v) of an
+ideal pinhole camera sees the optical-frame ray (x, y, 1) with x = (u - cx) / fx, y = (v - cy) / fy.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+
+@njit(cache=True, nogil=True)
+def finish_rgb_depth(rgb_gl, z_gl, near_m, far_m, zero_near, up_optical, intrinsics, zenith, horizon, rgb_out,
+                     depth_out):  # fmt: skip
+    """Flip, linearize depth (metres along optical z, NaN = nothing nearer than `far_m`) and paint the sky.
+
+    `z_gl`: window depth (0 at near if `zero_near`, else reversed Z). `up_optical`: the world up axis
+    expressed in the optical frame (sky gradient: horizon colour at 0°, zenith colour straight up).
+    `intrinsics` = (fx, fy, cx, cy); `zenith`, `horizon` RGB in 0..255.
+    """
+    height, width = z_gl.shape
+    fx, fy, cx, cy = intrinsics[0], intrinsics[1], intrinsics[2], intrinsics[3]
+    ratio = near_m / far_m
+    for row in range(height):
+        src = height - 1 - row
+        y = (row - cy) / fy
+        for col in range(width):
+            raw = np.float64(z_gl[src, col])
+            if zero_near:
+                empty = raw >= 1.0
+                d = near_m / (1.0 - raw * (1.0 - ratio))
+            else:
+                empty = raw <= 0.0
+                d = near_m / (raw + (1.0 - raw) * ratio)
+            if empty or d >= 0.999 * far_m:
+                depth_out[row, col] = np.nan
+                x = (col - cx) / fx
+                t = (x * up_optical[0] + y * up_optical[1] + up_optical[2]) / math.sqrt(x * x + y * y + 1.0)
+                t = min(max(t, 0.0), 1.0)
+                for c in range(3):
+                    rgb_out[row, col, c] = np.uint8(horizon[c] + t * (zenith[c] - horizon[c]))
+            else:
+                depth_out[row, col] = d
+                for c in range(3):
+                    rgb_out[row, col, c] = rgb_gl[src, col, c]
+
+
+@njit(cache=True, nogil=True)
+def finish_segmentation(rgb_gl, lut, out):
+    """Flip and decode MuJoCo's id colours (scene geom index + 1, 24 bits) into labels via `lut`."""
+    height, width = out.shape
+    top = lut.shape[0] - 1
+    for row in range(height):
+        src = height - 1 - row
+        for col in range(width):
+            idx = np.int64(rgb_gl[src, col, 0]) | (np.int64(rgb_gl[src, col, 1]) << 8) | (np.int64(rgb_gl[src, col, 2]) << 16)
+            out[row, col] = lut[min(idx, top)]
+
+
+@njit(cache=True, nogil=True)
+def remap_bilinear(src, corners, weights, out):
+    """out.flat[i] = Σ_k weights[i, k] · src.flat[corners[i, k]] per channel, rounded (uint8 images)."""
+    flat_src = src.reshape(-1, src.shape[-1])
+    flat_out = out.reshape(-1, out.shape[-1])
+    for i in range(corners.shape[0]):
+        for c in range(flat_src.shape[1]):
+            acc = np.float32(0.0)
+            for k in range(4):
+                acc += weights[i, k] * np.float32(flat_src[corners[i, k], c])
+            flat_out[i, c] = np.uint8(min(acc + np.float32(0.5), np.float32(255.0)))
+
+
+@njit(cache=True, nogil=True)
+def rgb_gain_noise(rgb, normal, stddev):
+    """In place: rgb = clip(round(rgb · (1 + stddev · normal)), 0, 255)."""
+    flat, n = rgb.reshape(-1), normal.reshape(-1)
+    for i in range(flat.shape[0]):
+        value = np.float32(flat[i]) * (np.float32(1.0) + stddev * n[i])
+        flat[i] = np.uint8(min(max(np.float32(round(value)), np.float32(0.0)), np.float32(255.0)))

@@ -1,0 +1,131 @@
+"""The scene's detectable objects (vessels, buoys, static obstacles) and their ground-truth 3D boxes.
+
+Each object has a box frame: for a floating body (vessel, buoy) its body frame (`<vessel>/base_link` for
+vessels, FLU); for a static obstacle the frame at its scenario `position`, turned by `yaw_deg` about world z.
+The box is the tight axis-aligned box, in that frame, of all the object's visual geoms (group 1): boxes and
+spheres exactly, cylinders from 32 points per rim, meshes from their vertices. So a buoy's box is the cube of
+side 2r centred on the sphere; a dock's box is its scenario box; a pier's box reaches from the deck's top
+down to the piles' feet on the seabed. Class labels: `vessel`, `buoy_<color>`, and the static obstacle's
+`type` (dock, wall, box, pier, berth, mesh).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import TYPE_CHECKING
+
+import mujoco
+import numpy as np
+
+from usvsim.config.loader import base_dir, source_of
+from usvsim.config.objects import Buoy
+from usvsim.world.builder import VISUAL_GROUP
+from usvsim.world.obstacles import static_parts
+
+if TYPE_CHECKING:
+    from usvsim.simulation import Simulation
+
+_G = mujoco.mjtGeom
+_RIM = np.linspace(0.0, 2.0 * math.pi, 32, endpoint=False)
+
+
+@dataclass(frozen=True)
+class TrackedObject:
+    """One detectable object. `state_index` ≥ 0: a floating body (index into `sim.state`); -1: static,
+    with its box frame at `origin_world` turned by `rot_world`. Box centre and axes are in the box frame."""
+
+    name: str
+    category: str  # vessel | buoy | static
+    label: str
+    geoms: np.ndarray  # visual geom ids
+    state_index: int
+    origin_world: np.ndarray
+    rot_world: np.ndarray
+    center_box: np.ndarray
+    size_m: np.ndarray  # full extents along the box frame's x, y, z
+
+    def pose_world(self, sim: Simulation) -> tuple[np.ndarray, np.ndarray]:
+        """Box centre (ENU, m) and box axes → world rotation at the simulation's current state."""
+        if self.state_index >= 0:
+            origin, rot = sim.state.pos[self.state_index], sim.state.rot[self.state_index]
+        else:
+            origin, rot = self.origin_world, self.rot_world
+        return origin + rot @ self.center_box, rot
+
+    def corners_world(self, sim: Simulation) -> np.ndarray:
+        """The box's 8 corners (8, 3) in world ENU."""
+        center, rot = self.pose_world(sim)
+        signs = np.array([[sx, sy, sz] for sx in (-1, 1) for sy in (-1, 1) for sz in (-1, 1)], dtype=float)
+        return center + (signs * (0.5 * self.size_m)) @ rot.T
+
+
+def geom_points(model: mujoco.MjModel, geom: int) -> np.ndarray:
+    """Points (n, 3) in the geom's own frame whose bounding box is the geom's, in any frame."""
+    kind, size = int(model.geom_type[geom]), model.geom_size[geom]
+    if kind == _G.mjGEOM_MESH:
+        mesh = model.geom_dataid[geom]
+        start = model.mesh_vertadr[mesh]
+        return model.mesh_vert[start : start + model.mesh_vertnum[mesh]].astype(float)
+    if kind in (_G.mjGEOM_CYLINDER, _G.mjGEOM_CAPSULE):
+        rim = np.stack([size[0] * np.cos(_RIM), size[0] * np.sin(_RIM)], axis=1)
+        cap = size[0] if kind == _G.mjGEOM_CAPSULE else 0.0
+        return np.concatenate([np.c_[rim, np.full(len(rim), z)] for z in (-size[1] - cap, size[1] + cap)])
+    half = np.full(3, size[0]) if kind == _G.mjGEOM_SPHERE else size.copy()
+    return np.array([[sx, sy, sz] for sx in (-1, 1) for sy in (-1, 1) for sz in (-1, 1)]) * half
+
+
+def _box_of(model: mujoco.MjModel, geoms: np.ndarray, origin: np.ndarray, rot: np.ndarray):
+    """Centre and size of the tight box, in the frame (origin, rot) of the geoms' parent frame."""
+    points = []
+    for g in geoms:
+        geom_rot = np.zeros(9)
+        mujoco.mju_quat2Mat(geom_rot, model.geom_quat[g])
+        points.append(model.geom_pos[g] + geom_points(model, g) @ geom_rot.reshape(3, 3).T)
+    local = (np.concatenate(points) - origin) @ rot
+    low, high = local.min(axis=0), local.max(axis=0)
+    return 0.5 * (low + high), high - low
+
+
+def _yaw(deg: float) -> np.ndarray:
+    c, s = math.cos(math.radians(deg)), math.sin(math.radians(deg))
+    return np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
+
+
+def _floating(sim: Simulation, name: str, category: str, label: str) -> TrackedObject:
+    m = sim.model
+    body = mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_BODY, name)
+    geoms = np.flatnonzero((m.geom_bodyid == body) & (m.geom_group == VISUAL_GROUP))
+    center, size = _box_of(m, geoms, np.zeros(3), np.eye(3))
+    return TrackedObject(name, category, label, geoms, body - 1, np.zeros(3), np.eye(3), center, size)
+
+
+def _static(sim: Simulation, obj, geoms: np.ndarray) -> TrackedObject:
+    m = sim.model
+    origin, rot = np.asarray(obj.position, float), _yaw(obj.yaw_deg)
+    center, size = _box_of(m, geoms, origin, rot)
+    return TrackedObject(obj.name, "static", obj.type, geoms, -1, origin, rot, center, size)
+
+
+def catalogue(sim: Simulation) -> list[TrackedObject]:
+    """Every vessel, buoy and static obstacle of the scenario, in scenario order."""
+    scenario, m = sim.scenario, sim.model
+    out = [_floating(sim, v.name, "vessel", "vessel") for v in scenario.vessels]
+    static = np.flatnonzero((m.geom_bodyid == 0) & (m.geom_group == VISUAL_GROUP))  # one per part, in build order
+    first = 0
+    for obj in scenario.objects:
+        if isinstance(obj, Buoy):
+            out.append(_floating(sim, obj.name, "buoy", f"buoy_{obj.color}"))
+            continue
+        count = len(static_parts([obj], base_dir(scenario), source_of(scenario)))
+        out.append(_static(sim, obj, static[first : first + count]))
+        first += count
+    return out
+
+
+def geom_owner(model: mujoco.MjModel, objects: list[TrackedObject]) -> np.ndarray:
+    """Look-up table (ngeom + 1,) int32: segmentation label (geom id + 1) → object index + 1 (0 = none)."""
+    lut = np.zeros(model.ngeom + 1, np.int32)
+    for k, obj in enumerate(objects):
+        lut[obj.geoms + 1] = k + 1
+    return lut
