@@ -13,6 +13,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Any, Literal
 
+from usvsim.messages.cdr_fast import FAST
 from usvsim.messages.ros import typestore
 
 
@@ -75,7 +76,8 @@ class Envelope:
     def cdr(self) -> bytes:
         """CDR (XCDR1, little endian, with the 4-byte encapsulation header), serialized once."""
         if self._cdr is None:
-            self._cdr = bytes(typestore().serialize_cdr(self.msg, self.msgtype))
+            fast = FAST.get(self.msgtype)
+            self._cdr = fast(self.msg) if fast else bytes(typestore().serialize_cdr(self.msg, self.msgtype))
         return self._cdr
 
     def decoded(self) -> Any:
