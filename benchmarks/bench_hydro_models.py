@@ -8,11 +8,16 @@ Workloads (one core unless stated; numba kernels are serial unless stated):
    the rest get air drag) — less work than the kernel, so its ratio understates the speed-up.
 2. Voxel buoyancy with cutting, 4140 voxels (R = 0.5 m sphere, s = 0.05 m, the seed's 4154 case):
    centre transform + kernel. Baseline: the same arithmetic vectorized in NumPy.
-3. 100 hulls of 396 triangles each under Kerner forces (hydrostatics + all Kerner terms), one call;
-   the whole step and the Kerner share, with the Kerner bodies on 1 thread and on 2 threads
-   (KernerForces(parallel=True), prange over bodies; hydrostatics stays serial).
-Previous implementation (per-face pow, normals by division, no per-body bounds; this machine,
-benchmarks/results/hydro_models.json before the rewrite): Kerner 5120 292 µs, fleet step 3004 µs.
+3. 100 hulls of 396 triangles each under Kerner forces (hydrostatics + all Kerner terms), one call:
+   the kernels' step and the Kerner share.
+4. The same 100 hulls as vessels of a Simulation (calm water, Kerner hydrodynamics, settled afloat):
+   the whole Simulation.step (ocean queries, hydrostatics, Kerner, wrenches, MuJoCo) against a
+   baseline measured in the same run: mj_step alone on the same compiled model.
+Figures are the best (and median) over repeats: the machine's 2 cores are shared, the load average
+at the start is recorded. Earlier implementations on this machine (constants, see PREVIOUS_US):
+per-face pow, normals by division (Kerner 5120 292 µs, kernel fleet step 3004 µs); then the
+face-order pressure pass and per-face air drag (BEFORE_US: the same workloads, measured on the
+same load as the new code right before it replaced them).
 Seed (Unity/C#, seed-repository.md §6, hardware unknown): triangle submersion 5120 tris 4787 µs;
 voxel cut 4154 voxels 954 µs, not cut 879 µs.
 Writes benchmarks/results/hydro_models.json.
@@ -25,10 +30,6 @@ import os
 import platform
 import time
 from pathlib import Path
-
-# OpenMP threads sleep at barriers instead of spinning: on a shared 2-core machine a spinning
-# worker waiting for a descheduled one made the 2-thread fleet step ~10x slower (set before numba).
-os.environ.setdefault("OMP_WAIT_POLICY", "PASSIVE")
 
 import numpy as np
 import trimesh
@@ -43,17 +44,26 @@ from usvsim.vessels.hulls import loft
 RESULTS = Path(__file__).parent / "results" / "hydro_models.json"
 SEED_US = {"triangle_submersion_5120": 4787.0, "voxel_cut_4154": 954.0, "voxel_not_cut_4154": 879.0}
 PREVIOUS_US = {"kerner_5120": 292.0, "fleet_step": 3004.0}  # before the Kerner kernel rewrite, same machine
+# The code this version replaced (hydro/ as of commit 00df4bb), these workloads, measured right before
+# this version's run (1-min load average 0.96-1.12): best µs
+BEFORE_US = {"kerner_5120": 148.1, "fleet_kernels_step": 1981.6, "fleet_simulation_step": 1989.5}
 
 
-def best_us(fn, loops: int, repeats: int = 5) -> float:
+def timings_us(fn, loops: int, repeats: int = 30) -> tuple[float, float]:
+    """(best, median) µs per call over `repeats` runs of `loops` calls (short runs: the best one
+    catches a quiet moment on a shared machine)."""
     fn()
-    best = float("inf")
+    runs = []
     for _ in range(repeats):
         t = time.perf_counter()
         for _ in range(loops):
             fn()
-        best = min(best, (time.perf_counter() - t) / loops)
-    return best * 1e6
+        runs.append((time.perf_counter() - t) / loops * 1e6)
+    return min(runs), float(np.median(runs))
+
+
+def best_us(fn, loops: int, repeats: int = 30) -> float:
+    return timings_us(fn, loops, repeats)[0]
 
 
 def numpy_kerner(tri, water, com, v, w, wind, rho=1025.0, c_f=0.003):
@@ -87,14 +97,17 @@ def bench_kerner_5120() -> dict:
     rng = np.random.default_rng(0)
     water, eta = rng.normal(size=verts.shape) * 0.1, np.zeros(len(verts))
     v, w, wind, z3 = np.array([[1.5, 0.2, -0.1]]), np.array([[0.05, 0.1, 0.2]]), np.array([[3.0, 0.0, 0.0]]), np.zeros((1, 3))
-    kern = best_us(lambda: k.compute(verts, eta, water, pos, v, w, z3, wind, 0.01), 2000)
+    kern, kern_median = timings_us(lambda: k.compute(verts, eta, water, pos, v, w, z3, wind, 0.01), 100, 60)
     with_hs = best_us(lambda: (hulls.compute(verts, eta, pos, 1025.0, 9.81),
-                               k.compute(verts, eta, water, pos, v, w, z3, wind, 0.01)), 1000)  # fmt: skip
+                               k.compute(verts, eta, water, pos, v, w, z3, wind, 0.01)), 100, 30)  # fmt: skip
     tri = verts[sph.faces]
     water_c = water[sph.faces].mean(axis=1)
-    base = best_us(lambda: numpy_kerner(tri, water_c, pos[0], v[0], w[0], wind[0]), 200)
-    return {"triangles": len(sph.faces), "usvsim_kerner_us": kern, "usvsim_kerner_plus_hydrostatics_us": with_hs,
+    base = best_us(lambda: numpy_kerner(tri, water_c, pos[0], v[0], w[0], wind[0]), 20)
+    return {"triangles": len(sph.faces), "usvsim_kerner_us": kern, "usvsim_kerner_median_us": kern_median,
+            "usvsim_kerner_plus_hydrostatics_us": with_hs,
             "numpy_baseline_us": base, "ratio_numpy_over_usvsim": base / kern,
+            "before_this_version_us": BEFORE_US.get("kerner_5120"),
+            "speedup_over_before_this_version": BEFORE_US.get("kerner_5120", np.nan) / kern,
             "previous_implementation_us": PREVIOUS_US["kerner_5120"],
             "speedup_over_previous": PREVIOUS_US["kerner_5120"] / kern,
             "ratio_seed_over_usvsim_kerner_only": SEED_US["triangle_submersion_5120"] / kern,
@@ -125,24 +138,25 @@ def bench_voxels(tmp_cache: Path) -> dict:
         c = vs.world_centers(pos, rot)
         return vs.compute(c, eta, pos, 1025.0, 9.81, cut)
 
-    cut, not_cut = best_us(lambda: step(True), 5000), best_us(lambda: step(False), 5000)
+    cut, not_cut = best_us(lambda: step(True), 500), best_us(lambda: step(False), 500)
     c = vs.world_centers(pos, rot)
-    kernel_only = best_us(lambda: vs.compute(c, eta, pos, 1025.0, 9.81, True), 5000)
-    base = best_us(lambda: numpy_voxels(grid.centers, rot[0], pos[0], 0.05), 1000)
+    kernel_only = best_us(lambda: vs.compute(c, eta, pos, 1025.0, 9.81, True), 500)
+    base = best_us(lambda: numpy_voxels(grid.centers, rot[0], pos[0], 0.05), 100)
     return {"voxels": len(grid.centers), "usvsim_cut_us": cut, "usvsim_not_cut_us": not_cut,
             "usvsim_cut_kernel_only_us": kernel_only, "numpy_baseline_cut_us": base, "ratio_numpy_over_usvsim": base / cut,
             "seed_cut_us": SEED_US["voxel_cut_4154"], "ratio_seed_over_usvsim": SEED_US["voxel_cut_4154"] / cut,
             "target_us": 50.0}  # fmt: skip
 
 
-def bench_fleet(n_bodies: int = 100) -> dict:
-    import numba
-
+def fleet_hull():
     x = np.linspace(-2.0, 2.0, 11)
-    hull = loft(x, np.zeros(11), np.full(11, 0.6), np.full(11, 0.4), n_around=18)
+    return loft(x, np.zeros(11), np.full(11, 0.6), np.full(11, 0.4), n_around=18)
+
+
+def bench_fleet(n_bodies: int = 100) -> dict:
+    hull = fleet_hull()
     hulls = HullSet([(hull.vertices, hull.faces)] * n_bodies)
-    cfgs, masses = [KernerHydrodynamics()] * n_bodies, [300.0] * n_bodies
-    serial, parallel = KernerForces(hulls, cfgs, masses), KernerForces(hulls, cfgs, masses, parallel=True)
+    k = KernerForces(hulls, [KernerHydrodynamics()] * n_bodies, [300.0] * n_bodies)
     rng = np.random.default_rng(0)
     pos = np.column_stack([np.arange(n_bodies) * 10.0, np.zeros(n_bodies), np.full(n_bodies, -0.25)])
     rot = np.tile(np.eye(3), (n_bodies, 1, 1))
@@ -150,7 +164,7 @@ def bench_fleet(n_bodies: int = 100) -> dict:
     z3 = np.zeros((n_bodies, 3))
     com = pos + [0.0, 0.0, 0.3]
 
-    def step(k):
+    def step():
         verts = hulls.world_vertices(pos, rot)
         eta = np.zeros(len(verts))
         water = np.zeros_like(verts)
@@ -159,30 +173,57 @@ def bench_fleet(n_bodies: int = 100) -> dict:
 
     verts = hulls.world_vertices(pos, rot).copy()
     eta, water = np.zeros(len(verts)), np.zeros_like(verts)
-    threads = numba.get_num_threads()
-    res = {}
-    for label, k, nt in (("1_thread", serial, 1), ("2_threads", parallel, min(2, numba.config.NUMBA_NUM_THREADS))):
-        numba.set_num_threads(nt)
-        us = best_us(lambda k=k: step(k), 300)
-        kern = best_us(lambda k=k: k.compute(verts, eta, water, com, v, w, z3, z3, 0.01), 300)
-        res[label] = {"threads": nt, "usvsim_us_per_step": us, "kerner_us_per_step": kern, "kerner_share": kern / us,
-                      "real_time_factor_at_100hz": 1e4 / us}  # fmt: skip
-    numba.set_num_threads(threads)
-    one = res["1_thread"]
-    return {"bodies": n_bodies, "triangles_per_hull": len(hull.faces),
-            "usvsim_us_per_step": one["usvsim_us_per_step"], "real_time_factor_at_100hz_kernels_only": 1e4 / one["usvsim_us_per_step"],
-            **res, "previous_implementation_us_per_step": PREVIOUS_US["fleet_step"],
-            "speedup_over_previous_1_thread": PREVIOUS_US["fleet_step"] / one["usvsim_us_per_step"],
+    us, us_median = timings_us(step, 10, 40)
+    kern = best_us(lambda: k.compute(verts, eta, water, com, v, w, z3, z3, 0.01), 10, 40)
+    before = BEFORE_US.get("fleet_kernels_step")
+    return {"bodies": n_bodies, "triangles_per_hull": len(hull.faces), "threads": 1,
+            "usvsim_us_per_step": us, "usvsim_median_us_per_step": us_median, "kerner_us_per_step": kern,
+            "kerner_share": kern / us, "real_time_factor_at_100hz_kernels_only": 1e4 / us,
+            "before_this_version_us_per_step": before, "speedup_over_before_this_version": (before or np.nan) / us,
+            "previous_implementation_us_per_step": PREVIOUS_US["fleet_step"],
+            "speedup_over_previous": PREVIOUS_US["fleet_step"] / us,
             "budget_us_for_5x": 1e6 / 100 / 5}  # 5x real time at 100 Hz; fmt: skip
+
+
+def fleet_simulation(tmp: Path, n_bodies: int = 100):
+    """n_bodies custom vessels with the fleet hull, Kerner hydrodynamics, calm water, 10 m apart."""
+    import trimesh
+
+    from usvsim.config.loader import parse_scenario
+    from usvsim.simulation import Simulation
+
+    hull = fleet_hull()
+    trimesh.Trimesh(hull.vertices, hull.faces).export(tmp / "hull.stl")
+    vessels = [{"name": f"boat{i}", "model": "custom", "hull_mesh": "hull.stl", "mass": {"mass_kg": 300.0},
+                "pose": {"position": [10.0 * (i % 10), 10.0 * (i // 10), -0.1]}, "hydrodynamics": {"type": "kerner"}}
+               for i in range(n_bodies)]  # fmt: skip
+    return Simulation(parse_scenario({"version": 1, "vessels": vessels}, "bench", tmp))
+
+
+def bench_fleet_simulation(tmp: Path) -> dict:
+    import mujoco
+
+    sim = fleet_simulation(tmp)
+    sim.run(2.0)  # compile, settle afloat
+    step, step_median = timings_us(sim.step, 20, 40)
+    mj = best_us(lambda: mujoco.mj_step(sim.model, sim.data), 20, 40)
+    before = BEFORE_US.get("fleet_simulation_step")
+    return {"bodies": sim.hulls.n_bodies, "triangles": len(sim.hulls.faces), "sea": "calm",
+            "usvsim_step_us": step, "usvsim_step_median_us": step_median, "real_time_factor_at_100hz": 1e4 / step,
+            "real_time_factor_median": 1e4 / step_median, "mujoco_only_step_us": mj, "ratio_step_over_mujoco": step / mj,
+            "before_this_version_step_us": before, "speedup_over_before_this_version": (before or np.nan) / step,
+            "budget_us_for_5x": 2000.0}  # fmt: skip
 
 
 def main() -> None:
     import tempfile
 
+    load = os.getloadavg()[0]
     with tempfile.TemporaryDirectory() as tmp:
-        result = {"machine": f"{platform.machine()}, {os.cpu_count()} cores", "single_thread": "except fleet 2_threads",
+        result = {"machine": f"{platform.machine()}, {os.cpu_count()} cores", "single_thread": True,
+                  "load_average_1min_at_start": load,
                   "kerner_5120": bench_kerner_5120(), "voxels_4154": bench_voxels(Path(tmp)),
-                  "fleet_100x400": bench_fleet()}  # fmt: skip
+                  "fleet_100x400": bench_fleet(), "fleet_100x400_simulation": bench_fleet_simulation(Path(tmp))}  # fmt: skip
     RESULTS.parent.mkdir(parents=True, exist_ok=True)
     RESULTS.write_text(json.dumps(result, indent=2))
     print(json.dumps(result, indent=2))

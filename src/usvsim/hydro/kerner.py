@@ -22,6 +22,7 @@ import numpy as np
 from usvsim.config.hydro_models import KernerHydrodynamics
 from usvsim.hydro import kerner_kernels as kk
 from usvsim.hydro.hydrostatics import HullSet
+from usvsim.hydro.kerner_air import anchor_frames, dry_face_table
 
 PARTS = ("viscous", "pressure", "slamming", "air")
 
@@ -55,14 +56,12 @@ class KernerForces:
     """Kerner forces of every hull in `hulls`; one coefficient row per body.
 
     configs: one KernerHydrodynamics per body; masses_kg (nb,); lengths_m (nb,) reference length for
-    the Reynolds number (default: each hull's extent along body x). parallel: spread the bodies over
-    numba's threads (`numba.set_num_threads`); results are bit-identical to the serial kernel, so
-    it only pays off for fleets (several bodies; a single hull always runs on one core).
+    the Reynolds number (default: each hull's extent along body x). One core: the bodies run in
+    sequence (threading them through numba's prange cost far more than it saved on a shared machine).
     """
 
     def __init__(self, hulls: HullSet, configs: Sequence[KernerHydrodynamics], masses_kg: Sequence[float],
-                 lengths_m: Sequence[float] | None = None, rho_water: float = 1025.0, rho_air: float = 1.225,
-                 parallel: bool = False):
+                 lengths_m: Sequence[float] | None = None, rho_water: float = 1025.0, rho_air: float = 1.225):
         nb = hulls.n_bodies
         if len(configs) != nb or len(masses_kg) != nb:
             raise ValueError("one Kerner configuration and one mass per hull body")
@@ -78,13 +77,12 @@ class KernerForces:
         nf = len(hulls.faces)
         self._geom = kk.face_geometry(hulls.face_area)  # rigid-motion invariant per-face table
         self._vert_offsets = hulls.vert_offsets.astype(np.int64)
-        par = parallel and nb > 1
-        self._kernel = kk.kerner_wrenches_parallel if par else kk.kerner_wrenches
-        self._pressure = kk.pressure_wrenches_parallel if par else kk.pressure_wrenches
-        # pressure/suction pieces (at most two per face) and their batched |cos θ|^f
-        self._prec, self._pexp = np.zeros((2 * nf, 8)), np.zeros(2 * nf)
-        self._base, self._expo, self._powed = np.zeros(2 * nf), np.zeros(2 * nf), np.zeros(2 * nf)
-        self._n_pieces, self._first = np.zeros(nb, dtype=np.int64), np.zeros(nb + 1, dtype=np.int64)
+        # pressure/suction pieces (at most two per face, see kerner_terms) and their |cos θ|^f
+        self._pieces, self._powed = np.zeros((kk.N_PIECE_ROWS, 2 * nf)), np.zeros(2 * nf)
+        self._first = np.zeros(nb + 1, dtype=np.int64)
+        # whole dry faces: air drag from body-frame tables (kerner_air)
+        self._air = (np.zeros(nf), dry_face_table(hulls.vertices_body, hulls.faces),
+                     *anchor_frames(hulls.vertices_body, hulls.vert_offsets))  # fmt: skip
         self._swept = np.zeros((nf, 3))
         self._swept_prev = np.zeros((nf, 3))
         self._ready = False
@@ -104,15 +102,14 @@ class KernerForces:
     def compute(self, world_vertices, eta, water_vel, com_world, vcom_world, omega_world,
                 water_vel_com, wind, dt: float) -> KernerResult:
         """Forces for this step; advances the slamming state. Arrays as in kerner_wrenches."""
-        h = self.hulls
-        q = self._kernel(world_vertices, h.faces, self._geom, h.face_offsets, self._vert_offsets, eta, water_vel,
-                         com_world, vcom_world, omega_world, water_vel_com, wind, self.coef, float(dt), self._ready,
-                         self._swept_prev, self._swept, self._parts, self._prec, self._pexp, self._n_pieces,
-                         self._base, self._expo, self._first)  # fmt: skip
-        if q:  # |cos θ|^f of the pressure pieces, one SIMD np.power (about 4x cheaper than pow per piece)
-            np.power(self._base[:q], self._expo[:q], out=self._powed[:q])
-        self._pressure(h.face_offsets, self._n_pieces, self._prec, self._pexp, self._powed, self._first, self.coef,
-                       self._parts, self._force, self._torque)  # fmt: skip
+        h, pieces = self.hulls, self._pieces
+        q = kk.kerner_wrenches(world_vertices, h.faces, self._geom, h.face_offsets, self._vert_offsets, eta,
+                               water_vel, com_world, vcom_world, omega_world, water_vel_com, wind, self.coef, float(dt),
+                               self._ready, self._swept_prev, self._swept, self._parts, pieces,
+                               self._first, self._air)  # fmt: skip
+        # |cos θ|^f of all pressure pieces, one SIMD np.power (about 4x cheaper than pow per piece)
+        np.power(pieces[kk.P_COS, :q], pieces[kk.P_EXP, :q], out=self._powed[:q])
+        kk.pressure_wrenches(self._first, pieces, self._powed, self.coef, self._parts, self._force, self._torque)
         self._swept, self._swept_prev = self._swept_prev, self._swept
         self._ready = True
         return self._result
