@@ -26,6 +26,7 @@ from usvsim.config.vessel import TriangleBuoyancy
 from usvsim.control.factory import control_loop
 from usvsim.core.clock import Clock, period_ns
 from usvsim.core.errors import DivergenceError
+from usvsim.core.overlap import Overlap
 from usvsim.core.rng import RngStreams
 from usvsim.core.transforms import quat_from_rpy
 from usvsim.ground_truth import GroundTruth
@@ -43,6 +44,7 @@ from usvsim.vessels.library import vessel_model
 from usvsim.world.builder import FloatingBody, build_model
 from usvsim.world.obstacles import static_parts
 
+OVERLAP_MIN_FACES = 8000  # below this the thread hand-off costs more than overlapping the two kernels saves
 BAD_QPOS, BAD_QVEL, BAD_QACC = (int(mujoco.mjtWarning.mjWARN_BADQPOS), int(mujoco.mjtWarning.mjWARN_BADQVEL),
                                 int(mujoco.mjtWarning.mjWARN_BADQACC))  # fmt: skip
 
@@ -72,7 +74,11 @@ class Simulation:
         self.scenario, self.seed = scenario, int(seed)
         self.rng = RngStreams(self.seed)
         world = scenario.world
-        self.rho, self.g, self.rho_air = world.water_density_kgpm3, world.gravity_mps2, world.air_density_kgpm3
+        self.rho, self.g, self.rho_air = (
+            world.water_density_kgpm3,
+            world.gravity_mps2,
+            world.air_density_kgpm3,
+        )
         self.clock = Clock(period_ns(world.physics_rate_hz))
         self.ocean = build_ocean(scenario.environment, self.rng.get("ocean"), dt_s=self.clock.dt)
         floating = self._floating_bodies()
@@ -87,6 +93,7 @@ class Simulation:
         self.ground_truth = GroundTruth(self, rec.clock_rate_hz, rec.ground_truth_rate_hz)
         self.sensors = SensorSuite(self)
         self.commands = CommandInbox(self)
+        self._overlap = Overlap()
         self._subscribers: list[Callable[[Envelope], None]] = []
         self._announced = False  # /tf_static and the t = 0 messages go out before the first step
 
@@ -100,7 +107,9 @@ class Simulation:
         out, source = [], source_of(self.scenario)
         for i, v in enumerate(self.scenario.vessels):
             model = vessel_model(v, i, base_dir(self.scenario), source)
-            quat = quat_from_rpy(*(math.radians(a) for a in (v.pose.roll_deg, v.pose.pitch_deg, v.pose.yaw_deg)))
+            quat = quat_from_rpy(
+                *(math.radians(a) for a in (v.pose.roll_deg, v.pose.pitch_deg, v.pose.yaw_deg))
+            )
             out.append(FloatingBody(v.name, model, v.pose.position, tuple(quat)))
         for obj in self.scenario.objects:
             if isinstance(obj, Buoy):
@@ -135,7 +144,7 @@ class Simulation:
         vessels = self.scenario.vessels
         buoyancy = [v.buoyancy for v in vessels] + [TriangleBuoyancy()] * (n - len(vessels))
         hydro = [v.hydrodynamics or fb.model.drag for v, fb in zip(vessels, floating)]
-        hydro += [fb.model.drag for fb in floating[len(vessels):]]
+        hydro += [fb.model.drag for fb in floating[len(vessels) :]]
         self.marine = MarineModels([fb.model for fb in floating], buoyancy, hydro, self.hulls, self.model,
                                    self._qvel_adr, self.rho, self.g, self.rho_air)  # fmt: skip
         self._update_kinematics()
@@ -195,7 +204,9 @@ class Simulation:
         self.hydrostatics = self._hydrostatics()
         self._announced = False
 
-    def run(self, seconds: float, realtime: bool = False, on_step: Callable[[Simulation], None] | None = None):
+    def run(
+        self, seconds: float, realtime: bool = False, on_step: Callable[[Simulation], None] | None = None
+    ):
         """Run for `seconds` of simulation time, as fast as possible or paced to the wall clock."""
         steps = round(seconds * 1e9 / self.clock.step_ns)
         start_wall, start_ns = time.perf_counter(), self.clock.now_ns
@@ -237,11 +248,16 @@ class Simulation:
         self.ocean.advance(t)
         verts = self.hulls.world_vertices(s.pos, s.rot)
         eta = self._water_heights(verts, t)
-        self.hydrostatics = self.hulls.compute(verts, eta, s.com_world, self.rho, self.g)
+        args = (verts, eta, s.com_world, self.rho, self.g)
+        if self.marine.has_kerner and len(self.hulls.faces) >= OVERLAP_MIN_FACES:  # both kernels on two cores
+            hydrostatics = self._overlap.submit(self.hulls.compute, *args)
+        else:
+            hydrostatics = self.hulls.compute(*args)
         water = self.ocean.velocity(s.com_world[:, 0], s.com_world[:, 1], s.com_world[:, 2], t)
         relative_velocity_body(s.rot, s.vcom_world, s.omega_body, water, s.nu)
         self._air[:] = self.ocean.wind_velocity(t)  # one wind for every body, no allocation per step
-        self.marine.compute(s, self.hydrostatics, verts, eta, self.ocean, t, self.clock.dt, water, self._air)
+        self.hydrostatics = self.marine.compute(s, hydrostatics, verts, eta, self.ocean, t, self.clock.dt, water,
+                                                self._air)  # fmt: skip
         self._body_wrenches[0] = self.marine.body_wrench
         self._body_wrenches[1] = self.thrusters.step(self.clock.now_ns, self.clock.dt, self._com_body)
         assemble(s.rot, self._body_wrenches, self.marine.world_force, self.marine.world_torque, self._xfrc)
@@ -285,6 +301,7 @@ class Simulation:
     def close(self) -> None:
         """Release sensor resources (render contexts, thread pools)."""
         self.sensors.close()
+        self._overlap.close()
 
     def _emit(self, envelopes: list[Envelope]) -> None:
         for env in envelopes:

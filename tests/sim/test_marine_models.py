@@ -87,3 +87,24 @@ def test_bad_model_switch_is_a_clear_error(scenario_of):
     sim = Simulation(scenario(scenario_of))
     with pytest.raises(ValidationError, match="kernel"):
         sim.vessels["boat"].set_hydrodynamics({"type": "kernel"})
+
+
+def test_hydrostatics_beside_kerner_on_a_second_thread_gives_identical_motion(scenario_of, monkeypatch):
+    """The overlapped path (hydrostatics on a worker thread while Kerner runs) changes timing, not results."""
+    import usvsim.simulation as simulation
+
+    def trajectory() -> np.ndarray:
+        sc = scenario_of({
+            "environment": SEA,
+            "vessels": [{"name": "wamv", "model": "wamv", "hydrodynamics": {"type": "kerner"},
+                         "pose": {"position": [0.0, 0.0, 0.2], "roll_deg": 5.0}}],
+        })  # fmt: skip
+        sim = simulation.Simulation(sc)
+        sim.vessels["wamv"].command(0.6, 0.2)
+        sim.run(1.0)
+        sim.close()
+        return sim.data.qpos.copy()
+
+    serial = trajectory()
+    monkeypatch.setattr(simulation, "OVERLAP_MIN_FACES", 0)
+    assert np.array_equal(trajectory(), serial)

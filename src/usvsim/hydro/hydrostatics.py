@@ -156,7 +156,7 @@ def _store_body(b, sums, c, rho_g, force, torque, volume, cob, wetted_area, wate
     waterplane_area[b] = 0.5 * awp
 
 
-@njit(cache=True)
+@njit(cache=True, nogil=True)  # nogil: the simulation may run it beside the Kerner kernel (core/overlap.py)
 def hull_hydrostatics(vertices, faces, face_area, face_offsets, eta, com, rho, g,
                       force, torque, volume, cob, wetted_area, waterplane_area,
                       face_area_sub, seg, seg_count):  # fmt: skip

@@ -228,7 +228,7 @@ def _add_dry_air(b, face_offsets, vertices, com, vcom, omega, wind, coef, air, o
         out[b, AIR, j] += coef[b, AIR_SCALE] * w[j]
 
 
-@njit(cache=True)
+@njit(cache=True, nogil=True)  # nogil: runs while the hydrostatics kernel works on the other core
 def kerner_wrenches(vertices, faces, geom, face_offsets, vert_offsets, eta, water_vel, com, vcom, omega,
                     water_vel_com, wind, coef, dt, slam_ready, swept_prev, swept, out, pieces, first, air):  # fmt: skip
     """Kerner viscous, slamming and air forces of every body, and its pressure/suction pieces.

@@ -13,7 +13,7 @@ Outputs per step: world-frame force and torque about each CoM (buoyancy + Kerner
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 
 import numpy as np
 
@@ -29,7 +29,9 @@ from usvsim.hydro.voxels import VoxelSet
 from usvsim.vessels.model import BodyModel
 
 NO_KERNER = KernerHydrodynamics(viscous_scale=0.0, pressure_scale=0.0, slamming_scale=0.0, air_scale=0.0)
-NO_FOSSEN = FossenParameters(np.zeros((6, 6)), np.zeros((6, 6)), np.zeros(6), coriolis_added_mass=False, frame="FLU")
+NO_FOSSEN = FossenParameters(
+    np.zeros((6, 6)), np.zeros((6, 6)), np.zeros(6), coriolis_added_mass=False, frame="FLU"
+)
 
 
 class MarineModels:
@@ -99,26 +101,42 @@ class MarineModels:
         rows = []
         for b, h in zip(self.bodies, self.hydrodynamics):
             kerner_air = isinstance(h, KernerHydrodynamics) and h.air_scale > 0
-            rows.append(wind.coefficient_row(b.wind_load) if b.wind_load and not kerner_air else (wind.FOSSEN, np.zeros(6)))
+            rows.append(
+                wind.coefficient_row(b.wind_load)
+                if b.wind_load and not kerner_air
+                else (wind.FOSSEN, np.zeros(6))
+            )
         self._wind_kind = np.array([k for k, _ in rows], dtype=np.int64)
         self._wind_coef = np.array([c for _, c in rows], dtype=float).reshape(len(rows), 6)
 
     # -- forces ---------------------------------------------------------------------------------
-    def compute(self, state, hydrostatics: HydrostaticsResult, verts: np.ndarray, eta: np.ndarray, ocean,
-                t: float, dt: float, water_vel_com: np.ndarray, wind_world: np.ndarray) -> None:  # fmt: skip
-        """Fill `world_force`, `world_torque` (buoyancy + Kerner) and `body_wrench` (damping + wind)."""
+    @property
+    def has_kerner(self) -> bool:
+        return self._kerner is not None
+
+    def compute(self, state, hydrostatics: HydrostaticsResult | Callable[[], HydrostaticsResult], verts: np.ndarray,
+                eta: np.ndarray, ocean, t: float, dt: float, water_vel_com: np.ndarray,
+                wind_world: np.ndarray) -> HydrostaticsResult:  # fmt: skip
+        """Fill `world_force`, `world_torque` (buoyancy + Kerner) and `body_wrench` (damping + wind).
+        `hydrostatics` may be a function that waits for a result computed on another thread: the Kerner forces
+        (which do not need it) are computed first. Returns the hydrostatics result."""
+        kerner = self._kerner_result(state, verts, eta, ocean, t, dt, water_vel_com, wind_world)
+        if callable(hydrostatics):
+            hydrostatics = hydrostatics()
         self.world_force[:] = hydrostatics.force
         self.world_torque[:] = hydrostatics.torque
         if self._voxels is not None:
             self._add_voxels(state, ocean, t)
-        if self._kerner is not None:
-            self._add_kerner(state, verts, eta, ocean, t, dt, water_vel_com, wind_world)
+        if kerner is not None:
+            self.world_force += kerner.force
+            self.world_torque += kerner.torque
         statespace.drag_wrench(self._state_space, state.nu, self.body_wrench)
         if self._fossen is not None:
             self.body_wrench += self._fossen.compute(state.nu, dt)
         wind.wind_wrenches(self._wind_kind, self._wind_coef, self.rho_air, state.rot, state.vcom_world, wind_world,
                            self._scratch)  # fmt: skip
         self.body_wrench += self._scratch
+        return hydrostatics
 
     def _add_voxels(self, state, ocean, t: float) -> None:
         idx = self._voxel_index
@@ -128,13 +146,13 @@ class MarineModels:
         self.world_force[idx] = res.force
         self.world_torque[idx] = res.torque
 
-    def _add_kerner(self, state, verts, eta, ocean, t, dt, water_vel_com, wind_world) -> None:
+    def _kerner_result(self, state, verts, eta, ocean, t, dt, water_vel_com, wind_world):
+        if self._kerner is None:
+            return None
         water_vel = ocean.velocity(verts[:, 0], verts[:, 1], verts[:, 2], t)
         omega_world = np.einsum("bij,bj->bi", state.rot, state.omega_body)
-        res = self._kerner.compute(verts, eta, water_vel, state.com_world, state.vcom_world, omega_world,
-                                   water_vel_com, wind_world, dt)  # fmt: skip
-        self.world_force += res.force
-        self.world_torque += res.torque
+        return self._kerner.compute(verts, eta, water_vel, state.com_world, state.vcom_world, omega_world,
+                                    water_vel_com, wind_world, dt)  # fmt: skip
 
     def reset(self) -> None:
         """Forget model histories (after a simulation reset or a teleport)."""
