@@ -12,7 +12,8 @@ Workloads (one core unless stated; numba kernels are serial unless stated):
    the kernels' step and the Kerner share.
 4. The same 100 hulls as vessels of a Simulation (calm water, Kerner hydrodynamics, settled afloat):
    the whole Simulation.step (ocean queries, hydrostatics, Kerner, wrenches, MuJoCo) against a
-   baseline measured in the same run: mj_step alone on the same compiled model.
+   baseline measured in the same run: mj_step alone on the same compiled model. Two cores: the
+   simulation runs the hydrostatics kernel on a worker thread beside the Kerner kernel (core/overlap.py).
 Figures are the best (and median) over repeats: the machine's 2 cores are shared, the load average
 at the start is recorded. Earlier implementations on this machine (constants, see PREVIOUS_US):
 per-face pow, normals by division (Kerner 5120 292 µs, kernel fleet step 3004 µs); then the
@@ -220,7 +221,7 @@ def main() -> None:
 
     load = os.getloadavg()[0]
     with tempfile.TemporaryDirectory() as tmp:
-        result = {"machine": f"{platform.machine()}, {os.cpu_count()} cores", "single_thread": True,
+        result = {"machine": f"{platform.machine()}, {os.cpu_count()} cores", "single_thread": "workloads 1-3 (4: hydrostatics overlapped on the second core)",
                   "load_average_1min_at_start": load,
                   "kerner_5120": bench_kerner_5120(), "voxels_4154": bench_voxels(Path(tmp)),
                   "fleet_100x400": bench_fleet(), "fleet_100x400_simulation": bench_fleet_simulation(Path(tmp))}  # fmt: skip
