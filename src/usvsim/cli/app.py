@@ -127,6 +127,24 @@ def _stats_line(stats: dict) -> str:
 
 
 def _run_with_progress(sim, duration: float, realtime: bool) -> None:
+    """Run with a progress bar. Ctrl-C stops the run between two steps (never inside a step, where a
+    recorder or bridge may be half-way through writing a message)."""
+    import signal
+
+    stop_requested: list[int] = []
+
+    def between_steps(_sim) -> None:
+        if stop_requested:
+            raise KeyboardInterrupt
+
+    previous = signal.signal(signal.SIGINT, lambda signum, _frame: stop_requested.append(signum))
+    try:
+        _progress_loop(sim, duration, realtime, between_steps)
+    finally:
+        signal.signal(signal.SIGINT, previous)
+
+
+def _progress_loop(sim, duration: float, realtime: bool, on_step) -> None:
     start = time.perf_counter()
     columns = (
         TextColumn("[bold]{task.description}"),
@@ -139,7 +157,7 @@ def _run_with_progress(sim, duration: float, realtime: bool) -> None:
         task = progress.add_task(sim.scenario.name, total=duration, rtf="")
         chunk = 0.5
         while sim.time < duration - 1e-9:
-            sim.run(min(chunk, duration - sim.time), realtime=realtime)
+            sim.run(min(chunk, duration - sim.time), realtime=realtime, on_step=on_step)
             wall = time.perf_counter() - start
             progress.update(task, completed=sim.time, rtf=f"{sim.time / wall:.1f}x RT" if wall > 0 else "")
 
