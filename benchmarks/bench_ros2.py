@@ -180,9 +180,11 @@ def subscriber(duration_s: float, workload: str = "synthetic") -> subprocess.Pop
 
 def subscribe(duration_s: float, workload: str) -> None:
     """Subscriber process: raw readers on every bench topic; prints counts and latencies as JSON."""
+    from cyclonedds.core import InstanceState, ReadCondition, SampleState, ViewState, WaitSet
     from cyclonedds.domain import DomainParticipant
     from cyclonedds.sub import DataReader
     from cyclonedds.topic import Topic
+    from cyclonedds.util import duration
 
     from usvsim.bridges import dds_types
     from usvsim.bridges.dds import _qos
@@ -199,15 +201,18 @@ def subscribe(duration_s: float, workload: str) -> None:
                              qos=_qos(QosProfile(depth=50), t)) for k, t in topics.items()}  # fmt: skip
     counts, latencies, end = dict.fromkeys(topics, 0), [], time.monotonic() + duration_s
     signal.signal(signal.SIGTERM, lambda *_: STOP.set())
+    waitset = WaitSet(p)  # block until data, as an rclpy executor does (no busy polling)
+    for reader in readers.values():
+        waitset.attach(ReadCondition(reader, SampleState.Any | ViewState.Any | InstanceState.Any))
     print("ready", flush=True)
     while time.monotonic() < end and not STOP.is_set():
+        waitset.wait(duration(milliseconds=100))
         for topic, reader in readers.items():
             for cdr in dds_types.take_cdr(reader, 256):
                 counts[topic] += 1
                 if topic == LATENCY_TOPIC:
                     sec, nsec = np.frombuffer(cdr, "<i4", 2, 4)
                     latencies.append((time.time_ns() - (int(sec) * 10**9 + int(nsec) % 2**32)) / 1e6)
-        time.sleep(0.0005)
     print(json.dumps({"counts": counts, "latency_ms": latencies}))
 
 
