@@ -10,14 +10,18 @@ the writer then never matches such a reader; Kilted subscribers need `fastdds.ty
 (docs: DdsBridge). Jazzy/Humble rmw_fastrtps and rmw_cyclonedds announce no type objects and match by name.
 
 Raw I/O: cyclonedds-python has no public API to write or take serialized samples; `DataWriter.write`
-serializes sequence[uint8] element by element (~50 ms for a VGA image). `write_cdr` / `take_cdr` call the
-C-layer functions that `DataWriter.write` / `DataReader.take` use themselves, on the versions checked
-below (`check_raw_api`), and fail with a clear message elsewhere.
+serializes sequence[uint8] element by element (~50 ms for a VGA image). `write_cdr` hands the bytes to
+libddsc's `dds_write` in the container cyclonedds-python's serdata reads (through ctypes, so the GIL is
+free while Cyclone copies and sends: the simulation thread keeps running); `take_cdr` calls the C-layer
+function `DataReader.take` uses. Both only on the versions checked below (`check_raw_api`).
 """
 
 from __future__ import annotations
 
+import ctypes
 import functools
+import os
+from pathlib import Path
 from typing import Any
 
 from usvsim.messages.ros import typestore
@@ -57,13 +61,42 @@ def check_raw_api() -> str:
     return ver
 
 
+class _SampleContainer(ctypes.Structure):
+    """What cyclonedds-python's serdata reads a sample from (its `ddspy_sample_container_t`, 11.0.x)."""
+
+    _fields_ = [("usample", ctypes.c_void_p), ("usample_size", ctypes.c_size_t)]
+
+
+@functools.cache
+def _dds_write() -> Any:
+    """libddsc's `dds_write`, from the copy cyclonedds-python already loaded, called through ctypes so that
+    the GIL is released while Cyclone copies and sends the sample (its own binding holds the GIL); None
+    where that library cannot be found (the C-layer path is used then)."""
+    import cyclonedds
+
+    libs = Path(cyclonedds.__file__).parent.parent / "cyclonedds.libs"
+    found = sorted(libs.glob("libddsc-*.so*")) if libs.is_dir() else []
+    if not found:
+        return None
+    try:
+        fn = ctypes.CDLL(str(found[0]), mode=os.RTLD_NOLOAD | os.RTLD_GLOBAL).dds_write
+    except (OSError, AttributeError):
+        return None
+    fn.argtypes, fn.restype = [ctypes.c_int32, ctypes.POINTER(_SampleContainer)], ctypes.c_int32
+    return fn
+
+
 def write_cdr(writer: Any, cdr: bytes) -> int:
     """Write one CDR sample (encapsulation header included) as is; returns the DDS return code (<0 = error)."""
-    from cyclonedds._clayer import ddspy_write
-
     if len(cdr) % 4:  # the C layer expects whole 4-byte units, as DataWriter.write pads them
         cdr = cdr + b"\0" * (4 - len(cdr) % 4)
-    return ddspy_write(writer._ref, cdr)
+    dds_write = _dds_write()
+    if dds_write is None:
+        from cyclonedds._clayer import ddspy_write
+
+        return ddspy_write(writer._ref, cdr)
+    container = _SampleContainer(ctypes.cast(ctypes.c_char_p(cdr), ctypes.c_void_p), len(cdr))  # no copy
+    return dds_write(writer._ref, ctypes.byref(container))
 
 
 def take_cdr(reader: Any, limit: int = 64) -> list[bytes]:
