@@ -1,14 +1,15 @@
 """Live ROS 2 over DDS: simulation slow-down with heavy sensor topics, and small-message latency, same run.
 
-Sensors (the headline): the `harbor` scenario with the issue's topics produced by real sensors on the WAM-V,
-a 640x480 camera (rgb8 + 32FC1 depth at 33.3 Hz: every 3rd 10 ms step; 30 Hz has no whole-step period, so
-the nearest faster rate is used) and an OS1-128 LiDAR (128x2048, 10 Hz), run as fast as the
-machine allows; slow-down = wall time with the DdsBridge and a subscriber process taking every image and
-cloud on loopback / wall time without a bridge. Socket buffers matter (docs/ros2.md): with the common 4 MiB `net.core.rmem_max` a 6 MB cloud overflows
-the receiver's buffer and reliable retransmissions cost the writer ~40 % more CPU; the figures in the
-results file were taken with `sysctl -w net.core.rmem_max=33554432 net.core.wmem_max=33554432` (recorded
-under "machine"). Also the simulation process's CPU time (all its threads:
-physics, rendering, bridge), which leaves out the subscriber's share of the two cores.
+Sensors (the headline): the `harbor` scenario with the issue's topics produced by real sensors on the WAM-V:
+a 640x480 camera, rgb8 + 32FC1 depth, at 33.3 Hz (every 3rd 10 ms step: 30 Hz has no whole-step period, so
+the nearest faster rate is used), and an organized OS1-128 LiDAR at 10 Hz (all 128x2048 points, NaN where
+there is no return: ~6 MB per cloud, more than the issue's 16-byte points). Run as fast as the machine
+allows; slow-down = wall time with the DdsBridge and a subscriber process (Cyclone raw readers on a WaitSet)
+taking every image and cloud on loopback / wall time without a bridge. Also the simulation process's CPU
+time (all its threads: physics, rendering, bridge), which leaves out the subscriber's share of the cores.
+Socket buffers matter (docs/ros2.md): with a 4 MiB `net.core.rmem_max` a 6 MB cloud overflows the
+receiver's buffer and reliable retransmissions cost the writer ~40 % more CPU; the stored figures were
+taken with `sysctl -w net.core.rmem_max=33554432 net.core.wmem_max=33554432` (recorded under "machine").
 
 Synthetic: the `harbor` scenario's physics plus synthetic sensor envelopes emitted from an on_step hook
 at their rates in simulation time (independent of camera/LiDAR speed): VGA rgb8 (0.92 MB) at 30 Hz,
@@ -50,7 +51,7 @@ RESULTS = Path(__file__).parent / "results" / "ros2.json"
 SENSORS = [  # the issue's heavy topics from real sensors on the WAM-V
     {"type": "camera", "name": "camera", "width": 640, "height": 480, "rate_hz": 1e9 / 30e6, "streams": ["rgb", "depth"],
      "mount": {"position": [0.3, 0.0, 1.3], "pitch_deg": 5.0}},
-    {"type": "lidar", "name": "lidar", "preset": "os1_128", "rate_hz": 10, "mount": {"position": [0.7, 0.0, 1.03]}},
+    {"type": "lidar", "name": "lidar", "preset": "os1_128", "rate_hz": 10, "organized": True, "mount": {"position": [0.7, 0.0, 1.03]}},
 ]  # fmt: skip
 SENSOR_TOPICS = {
     "/wamv/camera/image_raw": "sensor_msgs/msg/Image",
