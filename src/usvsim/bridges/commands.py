@@ -26,6 +26,7 @@ import threading
 from collections import deque
 from typing import TYPE_CHECKING, Any
 
+from usvsim.bridges import queues
 from usvsim.messages.ros import typestore
 
 if TYPE_CHECKING:
@@ -50,7 +51,7 @@ class CommandInbox:
                 for kind in ("thrust", "angle"):
                     topic = f"/{vname}/thrusters/{tname}/{kind}"
                     self.topics[topic], self._targets[topic] = FLOAT64, (kind, vname, tname)
-        self._queue: deque[tuple[str, str, str | None, Any]] = deque()
+        self._queue: deque[tuple[str, str, str | None, Any]] = queues.bounded(QUEUE_LIMIT)
         self._lock = threading.Lock()
         self.stats = dict.fromkeys(STAT_KEYS, 0)
         self._velocity_deadline_ns: dict[str, int] = {}  # vessels driven by cmd_vel → when it goes stale
@@ -83,10 +84,8 @@ class CommandInbox:
             return self._count("rejected")
         with self._lock:
             self.stats["received"] += 1
-            if len(self._queue) >= QUEUE_LIMIT:
-                self._queue.popleft()
+            if queues.push(self._queue, (kind, vessel, thruster, value)):
                 self.stats["dropped"] += 1
-            self._queue.append((kind, vessel, thruster, value))
         return True
 
     def _count(self, key: str) -> bool:

@@ -28,7 +28,7 @@ import threading
 from collections import deque
 from typing import TYPE_CHECKING, Any, Literal
 
-from usvsim.bridges import dds_types
+from usvsim.bridges import dds_types, queues
 from usvsim.bridges.dds_config import cyclone_config
 from usvsim.bridges.dds_domain import acquire_domain, release_domain
 from usvsim.messages.envelope import Envelope, QosProfile
@@ -68,8 +68,7 @@ class DdsBridge:
         self.stats: dict[str, int] = dict.fromkeys(STAT_KEYS, 0)
         self._sim = sim
         self._writers: dict[str, tuple[Any, str]] = {}  # topic → (writer, msgtype)
-        self._queue: deque[Envelope] = deque()
-        self._queue_limit = queue_limit
+        self._queue: deque[Envelope] = queues.bounded(queue_limit)
         self._wake = threading.Event()
         self._closed = threading.Event()
         self._domain = acquire_domain(domain_id, config or cyclone_config(interface))
@@ -89,10 +88,8 @@ class DdsBridge:
             self._publish(envelope)
             return
         queue = self._queue
-        if len(queue) >= self._queue_limit:
-            queue.popleft()
+        if queues.push(queue, envelope):
             self.stats["dropped"] += 1
-        queue.append(envelope)
         self.stats["queue_high_water"] = max(self.stats["queue_high_water"], len(queue))
         self._wake.set()
 

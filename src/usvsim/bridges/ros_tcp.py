@@ -36,6 +36,7 @@ import time
 from collections import deque
 from typing import TYPE_CHECKING, Any
 
+from usvsim.bridges import queues
 from usvsim.bridges.ros_tcp_profiles import make_profile
 from usvsim.bridges.ros_tcp_protocol import (
     KEEPALIVE,
@@ -74,7 +75,7 @@ class RosTcpBridge:
         self.endpoint_version: tuple[str, str] | None = None  # (version, protocol) of the last handshake
         self.topic_list: dict[str, Any] | None = None
         self.connected = threading.Event()
-        self._queue: deque[Envelope] = deque()
+        self._queue: deque[Envelope] = queues.bounded(queue_limit)
         self._control: deque[bytes] = deque()  # frames from user threads (topic list requests)
         self._lock = threading.Lock()
         self._wake_r, self._wake_w = socket.socketpair()
@@ -93,10 +94,8 @@ class RosTcpBridge:
     def _on_envelope(self, env: Envelope) -> None:
         """The simulation's callback: O(1), never blocks on the network."""
         with self._lock:
-            if len(self._queue) >= self.queue_limit:
-                self._queue.popleft()
+            if queues.push(self._queue, env):
                 self.stats["dropped"] += 1
-            self._queue.append(env)
             wake, self._wake_pending = not self._wake_pending, True
         if wake:
             self._wake()
@@ -222,7 +221,7 @@ class RosTcpBridge:
 
     def _take(self) -> deque[Envelope]:
         with self._lock:
-            envs, self._queue, self._wake_pending = self._queue, deque(), False
+            envs, self._queue, self._wake_pending = self._queue, queues.bounded(self.queue_limit), False
         return envs
 
     def _note(self, env: Envelope) -> str:
