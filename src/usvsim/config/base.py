@@ -23,6 +23,15 @@ PositiveFloat = Annotated[float, Field(gt=0)]
 NonNegativeFloat = Annotated[float, Field(ge=0)]
 
 
+class PoseDeg(Section):
+    """Position (m) and roll/pitch/yaw (degrees, REP 103) of a frame in a parent frame the subclass names."""
+
+    position: Vec3 = (0.0, 0.0, 0.0)
+    roll_deg: float = 0.0
+    pitch_deg: float = 0.0
+    yaw_deg: float = 0.0
+
+
 def tuple_of(item):
     """A strict tuple field that also accepts a YAML list."""
     return Annotated[tuple[item, ...], BeforeValidator(_list_to_tuple)]

@@ -12,19 +12,14 @@ from typing import Annotated, Literal
 
 from pydantic import Field, model_validator
 
-from usvsim.config.base import NonNegativeFloat, PositiveFloat, Section, Vec2, Vec3, tuple_of
+from usvsim.config.base import NonNegativeFloat, PoseDeg, PositiveFloat, Section, Vec2, tuple_of
 
 Name = Annotated[str, Field(pattern=r"^[A-Za-z][A-Za-z0-9_]*$")]
 Probability = Annotated[float, Field(ge=0.0, lt=1.0)]
 
 
-class Mount(Section):
+class Mount(PoseDeg):
     """Pose of the sensor frame in the vessel's `base_link` (FLU, m; degrees, REP 103 roll/pitch/yaw)."""
-
-    position: Vec3 = (0.0, 0.0, 0.0)
-    roll_deg: float = 0.0
-    pitch_deg: float = 0.0
-    yaw_deg: float = 0.0
 
 
 class SensorBase(Section):

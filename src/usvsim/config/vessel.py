@@ -10,19 +10,14 @@ from typing import Annotated, Literal
 
 from pydantic import Field, model_validator
 
-from usvsim.config.base import NonNegativeFloat, PositiveFloat, Section, Vec3, tuple_of
+from usvsim.config.base import NonNegativeFloat, PoseDeg, PositiveFloat, Section, Vec3, tuple_of
 from usvsim.config.control import Controller
 from usvsim.config.hydro_models import FossenHydrodynamics, KernerHydrodynamics, VoxelBuoyancy, WindLoad
 from usvsim.config.sensors import Sensors
 
 
-class Pose(Section):
+class Pose(PoseDeg):
     """A world pose: position (m, ENU) and roll/pitch/yaw in degrees (REP 103, yaw CCW from east)."""
-
-    position: Vec3 = (0.0, 0.0, 0.0)
-    roll_deg: float = 0.0
-    pitch_deg: float = 0.0
-    yaw_deg: float = 0.0
 
 
 class MassProperties(Section):
