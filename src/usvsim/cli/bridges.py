@@ -9,15 +9,17 @@ from usvsim.core.errors import UsvsimError
 
 @dataclass(frozen=True)
 class BridgeOptions:
-    ros2: bool = False
-    domain_id: int | None = None  # None: $ROS_DOMAIN_ID, else 0
-    ros2_interface: str = "lo"
-    ros_tcp: str | None = None  # HOST:PORT of a ros_tcp_endpoint
-    ros_tcp_profile: str = "usvsim"
-    ros_tcp_vessel: str | None = None  # the vessel the seed profile renames (default: the first)
-    foxglove: bool = False
-    foxglove_host: str = "127.0.0.1"
-    foxglove_port: int = 8765
+    """The `usvsim run` bridge options (their defaults and help live on the CLI options)."""
+
+    ros2: bool
+    domain_id: int | None  # None: $ROS_DOMAIN_ID, else 0
+    ros2_interface: str
+    ros_tcp: str | None  # HOST:PORT of a ros_tcp_endpoint
+    ros_tcp_profile: str
+    ros_tcp_vessel: str | None  # the vessel the seed profile renames (None: the first)
+    foxglove: bool
+    foxglove_host: str
+    foxglove_port: int
 
 
 def host_port(text: str) -> tuple[str, int]:
