@@ -80,6 +80,7 @@ class Simulation:
             world.air_density_kgpm3,
         )
         self.clock = Clock(period_ns(world.physics_rate_hz))
+        self.look = scenario.rendering  # the current look (config/rendering.py); cameras read it every frame
         self.ocean = build_ocean(scenario.environment, self.rng.get("ocean"), dt_s=self.clock.dt)
         floating = self._floating_bodies()
         static = static_parts(scenario.objects, base_dir(scenario), source_of(scenario))
@@ -195,6 +196,7 @@ class Simulation:
         """Back to the scenario's initial state at t = 0 (bodies, thrusters, clock); subscribers stay."""
         mujoco.mj_resetData(self.model, self.data)
         self.clock.reset()
+        self.look = self.scenario.rendering
         self.thrusters.reset()
         self.marine.reset()
         self.sensors.reset()

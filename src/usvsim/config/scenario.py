@@ -9,6 +9,7 @@ from pydantic import Field, model_validator
 from usvsim.config.base import PositiveFloat, Section, tuple_of
 from usvsim.config.environment import Environment
 from usvsim.config.objects import WorldObject
+from usvsim.config.rendering import Rendering
 from usvsim.config.vessel import Vessel
 
 
@@ -59,6 +60,7 @@ class Scenario(Section):
     vessels: tuple_of(Vessel) = Field(default=(), max_length=256)
     objects: tuple_of(WorldObject) = ()
     outputs: Outputs = Outputs()
+    rendering: Rendering = Rendering()
 
     @model_validator(mode="after")
     def _unique_names(self):
