@@ -162,7 +162,7 @@ class FoxgloveBridge:
             log.exception("foxglove bridge: failed to publish %s", env.topic)
 
     def _publish(self, env: Envelope) -> None:
-        stamp = env.stamp_ns
+        stamp = env.publish_ns  # emission time (a LiDAR sweep is stamped at its start)
         if stamp < self._last_stamp_ns:  # the simulation was reset: restart the schedules
             self._next_scene_ns = self._next_time_ns = 0
             self._next_scene_wall = 0.0

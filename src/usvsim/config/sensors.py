@@ -81,17 +81,36 @@ class Odometry(SensorBase):
     angular_velocity_stddev_radps: NonNegativeFloat = 0.0
 
 
+# (horizontal σ per axis m, vertical σ m, correlation time s) of receiver presets: σ_axis = CEP / 1.1774
+# (circular Gaussian); u-blox NEO-M8N data sheet: GPS 2.5 m CEP; ZED-F9P: RTK 0.01 m + 1 ppm CEP. The data
+# sheets give no vertical figure for the M8 nor a correlation time: vertical = 2x horizontal and τ = 60 s
+# are assumptions from measured stand-alone receivers (docs/sensor-realism.md).
+GNSS_PRESETS = {"ublox_m8": (2.5 / 1.1774, 2.0 * 2.5 / 1.1774, 60.0), "ublox_f9p_rtk": (0.01 / 1.1774, 0.02, 60.0)}
+
+
 class Gnss(SensorBase):
     """sensor_msgs/NavSatFix of the antenna (mount point) via the scenario's geodetic origin (WGS-84);
-    optional geometry_msgs/TwistWithCovarianceStamped ENU velocity on `<topic>/vel`."""
+    optional geometry_msgs/TwistWithCovarianceStamped ENU velocity on `<topic>/vel`.
+
+    Position error per ENU axis: a first-order Gauss–Markov process with stationary stddev
+    `horizontal_stddev_m` (east, north) / `vertical_stddev_m` (up) and correlation time `correlation_time_s`
+    (0 = white noise, a new draw per fix). `preset` fills the three from a receiver; explicit values win."""
 
     type: Literal["gnss"]
     rate_hz: PositiveFloat = 10.0
-    horizontal_stddev_m: NonNegativeFloat = 0.0
-    vertical_stddev_m: NonNegativeFloat = 0.0
+    preset: Literal["none", "ublox_m8", "ublox_f9p_rtk"] = "none"
+    horizontal_stddev_m: NonNegativeFloat | None = None
+    vertical_stddev_m: NonNegativeFloat | None = None
+    correlation_time_s: NonNegativeFloat | None = Field(None, description="Gauss–Markov τ of the position error; 0 = white")
     velocity_stddev_mps: NonNegativeFloat = 0.0
     fix: Literal["no_fix", "fix", "sbas_fix", "gbas_fix"] = "fix"
     velocity: bool = False
+
+    def error_model(self) -> tuple[float, float, float]:
+        """(horizontal σ per axis m, vertical σ m, correlation time s), explicit values over the preset's."""
+        h, v, tau = GNSS_PRESETS.get(self.preset, (0.0, 0.0, 0.0))
+        pick = lambda x, d: d if x is None else x  # noqa: E731
+        return pick(self.horizontal_stddev_m, h), pick(self.vertical_stddev_m, v), pick(self.correlation_time_s, tau)
 
 
 class GroundTruth(SensorBase):
@@ -126,6 +145,7 @@ class Lidar(SensorBase):
     motion_distortion: bool = False
     water_returns: bool = Field(False, description="incidence-dependent returns from the ocean surface")
     water_reflectivity: Annotated[float, Field(ge=0, le=1)] = 0.02
+    self_returns: bool = Field(True, description="false: beams that hit the own vessel give no return (crop)")
     geometry: Literal["visual", "collision"] = "visual"
     reflectivity: dict[str, Annotated[float, Field(ge=0, le=1)]] = Field(
         default_factory=dict, description="per body name ('world' = static objects); default from colour"

@@ -4,7 +4,8 @@ Layout (what rosbag2_storage_mcap writes and reads, ros2-interop.md §5):
 - header profile `ros2`; one schema per message type, named `pkg/msg/Type`, encoding `ros2msg`,
   data = the full concatenated `.msg` definition; channels with message_encoding `cdr` and metadata
   `offered_qos_profiles` (metadata-version-8 YAML string) and `topic_type_hash` (RIHS01);
-- messages carry the envelope's CDR bytes unchanged, logTime = publishTime = the simulation stamp;
+- messages carry the envelope's CDR bytes unchanged, logTime = publishTime = the envelope's `publish_ns`
+  (the simulation time it was emitted, never before its header stamp);
 - at close, a metadata record `rosbag2` with `serialized_metadata` (the bag information YAML), then
   the summary and footer.
 
@@ -110,7 +111,7 @@ class McapRecorder:
             raise ValueError(
                 f"topic {envelope.topic} was recorded as {topic.msgtype}, got {envelope.msgtype}"
             )
-        data, stamp = envelope.cdr, envelope.stamp_ns  # serialize (once) before touching any state
+        data, stamp = envelope.cdr, envelope.publish_ns  # serialize (once) before touching any state
         topic.count += 1
         self._writer.add_message(topic.channel_id, stamp, data, stamp, topic.count)
         if self._start_ns is None or stamp < self._start_ns:

@@ -1,6 +1,10 @@
 """The message envelope shared by every consumer (recorder, DDS bridge, Foxglove bridge, callbacks).
 
-A sensor emits one `Envelope` per message. Its CDR bytes are computed on first access of `cdr` and
+A sensor emits one `Envelope` per message. `stamp_ns` is the message's header stamp (when it was measured);
+`publish_ns` is when the simulation emitted it (>= the stamp: a LiDAR sweep is stamped at its first
+column and published when the sweep ends, a sensor with latency is published `latency_s` later). The MCAP
+recorder logs at `publish_ns`, so a replayed bag never delivers a message before it could have existed.
+Its CDR bytes are computed on first access of `cdr` and
 cached, so the message is serialized once however many consumers read it. Producers that build CDR
 themselves (e.g. a fast image path) pass `cdr=` directly.
 
@@ -47,7 +51,7 @@ class Envelope:
     threaded consumers should touch `cdr` once before handing the envelope over.
     """
 
-    __slots__ = ("_cdr", "msg", "msgtype", "qos", "stamp_ns", "topic")
+    __slots__ = ("_cdr", "msg", "msgtype", "publish_ns", "qos", "stamp_ns", "topic")
 
     def __init__(
         self,
@@ -58,6 +62,7 @@ class Envelope:
         msgtype: str | None = None,
         qos: QosProfile | None = None,
         cdr: bytes | None = None,
+        publish_ns: int | None = None,
     ) -> None:
         if msg is None and cdr is None:
             raise ValueError("an Envelope needs a message or its CDR bytes")
@@ -68,6 +73,7 @@ class Envelope:
         self.topic = topic
         self.msgtype = msgtype
         self.stamp_ns = int(stamp_ns)
+        self.publish_ns = self.stamp_ns if publish_ns is None else int(publish_ns)
         self.msg = msg
         self.qos = qos if qos is not None else qos_for_topic(topic)
         self._cdr = cdr

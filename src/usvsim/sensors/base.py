@@ -3,7 +3,8 @@
 A sensor is mounted on a vessel's body at a fixed pose in `base_link` (FLU). Its frame is
 `<vessel>/<name>` (FLU); cameras add `<vessel>/<name>_optical` (z forward, x right, y down). It samples
 every `every` physics steps (period = 1 / rate_hz, an exact multiple of the step) and its messages
-reach subscribers `latency_steps` steps later, stamped with the sample time. Each sensor draws noise
+reach subscribers `latency_steps` steps later, stamped with the sample time and with `publish_ns` = the
+release time (what the MCAP recorder logs). Each sensor draws noise
 from its own named stream `sensor/<vessel>/<name>`, so adding a sensor never changes another's noise.
 """
 
@@ -61,6 +62,8 @@ class Sensor:
             self.observe(sim)
         if steps > 0 and steps % self.every == 0:
             envs = self.sample(sim, now_ns)
+            for env in envs:
+                env.publish_ns = now_ns  # a LiDAR sweep stamped at its start is published at its end
             if self.latency_steps == 0:
                 self.latest = envs
                 return envs
@@ -68,6 +71,8 @@ class Sensor:
         out: list[Envelope] = []
         while self._pending and self._pending[0][0] <= steps:
             self.latest = self._pending.popleft()[1]
+            for env in self.latest:
+                env.publish_ns = now_ns
             out += self.latest
         return out
 

@@ -4,12 +4,13 @@
   the same frame `GroundTruth` publishes as `world → <vessel>/odom`), twist in base_link, Gaussian noise
   with its covariance filled in (6x6 over x, y, z, rotX, rotY, rotZ).
 - `Gnss`: sensor_msgs/NavSatFix of the antenna (mount point) from ENU through the scenario's geodetic
-  origin (pymap3d, WGS-84); optional ENU velocity (TwistWithCovarianceStamped, frame `world`) on the sibling topic `.../vel`.
+  origin (pymap3d, WGS-84), with a Gauss–Markov position error (white when the correlation time is 0); optional ENU velocity (TwistWithCovarianceStamped, frame `world`) on the sibling topic `.../vel`.
 - `GroundTruthPose`: exact nav_msgs/Odometry of the sensor frame in `world`, twist in the sensor frame.
 """
 
 from __future__ import annotations
 
+import math
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -70,17 +71,33 @@ class Gnss(Sensor):
         self.origin = (o.latitude_deg, o.longitude_deg, o.altitude_m)
         self.topic = cfg.topic or f"/{vessel}/{cfg.name}/fix"
         self.vel_topic = f"{self.topic.rsplit('/', 1)[0]}/vel"  # sibling of the fix topic
+        horizontal, vertical, tau = cfg.error_model()
+        self.sigma = np.array([horizontal, horizontal, vertical])
+        self.phi = math.exp(-self.every * sim.clock.dt / tau) if tau > 0 else 0.0
+        self.error = None if self.sigma.any() else np.zeros(3)
 
     def lla(self, pos_enu: np.ndarray) -> tuple[float, float, float]:
         """WGS-84 latitude, longitude (deg) and ellipsoidal altitude (m) of an ENU point."""
         lat, lon, alt = pymap3d.enu2geodetic(*pos_enu, *self.origin)
         return float(lat), float(lon), float(alt)
 
+    def position_error(self) -> np.ndarray:
+        """Advance the ENU error (m) one fix: x ← φx + σ√(1-φ²)·n, φ = exp(-T/τ) (exact discretisation of a
+        first-order Gauss–Markov process; φ = 0 is white noise). Starts at a draw from the stationary law."""
+        if not self.sigma.any():
+            return self.error
+        kick = self.rng.normal(0.0, 1.0, 3) * self.sigma
+        self.error = kick if self.error is None else self.phi * self.error + math.sqrt(1.0 - self.phi**2) * kick
+        return self.error
+
+    def reset(self) -> None:
+        super().reset()
+        self.error = None if self.sigma.any() else np.zeros(3)
+
     def sample(self, sim: Simulation, stamp_ns: int) -> list[Envelope]:
-        c = self.cfg
-        sigma = np.array([c.horizontal_stddev_m, c.horizontal_stddev_m, c.vertical_stddev_m])
+        c, sigma = self.cfg, self.sigma
         pos, _ = self.pose_world(sim)
-        noisy = pos + (self.rng.normal(0.0, 1.0, 3) * sigma if sigma.any() else 0.0)
+        noisy = pos + self.position_error()
         msg = navsat_fix_msg(stamp_ns, self.frame_id, self.lla(noisy), _FIX_STATUS[c.fix], sigma**2)
         out = [Envelope(self.topic, stamp_ns, msg)]
         if c.velocity:

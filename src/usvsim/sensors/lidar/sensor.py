@@ -9,11 +9,17 @@ LaserScan (REP 117) and NaN in an organized cloud; unorganized clouds hold retur
 Intensity = reflectivity(geom) · |cos incidence|, in [0, 1]; reflectivity is the luminance of the geom's
 colour (clamped to [0.05, 1]) unless `reflectivity[<body name>]` ('world' for static objects) sets it.
 
+Self returns: beams that hit the own vessel return its hull (as a real sensor does); `self_returns: false`
+crops them (no return for those beams; exact, by geom, unlike a body box or a minimum range).
+
 Timing: without motion distortion the whole sweep is taken at the sample instant (header stamp, point
 `time` 0). With `motion_distortion`, column c fires at stamp + c·T/N (T = 1/rate), the header stamp is the
 first column's time (the sweep ends at the sample tick) and each column is cast from the mount pose
 extrapolated back from the current velocity and body rates (first order); the world geometry is taken
 at the sample tick, except the vessel's own hull, which moves with the sensor (its returns stay put).
+The cloud is published when the sweep ends (the sample tick): its envelope's `publish_ns` (the MCAP log
+time) is the tick, never before the sweep could exist, while the header keeps the Ouster/Velodyne
+convention of stamping the first column with non-negative point times.
 """
 
 from __future__ import annotations
@@ -79,6 +85,7 @@ class Lidar(Sensor):
         self.world: RayWorld = shared[key]
         self._own_scene = self.world.scene_of(self.body)  # the vessel's own geometry, None if it has none
         self._own_hits = None  # hits of the beams on the own vessel: fixed in its frame, cast once
+        self._own_geoms = np.flatnonzero(sim.model.geom_bodyid == self.body + 1)  # MuJoCo body id = index + 1
         self.reflectivity = reflectivities(sim, dict(cfg.reflectivity))
         self.reflectivity[WATER] = cfg.water_reflectivity
         self.sweep_s = self.every * sim.clock.dt
@@ -115,6 +122,9 @@ class Lidar(Sensor):
         p, cfg = self.pattern, self.cfg
         origins, dirs, offset_ns, times = self._rays(sim)
         dist, geom, cos_inc = self._cast(origins, dirs)
+        if not cfg.self_returns and len(self._own_geoms):
+            own = np.isin(geom, self._own_geoms)
+            dist[own], geom[own] = np.inf, NO_HIT
         sunk = sunk_hits(sim.ocean, origins, dirs, dist, sim.time)
         dist[sunk], geom[sunk] = np.inf, NO_HIT
         if cfg.water_returns:
