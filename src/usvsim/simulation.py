@@ -29,6 +29,8 @@ from usvsim.core.errors import DivergenceError
 from usvsim.core.overlap import Overlap
 from usvsim.core.rng import RngStreams
 from usvsim.core.transforms import quat_from_rpy
+from usvsim.geo.parts import GeoParts, geo_parts
+from usvsim.geo.resolve import load_place, resolve_geo, with_local_depth
 from usvsim.ground_truth import GroundTruth
 from usvsim.hydro.hydrostatics import HullSet
 from usvsim.hydro.models import MarineModels
@@ -71,6 +73,9 @@ class Simulation:
     """A scenario running in MuJoCo with marine physics. `seed` drives every random stream."""
 
     def __init__(self, scenario: Scenario, seed: int = 0):
+        scenario = resolve_geo(scenario)
+        self.place = load_place(scenario)  # a real place (geo/), or None
+        scenario = with_local_depth(scenario, self.place)
         self.scenario, self.seed = scenario, int(seed)
         self.rng = RngStreams(self.seed)
         world = scenario.world
@@ -84,7 +89,8 @@ class Simulation:
         self.ocean = build_ocean(scenario.environment, self.rng.get("ocean"), dt_s=self.clock.dt)
         floating = self._floating_bodies()
         static = static_parts(scenario.objects, base_dir(scenario), source_of(scenario))
-        self.model = build_model(floating, static, self.clock.dt, self.g)
+        geo = geo_parts(self.place) if self.place else GeoParts([], [], [])
+        self.model = build_model(floating, static, self.clock.dt, self.g, geo.visual, geo.collision)
         self.data = mujoco.MjData(self.model)
         self._init_physics(floating)
         self._init_handles(floating)

@@ -23,6 +23,19 @@ PositiveFloat = Annotated[float, Field(gt=0)]
 NonNegativeFloat = Annotated[float, Field(ge=0)]
 
 
+class LatLon(Section):
+    """Optionally placed by geography: `latlon` [latitude, longitude] in degrees (WGS-84) replaces the
+    position's x and y (the ENU point at the scenario's geodetic origin); z stays as given."""
+
+    latlon: Vec2 | None = Field(None, description="[latitude_deg, longitude_deg], WGS-84; replaces x, y")
+
+
+class GeoPose(LatLon):
+    """`latlon` plus an optional compass `heading_deg` (clockwise from north), which replaces `yaw_deg`."""
+
+    heading_deg: float | None = Field(None, description="compass heading, degrees clockwise from north")
+
+
 class PoseDeg(Section):
     """Position (m) and roll/pitch/yaw (degrees, REP 103) of a frame in a parent frame the subclass names."""
 

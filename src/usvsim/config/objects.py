@@ -10,7 +10,7 @@ from typing import Annotated, Literal
 
 from pydantic import Field
 
-from usvsim.config.base import PositiveFloat, Section, Vec3
+from usvsim.config.base import GeoPose, LatLon, PositiveFloat, Section, Vec3
 
 Name = Annotated[str, Field(pattern=r"^[A-Za-z][A-Za-z0-9_]*$")]
 
@@ -35,7 +35,7 @@ class Mooring(Section):
     scope: float = Field(1.2, ge=1.0, description="line length / water depth")
 
 
-class Buoy(Section):
+class Buoy(LatLon):
     """A floating sphere buoy (marker); moored unless `mooring` is null (then it drifts freely)."""
 
     type: Literal["buoy"] = "buoy"
@@ -47,7 +47,7 @@ class Buoy(Section):
     mooring: Mooring | None = Mooring()
 
 
-class Box(Section):
+class Box(GeoPose):
     """A static box obstacle (dock, wall): centre position, size [length, width, height], yaw."""
 
     type: Literal["dock", "wall", "box"]
@@ -58,7 +58,7 @@ class Box(Section):
     color: Color = "concrete"
 
 
-class Pier(Section):
+class Pier(GeoPose):
     """A pier: a deck on round piles. `position` is the deck's centre; piles reach down to the seabed."""
 
     type: Literal["pier"] = "pier"
@@ -74,7 +74,7 @@ class Pier(Section):
     color: Color = "wood"
 
 
-class Berth(Section):
+class Berth(GeoPose):
     """A U-shaped berth: two side walls and a back wall around a slot open toward the berth's +x.
 
     `position` is the centre of the slot at the water line; the slot is `inner_length_m` long
@@ -94,7 +94,7 @@ class Berth(Section):
     color: Color = "concrete"
 
 
-class MeshObstacle(Section):
+class MeshObstacle(GeoPose):
     """A static obstacle from a mesh file; non-convex meshes are decomposed into convex parts."""
 
     type: Literal["mesh"] = "mesh"

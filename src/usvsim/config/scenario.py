@@ -8,6 +8,7 @@ from pydantic import Field, model_validator
 
 from usvsim.config.base import PositiveFloat, Section, tuple_of
 from usvsim.config.environment import Environment
+from usvsim.config.geo import Geo
 from usvsim.config.objects import WorldObject
 from usvsim.config.rendering import Rendering
 from usvsim.config.vessel import Vessel
@@ -59,6 +60,7 @@ class Scenario(Section):
     environment: Environment = Environment()
     vessels: tuple_of(Vessel) = Field(default=(), max_length=256)
     objects: tuple_of(WorldObject) = ()
+    geo: Geo | None = Field(None, description="a real place from geospatial files (docs/geo.md)")
     outputs: Outputs = Outputs()
     rendering: Rendering = Rendering()
 

@@ -10,13 +10,13 @@ from typing import Annotated, Literal
 
 from pydantic import Field, model_validator
 
-from usvsim.config.base import NonNegativeFloat, PoseDeg, PositiveFloat, Section, Vec3, tuple_of
+from usvsim.config.base import GeoPose, NonNegativeFloat, PoseDeg, PositiveFloat, Section, Vec3, tuple_of
 from usvsim.config.control import Controller
 from usvsim.config.hydro_models import FossenHydrodynamics, KernerHydrodynamics, VoxelBuoyancy, WindLoad
 from usvsim.config.sensors import Sensors
 
 
-class Pose(PoseDeg):
+class Pose(PoseDeg, GeoPose):
     """A world pose: position (m, ENU) and roll/pitch/yaw in degrees (REP 103, yaw CCW from east)."""
 
 

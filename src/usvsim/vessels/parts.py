@@ -40,7 +40,8 @@ def merge(meshes: list[Mesh]) -> Mesh:
 @dataclass(frozen=True)
 class Part:
     """A collision or visual piece. `kind` is box (size = half extents), cylinder (radius, half length
-    along z), sphere (radius) or mesh (convex for collision). Pose `pos`, `quat` (w, x, y, z) in the body frame."""
+    along z), sphere (radius), mesh (convex for collision) or hfield (size = half extents x, y; `heights`
+    (rows along +y, columns along +x) in m above `pos`). Pose `pos`, `quat` (w, x, y, z) in the body frame."""
 
     kind: str
     size: tuple[float, ...] = ()
@@ -49,3 +50,4 @@ class Part:
     mesh: Mesh | None = None
     rgba: tuple[float, float, float, float] = (0.8, 0.8, 0.8, 1.0)
     name: str = field(default="")
+    heights: np.ndarray | None = None

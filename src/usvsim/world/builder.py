@@ -22,7 +22,9 @@ _KIND = {
     "sphere": mujoco.mjtGeom.mjGEOM_SPHERE,
     "cylinder": mujoco.mjtGeom.mjGEOM_CYLINDER,
     "mesh": mujoco.mjtGeom.mjGEOM_MESH,
+    "hfield": mujoco.mjtGeom.mjGEOM_HFIELD,
 }
+HFIELD_BASE_M = 1.0  # solid thickness of a height field below its lowest point
 
 
 @dataclass(frozen=True)
@@ -57,6 +59,13 @@ def _add_geom(spec: mujoco.MjSpec, parent, part: Part, group: int, collide: bool
         mesh.uservert = part.mesh.vertices.flatten().tolist()
         mesh.userface = part.mesh.faces.flatten().tolist()
         geom.meshname = tag
+    elif part.kind == "hfield":
+        z = np.asarray(part.heights, float)
+        lo, span = float(z.min()), max(float(z.max() - z.min()), 1e-3)
+        spec.add_hfield(name=tag, size=[part.size[0], part.size[1], span, HFIELD_BASE_M], nrow=z.shape[0],
+                        ncol=z.shape[1], userdata=((z - lo) / span).ravel().tolist())  # MuJoCo rescales to [0, 1]
+        geom.hfieldname = tag
+        part = Part(part.kind, part.size, (part.pos[0], part.pos[1], part.pos[2] + lo), part.quat, rgba=part.rgba)
     else:
         size = list(part.size) + [0.0] * (3 - len(part.size))
         geom.size = size
@@ -88,8 +97,10 @@ def _add_floating(spec: mujoco.MjSpec, fb: FloatingBody) -> None:
         line.rgba = [0.9, 0.9, 0.2, 1.0]
 
 
-def build_model(floating: list[FloatingBody], static: list[Part], dt: float, gravity: float) -> mujoco.MjModel:
-    """Compile the world. Body i+1 of the result is floating[i] (body 0 is the world)."""
+def build_model(floating: list[FloatingBody], static: list[Part], dt: float, gravity: float,
+                visual_only: list[Part] = (), collision_only: list[Part] = ()) -> mujoco.MjModel:  # fmt: skip
+    """Compile the world. Body i+1 of the result is floating[i] (body 0 is the world). `static` parts are
+    drawn and solid; `visual_only` (after them, in order) and `collision_only` parts one or the other."""
     spec = mujoco.MjSpec()
     spec.modelname = "usvsim"
     spec.compiler.inertiafromgeom = mujoco.mjtInertiaFromGeom.mjINERTIAFROMGEOM_FALSE
@@ -110,6 +121,10 @@ def build_model(floating: list[FloatingBody], static: list[Part], dt: float, gra
     for k, part in enumerate(static):
         _add_geom(spec, spec.worldbody, part, COLLISION_GROUP, True, f"static_col{k}")
         _add_geom(spec, spec.worldbody, part, VISUAL_GROUP, False, f"static_vis{k}")
+    for k, part in enumerate(visual_only):
+        _add_geom(spec, spec.worldbody, part, VISUAL_GROUP, False, f"extra_vis{k}")
+    for k, part in enumerate(collision_only):
+        _add_geom(spec, spec.worldbody, part, COLLISION_GROUP, True, f"extra_col{k}")
     for fb in floating:
         _add_floating(spec, fb)
     return spec.compile()

@@ -1,0 +1,1 @@
+"""Real places from geospatial files: the geodetic frame, land, seabed, structures and marks."""

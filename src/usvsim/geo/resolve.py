@@ -1,0 +1,91 @@
+"""Scenario placement by geography: `latlon` / `heading_deg` → ENU position and yaw; `geo.marks` → buoys.
+
+Applied once when a simulation is built (and by `usvsim validate`): the scenario that every part of the
+simulation sees has plain ENU positions, and the marks of the geo section are ordinary moored buoys.
+"""
+
+from __future__ import annotations
+
+from usvsim.config.loader import base_dir, source_of
+from usvsim.config.objects import COLORS, Buoy
+from usvsim.config.scenario import Scenario
+from usvsim.core.errors import ScenarioError
+from usvsim.geo.frame import GeoFrame
+from usvsim.geo.vector import read_features
+
+
+def frame_of(scenario: Scenario) -> GeoFrame:
+    o = scenario.world.origin
+    return GeoFrame(o.latitude_deg, o.longitude_deg, o.altitude_m)
+
+
+def resolve_geo(scenario: Scenario) -> Scenario:
+    """The scenario with every geographic placement turned into ENU (the input itself when there is none)."""
+    placed = any(_placed(v.pose) for v in scenario.vessels) or any(_placed(o) for o in scenario.objects)
+    marks = scenario.geo.marks if scenario.geo else ()
+    if not placed and not marks:
+        return scenario
+    frame, source = frame_of(scenario), source_of(scenario)
+    vessels = tuple(v.model_copy(update={"pose": _place(v.pose, frame, f"{source}: vessels[{i}].pose")})
+                    for i, v in enumerate(scenario.vessels))  # fmt: skip
+    objects = tuple(_place(o, frame, f"{source}: objects[{i}]") for i, o in enumerate(scenario.objects))
+    for k, spec in enumerate(marks):
+        extent = scenario.geo.extent_m
+        feats = read_features(base_dir(scenario) / spec.file, spec.layer, spec.crs, frame, extent, ("Point",))
+        for i, (point, props) in enumerate(zip(feats.geometries, feats.properties)):
+            color = props.get(spec.color_property) if spec.color_property else None
+            name = f"mark{k}_{i}"
+            objects += (Buoy(name=name, position=(point.x, point.y, 0.0), radius_m=spec.radius_m,
+                             color=color if color in COLORS else spec.color, mooring=spec.mooring),)  # fmt: skip
+    return _updated(scenario, vessels=vessels, objects=objects)
+
+
+def _updated(scenario: Scenario, **update) -> Scenario:
+    """A copy with `update`, keeping where the scenario came from (for relative paths and messages)."""
+    out = scenario.model_copy(update=update)
+    for attr in ("_base_dir", "_source"):
+        if hasattr(scenario, attr):
+            object.__setattr__(out, attr, getattr(scenario, attr))
+    return out
+
+
+def _placed(section) -> bool:
+    return getattr(section, "latlon", None) is not None or getattr(section, "heading_deg", None) is not None
+
+
+def _place(section, frame: GeoFrame, where: str):
+    if not _placed(section):
+        return section
+    update = {"heading_deg": None, "latlon": None}
+    if section.latlon is not None:
+        if tuple(section.position[:2]) != (0.0, 0.0):
+            raise ScenarioError(where, "latlon", "give either latlon or the position's x, y, not both")
+        lat, lon = section.latlon
+        if not (-90.0 <= lat <= 90.0 and -180.0 <= lon <= 180.0):
+            raise ScenarioError(where, "latlon", f"[{lat}, {lon}] is not a latitude and longitude in degrees")
+        x, y, _ = frame.to_enu(lat, lon)[0]
+        update["position"] = (float(x), float(y), section.position[2])
+    if getattr(section, "heading_deg", None) is not None:
+        update["yaw_deg"] = 90.0 - section.heading_deg  # compass (CW from north) → ENU yaw (CCW from east)
+    return section.model_copy(update=update)
+
+
+def load_place(scenario: Scenario):
+    """The GeoScene of the scenario's `geo:` section (None without one)."""
+    if scenario.geo is None:
+        return None
+    from usvsim.geo.scene import GeoScene
+
+    return GeoScene.load(scenario.geo, frame_of(scenario), base_dir(scenario))
+
+
+def with_local_depth(scenario: Scenario, place) -> Scenario:
+    """The scenario whose waves feel the water depth under the origin (finite-depth dispersion in direct
+    sums), unless the environment sets `water_depth_m` itself."""
+    env = scenario.environment
+    if place is None or env.water_depth_m is not None:
+        return scenario
+    depth = float(place.depth_at(0.0, 0.0)[0])
+    if depth <= 0.0:
+        return scenario
+    return _updated(scenario, environment=env.model_copy(update={"water_depth_m": depth}))

@@ -1,0 +1,189 @@
+"""A real place as world geometry: land prisms, structure prisms, seabed tiles; water depth lookups.
+
+`GeoScene.load(geo, origin, base_dir)` reads the files of a scenario's `geo:` section (see config/geo.py),
+converts everything to world ENU metres at the geodetic origin and builds:
+- land: one closed prism mesh per polygon, walls exactly on the coastline, drawn and seen by ray sensors
+  (class `land`); solid through the terrain height field;
+- structures: prisms drawn and seen (class `structure`) and solid as exact convex pieces;
+- terrain: the seabed and land as height-field tiles (terrain.py), solid, and one coarse drawn seabed.
+The result is cached on disk, keyed by the content of the section and of every file it names.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import os
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+import shapely
+
+from usvsim.config.geo import Geo
+from usvsim.geo import extrude
+from usvsim.geo.frame import GeoFrame
+from usvsim.geo.raster import Raster, read_raster
+from usvsim.geo.terrain import Terrain, land_mask, vertex_grid
+from usvsim.geo.vector import read_features
+
+CACHE_VERSION = 1
+BOTTOM_MARGIN_M = 1.0  # prisms reach this far below the deepest seabed
+
+
+@dataclass
+class GeoScene:
+    """World geometry of a place (ENU m). Meshes are closed triangle soups (n, 3, 3)."""
+
+    terrain: Terrain
+    land: list[np.ndarray] = field(default_factory=list)  # prism triangles per land polygon
+    land_polygons: list = field(default_factory=list)
+    structures: list[tuple[str, np.ndarray, list[np.ndarray], tuple]] = field(default_factory=list)
+    bathymetry: Raster | None = None  # depth lookups on the raster's own grid
+    settings: Geo | None = None
+
+    @classmethod
+    def load(cls, geo: Geo, frame: GeoFrame, base_dir: Path) -> GeoScene:
+        key = _cache_key(geo, frame, base_dir)
+        path = _cache_dir() / f"{key}.npz"
+        scene = _read_cache(path) if path.is_file() else None
+        if scene is None:
+            scene = _build(geo, frame, base_dir)
+            _write_cache(path, scene)
+        scene.settings = geo
+        if geo.bathymetry is not None:  # lookups sample the raster itself (cheap to re-read)
+            b = geo.bathymetry
+            scene.bathymetry = read_raster(base_dir / b.file, b.band, b.crs, frame, geo.extent_m)
+        return scene
+
+    def depth_at(self, x_m, y_m) -> np.ndarray:
+        """Water depth (m, positive down from still water) at ENU points; on land minus the land height.
+
+        Under water: the bathymetry raster's value (bilinear within a raster cell, exact at pixel centres;
+        at least `min_depth_m`), or the default depth where the raster has no data."""
+        x = np.atleast_1d(np.asarray(x_m, float))
+        y = np.broadcast_to(np.asarray(y_m, float), x.shape)
+        geo = self.settings
+        depth = np.full(x.shape, geo.default_depth_m if geo else 20.0)
+        if self.bathymetry is not None:
+            raw = self.bathymetry.sample(x, y)
+            raw = -raw if geo.bathymetry.values == "elevation" else raw
+            depth = np.where(np.isnan(raw), depth, np.maximum(raw, geo.min_depth_m))
+        on_land = np.zeros(x.shape, bool)
+        for polygon in self.land_polygons:
+            on_land |= shapely.contains_xy(polygon, x, y)
+        if on_land.any():
+            depth[on_land] = -self._land_height(x[on_land], y[on_land])
+        return depth
+
+    def _land_height(self, x: np.ndarray, y: np.ndarray) -> np.ndarray:
+        t = self.terrain  # land heights are the terrain's vertex values; bilinear between them
+        cx = np.clip(np.interp(x, t.xs, np.arange(len(t.xs))), 0, len(t.xs) - 1)
+        cy = np.clip(np.interp(y, t.ys, np.arange(len(t.ys))), 0, len(t.ys) - 1)
+        return np.maximum(t.z[np.round(cy).astype(int), np.round(cx).astype(int)], 0.0)
+
+
+def _build(geo: Geo, frame: GeoFrame, base_dir: Path) -> GeoScene:
+    extent = geo.extent_m
+    xs = ys = vertex_grid(extent, geo.terrain_cell_m)
+    seabed = np.full((len(ys), len(xs)), -geo.default_depth_m)
+    if geo.bathymetry is not None:
+        b = geo.bathymetry
+        raster = read_raster(base_dir / b.file, b.band, b.crs, frame, extent)
+        values = raster.sample_grid(xs, ys)
+        values = values if b.values == "elevation" else -values
+        seabed = np.where(np.isnan(values), seabed, values)
+    seabed = np.minimum(seabed, -geo.min_depth_m)
+    bottom = float(seabed.min()) - BOTTOM_MARGIN_M
+    z, land, polygons = seabed, [], []
+    if geo.land is not None:
+        z, land, polygons = _land(geo, frame, base_dir, xs, ys, seabed, bottom)
+    structures = _structures(geo, frame, base_dir, bottom)
+    return GeoScene(Terrain(xs, ys, z), land, polygons, structures)
+
+
+def _land(geo: Geo, frame: GeoFrame, base_dir: Path, xs, ys, seabed, bottom):
+    spec = geo.land
+    polygons = read_features(base_dir / spec.file, spec.layer, spec.crs, frame, geo.extent_m, ("Polygon",)).geometries
+    heights = None
+    if spec.dem is not None:
+        dem = read_raster(base_dir / spec.dem.file, spec.dem.band, spec.dem.crs, frame, geo.extent_m)
+
+        def heights(x, y):
+            return np.nan_to_num(np.maximum(dem.sample(x, y), 0.1), nan=spec.height_m)
+
+        gx, gy = np.meshgrid(xs, ys)
+        land_z = heights(gx.ravel(), gy.ravel()).reshape(gx.shape)
+    else:
+        land_z = np.full(seabed.shape, spec.height_m)
+    mask = land_mask(polygons, xs, ys)
+    z = np.where(mask, land_z, seabed)
+    prisms = [extrude.prism(p, bottom, spec.height_m, heights, spec.top_resolution_m) for p in polygons]
+    return z, prisms, polygons
+
+
+def _structures(geo: Geo, frame: GeoFrame, base_dir: Path, bottom: float):
+    out = []
+    for k, spec in enumerate(geo.structures):
+        feats = read_features(base_dir / spec.file, spec.layer, spec.crs, frame, geo.extent_m, ("Polygon",))
+        for i, (polygon, props) in enumerate(zip(feats.geometries, feats.properties)):
+            height = _number(props.get(spec.height_property) if spec.height_property else None, spec.height_m)
+            base = max(spec.base_m, bottom)
+            tris = extrude.prism(polygon, base, height)
+            pieces = [extrude.prism(p, base, height) for p in extrude.convex_footprints(polygon)]
+            name = str(props.get("name") or f"structure{k}_{i}")
+            out.append((name, tris, pieces, spec.color))
+    return out
+
+
+def _number(value, default: float) -> float:
+    try:
+        v = float(str(value).split()[0]) if value is not None else default
+    except ValueError:
+        return default
+    return v if np.isfinite(v) and v > 0 else default
+
+
+# -- cache ------------------------------------------------------------------------------------------
+def _cache_dir() -> Path:
+    return Path(os.environ.get("USVSIM_CACHE", Path.home() / ".cache" / "usvsim")) / "geo"
+
+
+def _cache_key(geo: Geo, frame: GeoFrame, base_dir: Path) -> str:
+    h = hashlib.sha256(json.dumps([CACHE_VERSION, geo.model_dump(mode="json"), frame.origin]).encode())
+    for spec in [geo.land, geo.land.dem if geo.land else None, geo.bathymetry, *geo.structures]:
+        if spec is not None and (base_dir / spec.file).is_file():
+            h.update((base_dir / spec.file).read_bytes())
+    return h.hexdigest()[:32]
+
+
+def _write_cache(path: Path, scene: GeoScene) -> None:
+    wkb = [shapely.to_wkb(p) for p in scene.land_polygons]
+    arrays = {"xs": scene.terrain.xs, "ys": scene.terrain.ys, "z": scene.terrain.z,
+              "land_wkb": np.frombuffer(b"".join(wkb), np.uint8), "land_wkb_sizes": np.array([len(w) for w in wkb])}
+    arrays |= {f"land{i}": t for i, t in enumerate(scene.land)}
+    meta = []
+    for i, (name, tris, pieces, color) in enumerate(scene.structures):
+        arrays[f"s{i}"] = tris
+        arrays |= {f"s{i}_{j}": p for j, p in enumerate(pieces)}
+        meta.append([name, len(pieces), color])
+    arrays["meta"] = np.array(json.dumps({"land": len(scene.land), "structures": meta}))
+    path.parent.mkdir(parents=True, exist_ok=True)
+    tmp = path.with_suffix(".tmp.npz")
+    np.savez(tmp, **arrays)
+    tmp.replace(path)
+
+
+def _read_cache(path: Path) -> GeoScene | None:
+    try:
+        with np.load(path) as data:
+            meta = json.loads(str(data["meta"]))
+            terrain = Terrain(data["xs"], data["ys"], data["z"])
+            land = [data[f"land{i}"] for i in range(meta["land"])]
+            blob, ends = data["land_wkb"].tobytes(), np.cumsum(data["land_wkb_sizes"])
+            polygons = [shapely.from_wkb(blob[e - n : e]) for e, n in zip(ends, data["land_wkb_sizes"])]
+            structures = [(name, data[f"s{i}"], [data[f"s{i}_{j}"] for j in range(n)], color)
+                          for i, (name, n, color) in enumerate(meta["structures"])]  # fmt: skip
+        return GeoScene(terrain, land, polygons, structures)
+    except (OSError, KeyError, ValueError):
+        return None  # a damaged or old cache entry is rebuilt

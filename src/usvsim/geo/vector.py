@@ -1,0 +1,94 @@
+"""Vector files (pyogrio: GeoJSON, GeoPackage, shapefile...) → shapely geometries in world ENU metres.
+
+Each file is checked: it exists and opens, it has a CRS (or the scenario names one), its polygons are valid
+(a self-intersecting ring is an error naming the file and the place), and something of it lies within the
+scene's extent (a wrong CRS usually puts the data elsewhere on the Earth).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+import shapely
+
+from usvsim.geo.frame import GeoError, GeoFrame, require
+
+
+@dataclass(frozen=True)
+class Features:
+    """Geometries (ENU m, clipped to the extent) and their properties (one dict per geometry)."""
+
+    geometries: list
+    properties: list[dict]
+
+
+def read_features(path: Path, layer: str | None, crs: str | None, frame: GeoFrame, extent_m: float,
+                  kinds: tuple[str, ...]) -> Features:  # fmt: skip
+    """Features of `path` whose geometry type is one of `kinds` ("Polygon", "Point"), in ENU."""
+    pyogrio = require("pyogrio")
+    if not path.is_file():
+        raise GeoError(f"{path}: no such file")
+    try:
+        meta, _, wkb, fields = _read_raw(pyogrio, path, layer)
+    except GeoError:
+        raise
+    except Exception as exc:  # GDAL reports every unreadable file its own way
+        raise GeoError(f"{path}: not a vector file pyogrio can read ({str(exc).splitlines()[0][:120]})") from None
+    names = list(meta[1]) if meta[1] is not None else []
+    file_crs = meta[0]
+    if file_crs and crs and not _same_crs(file_crs, crs):
+        raise GeoError(f"{path}: the file's CRS is {file_crs} but the scenario says crs: {crs}; drop one")
+    if not (file_crs or crs):
+        raise GeoError(f"{path}: the file has no CRS; give one with `crs:` (e.g. EPSG:4326)")
+    geoms = shapely.from_wkb(wkb)
+    convert = frame.from_crs(file_crs or crs, str(path))
+    geoms = shapely.transform(geoms, lambda xy: np.column_stack(convert(xy[:, 0], xy[:, 1])))
+    _check_valid(geoms, path)
+    extent = shapely.box(-extent_m, -extent_m, extent_m, extent_m)
+    keep_geoms, keep_props = [], []
+    for i, geom in enumerate(geoms):
+        if geom is None or shapely.get_type_id(geom) < 0:
+            continue
+        clipped = shapely.intersection(geom, extent)
+        for part in _parts(clipped, kinds):
+            keep_geoms.append(part)
+            keep_props.append({n: _plain(f[i]) for n, f in zip(names, fields)})
+    if len(geoms) and not keep_geoms:
+        lo, hi = shapely.total_bounds(geoms).reshape(2, 2)
+        raise GeoError(f"{path}: no {'/'.join(kinds).lower()} within {extent_m:g} m of the origin (the data lies "
+                       f"between ENU ({lo[0]:.0f}, {lo[1]:.0f}) and ({hi[0]:.0f}, {hi[1]:.0f}) m); wrong CRS or origin?")
+    return Features(keep_geoms, keep_props)
+
+
+def _read_raw(pyogrio, path: Path, layer: str | None):
+    meta, fids, wkb, fields = pyogrio.raw.read(path, layer=layer)
+    return (meta["crs"], meta["fields"]), fids, wkb, fields
+
+
+def _same_crs(a: str, b: str) -> bool:
+    from pyproj import CRS
+
+    return CRS.from_user_input(a).equals(CRS.from_user_input(b), ignore_axis_order=True)
+
+
+def _check_valid(geoms: np.ndarray, path: Path) -> None:
+    polygons = np.isin(shapely.get_type_id(geoms), (3, 6))  # Polygon, MultiPolygon
+    bad = np.flatnonzero(polygons & ~shapely.is_valid(geoms))
+    if len(bad):
+        reason = shapely.is_valid_reason(geoms[bad[0]])
+        raise GeoError(f"{path}: feature {bad[0]} is not a valid polygon ({reason}); repair it (e.g. shapely.make_valid)")
+
+
+def _parts(geom, kinds: tuple[str, ...]) -> list:
+    """The single parts of a geometry whose type is in `kinds` (multi-parts and collections split)."""
+    if geom.is_empty:
+        return []
+    if hasattr(geom, "geoms"):
+        return [p for g in geom.geoms for p in _parts(g, kinds)]
+    return [geom] if geom.geom_type in kinds else []
+
+
+def _plain(value):
+    return value.item() if isinstance(value, np.generic) else value

@@ -1,0 +1,168 @@
+"""Real places: geodesy against pymap3d, depth against the raster, LiDAR against the coastline, hulls against
+quays and shoals, and one clear error per kind of bad geodata."""
+
+from __future__ import annotations
+
+import json
+import math
+
+import numpy as np
+import pymap3d
+import pytest
+from place import COAST_Y, CRS, ORIGIN, QUAY, SHOAL, geo_section, to_utm, write_place
+
+from usvsim.config.loader import parse_scenario
+from usvsim.core.errors import UsvsimError
+from usvsim.geo.frame import GeoFrame
+from usvsim.simulation import Simulation
+
+
+@pytest.fixture(scope="module")
+def place(tmp_path_factory):
+    return write_place(tmp_path_factory.mktemp("place"))
+
+
+@pytest.fixture(autouse=True)
+def _own_cache(tmp_path, monkeypatch):
+    monkeypatch.setenv("USVSIM_CACHE", str(tmp_path / "cache"))
+
+
+def scenario(place, vessels=(), sensors=(), **geo):
+    data = {"version": 1, "world": {"origin": {"latitude_deg": ORIGIN[0], "longitude_deg": ORIGIN[1]}},
+            "vessels": [dict(v) for v in vessels], "geo": geo_section(place, **geo)}
+    if sensors:
+        data["vessels"][0]["sensors"] = list(sensors)
+    return parse_scenario(data, "test.yaml")
+
+
+def test_enu_round_trip_within_10_km_and_pymap3d_agrees():
+    frame = GeoFrame(*ORIGIN)
+    rng = np.random.default_rng(1)
+    enu = np.column_stack([rng.uniform(-1e4, 1e4, 500), rng.uniform(-1e4, 1e4, 500), rng.uniform(-30, 30, 500)])
+    geo = frame.to_geodetic(*enu.T)
+    assert np.abs(frame.to_enu(*geo.T) - enu).max() < 1e-3
+    independent = np.column_stack(pymap3d.geodetic2enu(geo[:, 0], geo[:, 1], geo[:, 2], *ORIGIN))
+    assert np.abs(independent - enu).max() < 1e-3
+
+
+def test_latlon_and_heading_place_objects_where_pymap3d_says(place):
+    lat, lon = 59.4215, 10.4335
+    sim = Simulation(scenario(place, vessels=[{"name": "wamv", "model": "wamv",
+                                                "pose": {"latlon": [lat, lon], "heading_deg": 45.0}}]))
+    x, y, _ = pymap3d.geodetic2enu(lat, lon, 0.0, *ORIGIN)
+    pose = sim.scenario.vessels[0].pose
+    assert pose.position[:2] == pytest.approx((x, y), abs=1e-3) and pose.yaw_deg == pytest.approx(45.0)
+    assert sim.vessels["wamv"].position[:2] == pytest.approx((x, y), abs=0.05)
+    marks = {o.name: o for o in sim.scenario.objects}
+    assert marks["mark0_0"].color == "green" and marks["mark0_0"].position[:2] == pytest.approx((20, 10), abs=1e-3)
+    sim.close()
+
+
+def test_depth_equals_the_raster_at_pixel_centres_and_is_bilinear_between(place):
+    import rasterio
+
+    sim = Simulation(scenario(place))
+    with rasterio.open(place["depth"]) as ds:
+        values, transform = ds.read(1), ds.transform
+    rows, cols = np.array([130, 160, 161, 200]), np.array([90, 140, 141, 150])
+    e, n = transform @ (cols + 0.5, rows + 0.5)
+    from pyproj import Transformer
+
+    lon, lat = Transformer.from_crs(CRS, "EPSG:4326", always_xy=True).transform(e, n)
+    x, y, _ = pymap3d.geodetic2enu(lat, lon, np.zeros_like(lat), *ORIGIN)
+    assert sim.place.depth_at(x, y) == pytest.approx(-values[rows, cols], abs=1e-4)
+    mid = sim.place.depth_at((x[1] + x[2]) / 2, (y[1] + y[2]) / 2)[0]  # halfway between two diagonal centres
+    assert mid == pytest.approx(-(values[160, 140] + values[161, 141]) / 2, abs=1e-3)
+    assert sim.place.depth_at(0.0, COAST_Y + 50)[0] == pytest.approx(-4.0)  # land: minus its height
+    sim.close()
+
+
+def test_lidar_beam_hits_the_straight_coastline_at_the_predicted_range(place):
+    mount_z = 3.0
+    sensors = [{"type": "lidar", "name": "scan", "output": "scan", "channels": 1, "elevations_deg": [0.0],
+                "columns": 720, "rate_hz": 10, "range_max_m": 300.0, "range_stddev_m": 0.0,
+                "mount": {"position": [0.0, 0.0, mount_z]}}]
+    sim = Simulation(scenario(place, [{"name": "wamv", "model": "wamv", "pose": {"yaw_deg": 90.0}}], sensors,
+                              structures=[], marks=[]))
+    scans = []
+    sim.subscribe(lambda env: scans.append(env) if env.topic.endswith("/scan") else None)
+    sim.run(0.3)
+    scan = scans[-1].msg
+    boat = sim.vessels["wamv"]
+    lidar = boat.position + sim.state.rot[boat.index] @ np.array([0.0, 0.0, mount_z])
+    ranges = np.asarray(scan.ranges)
+    angles = scan.angle_min + scan.angle_increment * np.arange(len(ranges))
+    yaw = boat.rpy[2]
+    for k in np.flatnonzero(np.abs(angles) < math.radians(30)):  # beams toward the coast (north)
+        heading = yaw + angles[k]
+        predicted = (COAST_Y - lidar[1]) / math.sin(heading)
+        assert ranges[k] == pytest.approx(predicted, abs=0.05)
+    sim.close()
+
+
+def test_a_vessel_driven_at_the_quay_stops_at_it(place):
+    x0, x1, y0, _ = QUAY
+    start = {"position": [(x0 + x1) / 2, y0 - 15.0, 0.0], "yaw_deg": 90.0}
+    sim = Simulation(scenario(place, [{"name": "wamv", "model": "wamv", "pose": start, "command_timeout_s": 0}],
+                              marks=[]))
+    boat = sim.vessels["wamv"]
+    boat.command(1.0)
+    sim.run(20.0)
+    bow = boat.position[1] + 2.5  # WAM-V base_link is at mid-length; the hull is ~4.9 m long
+    assert y0 - 0.6 < bow < y0 + 0.3
+    assert any({a, b} == {"wamv", "world"} for a, b, _ in sim.contacts())
+    sim.close()
+
+
+def test_a_vessel_on_a_shoal_grounds(place):
+    sim = Simulation(scenario(place, [{"name": "wamv", "model": "wamv",
+                                        "pose": {"position": [SHOAL[0], SHOAL[1], 0.0]}}], marks=[]))
+    sim.run(3.0)
+    assert any({a, b} == {"wamv", "world"} for a, b, _ in sim.contacts())
+    assert sim.vessels["wamv"].displaced_volume < 0.9 * 2.0 * 180 / 1025  # the ground carries part of it
+    sim.close()
+
+
+def _write(path, text):
+    path.write_text(text)
+    return path
+
+
+@pytest.mark.parametrize("case", ["no_crs", "wrong_crs", "self_intersecting", "raster_outside", "missing"])
+def test_bad_geodata_is_one_clear_error_naming_the_file(place, tmp_path, case):
+    ring = to_utm([0, 100, 0, 100], [200, 300, 300, 200]).tolist()  # a bow tie
+    square = to_utm([0, 100, 100, 0], [200, 200, 300, 300]).tolist()
+    poly = lambda r: {"type": "Feature", "properties": {}, "geometry": {"type": "Polygon", "coordinates": [r + [r[0]]]}}
+    crs = {"type": "name", "properties": {"name": "urn:ogc:def:crs:EPSG::25832"}}
+    geo = {}
+    if case == "no_crs":  # a shapefile without its .prj
+        import pyogrio
+        import shapely
+
+        wkb = np.array([shapely.to_wkb(shapely.Polygon(square))], dtype=object)
+        pyogrio.raw.write(tmp_path / "a.shp", wkb, field_data=[], fields=[], geometry_type="Polygon",
+                          driver="ESRI Shapefile")
+        geo["land"] = {"file": str(tmp_path / "a.shp")}
+    elif case == "wrong_crs":  # UTM numbers read as if they were EPSG:3006 (Sweden): the land lands elsewhere
+        text = json.dumps({"type": "FeatureCollection", "features": [poly(square)], "crs": {
+            "type": "name", "properties": {"name": "urn:ogc:def:crs:EPSG::3006"}}})
+        geo["land"] = {"file": str(_write(tmp_path / "a.geojson", text))}
+    elif case == "self_intersecting":
+        text = json.dumps({"type": "FeatureCollection", "features": [poly(ring)], "crs": crs})
+        geo["land"] = {"file": str(_write(tmp_path / "a.geojson", text))}
+    elif case == "raster_outside":
+        geo["bathymetry"] = {"file": str(place["depth"]), "crs": "EPSG:25832"}
+        sc = scenario(place, **geo, land=None, structures=[], marks=[])
+        sc = sc.model_copy(update={"world": sc.world.model_copy(update={"origin": sc.world.origin.model_copy(
+            update={"latitude_deg": 60.5})})})
+        with pytest.raises(UsvsimError, match="depth.tif.*does not cover"):
+            Simulation(sc)
+        return
+    else:
+        geo["structures"] = [{"file": str(tmp_path / "nowhere.geojson")}]
+    with pytest.raises(UsvsimError) as err:
+        Simulation(scenario(place, **geo))
+    message = str(err.value)
+    assert "\n" not in message and any(f"{n}." in message for n in ("a", "nowhere"))
+    assert {"no_crs": "no CRS", "wrong_crs": "wrong CRS", "self_intersecting": "not a valid polygon",
+            "missing": "no such file"}[case] in message
