@@ -12,6 +12,7 @@ from rich.console import Console
 from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
 from rich.table import Table
 
+from usvsim.cli.geo_map import map_command
 from usvsim.core.errors import UsvsimError
 
 app = typer.Typer(
@@ -219,6 +220,9 @@ def experiment(
     typer.echo(f"{name}: {'PASS' if passed else 'FAIL'}; wrote {stem}.json and {stem}.png")
     if passed is False:
         raise typer.Exit(1)
+
+
+app.command("map")(map_command)
 
 
 def main() -> None:

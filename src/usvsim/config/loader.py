@@ -36,7 +36,7 @@ def resolve(name_or_path: str | Path) -> tuple[str, Path | None]:
     if not entry.is_file():
         known = ", ".join(builtin_scenarios())
         raise ScenarioError(str(name_or_path), "", f"not a file and not a built-in scenario (built-ins: {known})")
-    return entry.read_text(), None
+    return entry.read_text(), Path(str(resources.files(BUILTIN_PACKAGE)))  # built-ins' files sit beside them
 
 
 def load_scenario(name_or_path: str | Path) -> Scenario:

@@ -14,7 +14,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-TILE = 64  # cells per tile side
+TILE = 128  # cells per tile side
 BASE_M = 1.0  # thickness of each tile's solid base below its lowest point
 
 

@@ -1,0 +1,93 @@
+"""A plan view of a scenario (world ENU, metres, north up): land, depth contours, structures, obstacles,
+buoys and vessels at their start poses. Used by `usvsim map` and the docs."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from usvsim.config.objects import COLORS, Buoy
+from usvsim.world.obstacles import static_parts
+
+LAND, WATER, STRUCTURE = "#8a9a6b", "#d8e8f0", "#9a9a96"
+
+
+def draw_plan(sim, path, size_in: float = 9.0, dpi: int = 110) -> None:
+    """Write the plan view of a built simulation (its scenario and place) to a PNG file."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(figsize=(size_in, size_in), dpi=dpi)
+    ax.set_facecolor(WATER)
+    place, scenario = sim.place, sim.scenario
+    if place is not None:
+        _draw_place(ax, place)
+    _draw_objects(ax, scenario, sim)
+    span = np.diff(ax.get_xlim())[0] if place is not None else 50.0
+    for name, boat in sim.vessels.items():
+        x, y, _ = boat.position
+        yaw, arrow = boat.rpy[2], 0.04 * span
+        ax.annotate("", (x + arrow * math.cos(yaw), y + arrow * math.sin(yaw)), (x, y), zorder=6,
+                    arrowprops={"arrowstyle": "-|>", "color": "#d62728", "lw": 2})  # fmt: skip
+        ax.plot([x], [y], "o", color="#d62728", ms=4)
+        ax.text(x, y, f"  {name}", color="#d62728", fontsize=8, va="bottom")
+    o = scenario.world.origin
+    ax.set_title(f"{scenario.name}: origin {o.latitude_deg:.5f}° N, {o.longitude_deg:.5f}° E (x east, y north, m)",
+                 fontsize=9)  # fmt: skip
+    ax.set_aspect("equal")
+    ax.set_xlabel("x (m, east)")
+    ax.set_ylabel("y (m, north)")
+    fig.tight_layout()
+    fig.savefig(path)
+    plt.close(fig)
+
+
+def _draw_place(ax, place) -> None:
+    t = place.terrain
+    e = place.settings.extent_m
+    step = max(1, len(t.xs) // 400)
+    z = t.z[::step, ::step]
+    depth = np.where(z < 0, -z, np.nan)
+    if np.nanmax(depth) > np.nanmin(depth):
+        levels = [d for d in (1, 2, 5, 10, 20, 50, 100, 200) if np.nanmin(depth) < d < np.nanmax(depth)]
+        cs = ax.contour(t.xs[::step], t.ys[::step], depth, levels=levels, colors="#4a7fa0", linewidths=0.6)
+        ax.clabel(cs, fmt="%g m", fontsize=7)
+    for polygon in place.land_polygons:
+        ax.fill(*np.asarray(polygon.exterior.coords).T, color=LAND, lw=0, zorder=2)
+        for hole in polygon.interiors:
+            ax.fill(*np.asarray(hole.coords).T, color=WATER, lw=0, zorder=2)
+        ax.plot(*np.asarray(polygon.exterior.coords).T, color="#3d4a2a", lw=0.8, zorder=3)
+    for name, tris, _, color in place.structures:
+        top = tris[np.all(tris[:, :, 2] == tris[:, :, 2].max(), axis=1)]
+        for tri in top:
+            ax.fill(tri[:, 0], tri[:, 1], color=COLORS[color][:3], lw=0, zorder=4)
+    ax.set_xlim(-e, e)
+    ax.set_ylim(-e, e)
+
+
+def _draw_objects(ax, scenario, sim) -> None:
+    from usvsim.config.loader import base_dir, source_of
+
+    for obj in scenario.objects:
+        if isinstance(obj, Buoy):
+            ax.plot([obj.position[0]], [obj.position[1]], "o", color=COLORS[obj.color][:3], ms=5, mec="k", mew=0.5,
+                    zorder=5)
+            continue
+        for part in static_parts([obj], base_dir(scenario), source_of(scenario)):
+            if part.kind == "box":
+                _box(ax, part)
+            else:
+                ax.plot([part.pos[0]], [part.pos[1]], "s", color=STRUCTURE, ms=3)
+
+
+def _box(ax, part) -> None:
+    w, x, y, z = part.quat
+    yaw = math.atan2(2 * (w * z + x * y), 1 - 2 * (y * y + z * z))
+    hx, hy = part.size[0], part.size[1]
+    corners = np.array([[-hx, -hy], [hx, -hy], [hx, hy], [-hx, hy]])
+    c, s = math.cos(yaw), math.sin(yaw)
+    xy = corners @ np.array([[c, s], [-s, c]]) + np.asarray(part.pos[:2])
+    ax.fill(xy[:, 0], xy[:, 1], color=part.rgba[:3], ec="k", lw=0.4)
