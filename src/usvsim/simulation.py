@@ -89,7 +89,7 @@ class Simulation:
         self.ocean = build_ocean(scenario.environment, self.rng.get("ocean"), dt_s=self.clock.dt)
         floating = self._floating_bodies()
         static = static_parts(scenario.objects, base_dir(scenario), source_of(scenario))
-        geo = geo_parts(self.place) if self.place else GeoParts([], [], [])
+        geo = geo_parts(self.place) if self.place else GeoParts([], [])
         self.model = build_model(floating, static, self.clock.dt, self.g, geo.visual, geo.collision)
         self.data = mujoco.MjData(self.model)
         self._init_physics(floating)

@@ -166,3 +166,41 @@ def test_bad_geodata_is_one_clear_error_naming_the_file(place, tmp_path, case):
     assert "\n" not in message and any(f"{n}." in message for n in ("a", "nowhere"))
     assert {"no_crs": "no CRS", "wrong_crs": "wrong CRS", "self_intersecting": "not a valid polygon",
             "missing": "no such file"}[case] in message
+
+
+def test_land_and_structures_are_detected_with_their_classes(place):
+    sensors = [{"type": "detections", "name": "objects", "rate_hz": 10, "frame": "world"}]
+    sim = Simulation(scenario(place, [{"name": "wamv", "model": "wamv"}], sensors, marks=[]))
+    seen = []
+    sim.subscribe(lambda env: seen.append(env.msg) if env.topic.endswith("/objects") else None)
+    sim.run(0.2)
+    found = {(d.id, d.results[0].hypothesis.class_id): d.bbox for d in seen[-1].detections}
+    assert ("land_0", "land") in found and ("quay", "structure") in found
+    quay = found[("quay", "structure")]
+    x0, x1, y0, y1 = QUAY
+    assert quay.center.position.x == pytest.approx((x0 + x1) / 2, abs=0.05)
+    assert quay.size.x == pytest.approx(x1 - x0, abs=0.1) and quay.size.y == pytest.approx(y1 - y0, abs=0.1)
+    sim.close()
+
+
+def test_map_command_draws_the_place(tmp_path, place):
+    import yaml
+    from PIL import Image
+    from typer.testing import CliRunner
+
+    from usvsim.cli.app import app
+
+    path = tmp_path / "s.yaml"
+    path.write_text(yaml.safe_dump({"version": 1, "vessels": [{"name": "wamv", "model": "wamv"}],
+                                    "world": {"origin": {"latitude_deg": ORIGIN[0], "longitude_deg": ORIGIN[1]}},
+                                    "geo": geo_section(place)}))
+    result = CliRunner().invoke(app, ["map", str(path), "--out", str(tmp_path / "m.png")])
+    assert result.exit_code == 0, result.output
+    image = np.asarray(Image.open(tmp_path / "m.png").convert("RGB"))
+    assert (np.abs(image.astype(int) - (0x8A, 0x9A, 0x6B)).sum(axis=2) < 10).mean() > 0.05  # land drawn
+
+
+def test_waves_feel_the_depth_under_the_origin(place):
+    sim = Simulation(scenario(place, [{"name": "wamv", "model": "wamv"}], marks=[]))
+    assert sim.scenario.environment.water_depth_m == pytest.approx(sim.place.depth_at(0.0, 0.0)[0])
+    sim.close()

@@ -22,22 +22,19 @@ SEABED_DRAWN_VERTICES = 257  # per side of the drawn seabed (the solid one keeps
 class GeoParts:
     visual: list[Part]
     collision: list[Part]
-    labels: list[tuple[str, str]]  # (name, class) of visual[i] for i < len(labels): land and structures
 
 
 def geo_parts(scene: GeoScene) -> GeoParts:
-    visual, collision, labels = [], [], []
+    visual, collision = [], []
     for i, tris in enumerate(scene.land):
         visual.append(Part("mesh", mesh=to_mesh(tris), rgba=LAND_RGBA, name=f"land_{i}"))
-        labels.append((f"land_{i}", "land"))
     for name, tris, pieces, color in scene.structures:
         visual.append(Part("mesh", mesh=to_mesh(tris), rgba=COLORS[color], name=name))
-        labels.append((name, "structure"))
         collision += [Part("mesh", mesh=to_mesh(p), name=f"{name}_{j}") for j, p in enumerate(pieces)]
     drawn = scene.terrain.coarse(SEABED_DRAWN_VERTICES)
     visual.append(_hfield(drawn, SEABED_RGBA))
     collision += [_hfield(tile, (0.5, 0.5, 0.5, 0.0)) for tile in scene.terrain.tiles()]
-    return GeoParts(visual, collision, labels)
+    return GeoParts(visual, collision)
 
 
 def _hfield(tile, rgba) -> Part:

@@ -56,6 +56,10 @@ class GeoScene:
             scene.bathymetry = read_raster(base_dir / b.file, b.band, b.crs, frame, geo.extent_m)
         return scene
 
+    def labels(self) -> list[tuple[str, str]]:
+        """(name, class) of the drawn land and structure meshes, in the order they are built."""
+        return [(f"land_{i}", "land") for i in range(len(self.land))] + [(s[0], "structure") for s in self.structures]
+
     def depth_at(self, x_m, y_m) -> np.ndarray:
         """Water depth (m, positive down from still water) at ENU points; on land minus the land height.
 

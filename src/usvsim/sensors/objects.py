@@ -5,8 +5,9 @@ vessels, FLU); for a static obstacle the frame at its scenario `position`, turne
 The box is the tight axis-aligned box, in that frame, of all the object's visual geoms (group 1): boxes and
 spheres exactly, cylinders from 32 points per rim, meshes from their vertices. So a buoy's box is the cube of
 side 2r centred on the sphere; a dock's box is its scenario box; a pier's box reaches from the deck's top
-down to the piles' feet on the seabed. Class labels: `vessel`, `buoy_<color>`, and the static obstacle's
-`type` (dock, wall, box, pier, berth, mesh).
+down to the piles' feet on the seabed. Class labels: `vessel`, `buoy_<color>`, the static obstacle's
+`type` (dock, wall, box, pier, berth, mesh), and for a real place (geo/) `land` and `structure`, whose boxes
+are axis-aligned in the world frame.
 """
 
 from __future__ import annotations
@@ -120,6 +121,11 @@ def catalogue(sim: Simulation) -> list[TrackedObject]:
         count = len(static_parts([obj], base_dir(scenario), source_of(scenario)))
         out.append(_static(sim, obj, static[first : first + count]))
         first += count
+    place = getattr(sim, "place", None)
+    for k, (name, label) in enumerate(place.labels() if place is not None else ()):
+        center, size = _box_of(m, static[first + k : first + k + 1], np.zeros(3), np.eye(3))
+        out.append(TrackedObject(name, "static", label, static[first + k : first + k + 1], -1, np.zeros(3),
+                                 np.eye(3), center, size))  # fmt: skip
     return out
 
 
