@@ -33,14 +33,29 @@ def _top(polygon, heights: Heights | None, top_z: float, cell_m: float) -> np.nd
     if heights is None:
         tri = _triangles(polygon)
         return np.concatenate([tri, np.full(tri.shape[:2] + (1,), top_z)], axis=2)
-    x0, y0, x1, y1 = polygon.bounds
-    xs, ys = np.arange(x0, x1 + cell_m, cell_m), np.arange(y0, y1 + cell_m, cell_m)
-    gx, gy = np.meshgrid(xs[:-1], ys[:-1])
-    cells = shapely.box(gx.ravel(), gy.ravel(), gx.ravel() + cell_m, gy.ravel() + cell_m)
-    pieces = [p for g in shapely.intersection(polygon, cells) for p in _polygons(g)]
+    pieces = [p for block in _blocks(polygon, cell_m) for p in _cells(block, cell_m)]
     tri = np.concatenate([_triangles(p) for p in pieces]) if pieces else np.zeros((0, 3, 2))
     z = heights(tri[..., 0].ravel(), tri[..., 1].ravel()).reshape(tri.shape[:2] + (1,))
     return np.concatenate([tri, z], axis=2)
+
+
+def _blocks(polygon, cell_m: float, cells_per_block: int = 16) -> list:
+    """The polygon clipped to square blocks of cells (each piece has few vertices, so cutting it is cheap)."""
+    x0, y0, x1, y1 = polygon.bounds
+    size = cell_m * cells_per_block
+    return [b for bx in np.arange(x0, x1, size) for by in np.arange(y0, y1, size)
+            if not (b := shapely.clip_by_rect(polygon, bx, by, bx + size, by + size)).is_empty]  # fmt: skip
+
+
+def _cells(block, cell_m: float) -> list:
+    """The block cut into grid cells (cells wholly inside are kept as squares)."""
+    x0, y0, x1, y1 = block.bounds
+    gx, gy = np.meshgrid(np.arange(x0, x1, cell_m), np.arange(y0, y1, cell_m))
+    cells = shapely.box(gx.ravel(), gy.ravel(), gx.ravel() + cell_m, gy.ravel() + cell_m)
+    shapely.prepare(block)
+    inside = shapely.contains_properly(block, cells)
+    cut = shapely.intersection(block, cells[~inside])
+    return list(cells[inside]) + [p for g in cut for p in _polygons(g)]
 
 
 def _polygons(geom) -> list:

@@ -9,7 +9,6 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from usvsim.config.objects import COLORS
-from usvsim.geo.extrude import to_mesh
 from usvsim.geo.scene import GeoScene
 from usvsim.vessels.parts import Part
 
@@ -26,11 +25,11 @@ class GeoParts:
 
 def geo_parts(scene: GeoScene) -> GeoParts:
     visual, collision = [], []
-    for i, tris in enumerate(scene.land):
-        visual.append(Part("mesh", mesh=to_mesh(tris), rgba=LAND_RGBA, name=f"land_{i}"))
-    for name, tris, pieces, color in scene.structures:
-        visual.append(Part("mesh", mesh=to_mesh(tris), rgba=COLORS[color], name=name))
-        collision += [Part("mesh", mesh=to_mesh(p), name=f"{name}_{j}") for j, p in enumerate(pieces)]
+    for i, mesh in enumerate(scene.land):
+        visual.append(Part("mesh", mesh=mesh, rgba=LAND_RGBA, name=f"land_{i}"))
+    for name, mesh, pieces, color in scene.structures:
+        visual.append(Part("mesh", mesh=mesh, rgba=COLORS[color], name=name))
+        collision += [Part("mesh", mesh=p, name=f"{name}_{j}") for j, p in enumerate(pieces)]
     drawn = scene.terrain.coarse(SEABED_DRAWN_VERTICES)
     visual.append(_hfield(drawn, SEABED_RGBA))
     collision += [_hfield(tile, (0.5, 0.5, 0.5, 0.0)) for tile in scene.terrain.tiles()]

@@ -60,9 +60,9 @@ def _draw_place(ax, place) -> None:
         for hole in polygon.interiors:
             ax.fill(*np.asarray(hole.coords).T, color=WATER, lw=0, zorder=2)
         ax.plot(*np.asarray(polygon.exterior.coords).T, color="#3d4a2a", lw=0.8, zorder=3)
-    for name, tris, _, color in place.structures:
-        top = tris[np.all(tris[:, :, 2] == tris[:, :, 2].max(), axis=1)]
-        for tri in top:
+    for _, mesh, _, color in place.structures:
+        tris = mesh.vertices[mesh.faces]
+        for tri in tris[np.all(tris[:, :, 2] == tris[:, :, 2].max(), axis=1)]:
             ax.fill(tri[:, 0], tri[:, 1], color=COLORS[color][:3], lw=0, zorder=4)
     ax.set_xlim(-e, e)
     ax.set_ylim(-e, e)

@@ -26,19 +26,21 @@ from usvsim.geo.frame import GeoFrame
 from usvsim.geo.raster import Raster, read_raster
 from usvsim.geo.terrain import Terrain, land_mask, vertex_grid
 from usvsim.geo.vector import read_features
+from usvsim.vessels.parts import Mesh
 
-CACHE_VERSION = 1
+CACHE_VERSION = 2
 BOTTOM_MARGIN_M = 1.0  # prisms reach this far below the deepest seabed
 
 
 @dataclass
 class GeoScene:
-    """World geometry of a place (ENU m). Meshes are closed triangle soups (n, 3, 3)."""
+    """World geometry of a place (ENU m): closed meshes of the land polygons and of the structures (with
+    the convex pieces of each structure), the terrain grid, and what depth lookups need."""
 
     terrain: Terrain
-    land: list[np.ndarray] = field(default_factory=list)  # prism triangles per land polygon
+    land: list[Mesh] = field(default_factory=list)  # one closed prism per land polygon
     land_polygons: list = field(default_factory=list)
-    structures: list[tuple[str, np.ndarray, list[np.ndarray], tuple]] = field(default_factory=list)
+    structures: list[tuple[str, Mesh, list[Mesh], str]] = field(default_factory=list)  # name, mesh, pieces, colour
     bathymetry: Raster | None = None  # depth lookups on the raster's own grid
     settings: Geo | None = None
 
@@ -113,16 +115,19 @@ def _land(geo: Geo, frame: GeoFrame, base_dir: Path, xs, ys, seabed, bottom):
     if spec.dem is not None:
         dem = read_raster(base_dir / spec.dem.file, spec.dem.band, spec.dem.crs, frame, geo.extent_m)
 
-        def heights(x, y):
-            return np.nan_to_num(np.maximum(dem.sample(x, y), 0.1), nan=spec.height_m)
+        def land_height(values):
+            return np.nan_to_num(np.maximum(values, 0.1), nan=spec.height_m)
 
-        gx, gy = np.meshgrid(xs, ys)
-        land_z = heights(gx.ravel(), gy.ravel()).reshape(gx.shape)
+        def heights(x, y):
+            return land_height(dem.sample(x, y))
+
+        land_z = land_height(dem.sample_grid(xs, ys))
     else:
         land_z = np.full(seabed.shape, spec.height_m)
     mask = land_mask(polygons, xs, ys)
     z = np.where(mask, land_z, seabed)
-    prisms = [extrude.prism(p, bottom, spec.height_m, heights, spec.top_resolution_m) for p in polygons]
+    prisms = [extrude.to_mesh(extrude.prism(p, bottom, spec.height_m, heights, spec.top_resolution_m))
+              for p in polygons]  # fmt: skip
     return z, prisms, polygons
 
 
@@ -133,10 +138,10 @@ def _structures(geo: Geo, frame: GeoFrame, base_dir: Path, bottom: float):
         for i, (polygon, props) in enumerate(zip(feats.geometries, feats.properties)):
             height = _number(props.get(spec.height_property) if spec.height_property else None, spec.height_m)
             base = max(spec.base_m, bottom)
-            tris = extrude.prism(polygon, base, height)
-            pieces = [extrude.prism(p, base, height) for p in extrude.convex_footprints(polygon)]
+            mesh = extrude.to_mesh(extrude.prism(polygon, base, height))
+            pieces = [extrude.to_mesh(extrude.prism(p, base, height)) for p in extrude.convex_footprints(polygon)]
             name = str(props.get("name") or f"structure{k}_{i}")
-            out.append((name, tris, pieces, spec.color))
+            out.append((name, mesh, pieces, spec.color))
     return out
 
 
@@ -165,12 +170,14 @@ def _write_cache(path: Path, scene: GeoScene) -> None:
     wkb = [shapely.to_wkb(p) for p in scene.land_polygons]
     arrays = {"xs": scene.terrain.xs, "ys": scene.terrain.ys, "z": scene.terrain.z,
               "land_wkb": np.frombuffer(b"".join(wkb), np.uint8), "land_wkb_sizes": np.array([len(w) for w in wkb])}
-    arrays |= {f"land{i}": t for i, t in enumerate(scene.land)}
+    meshes = {f"land{i}": m for i, m in enumerate(scene.land)}
     meta = []
-    for i, (name, tris, pieces, color) in enumerate(scene.structures):
-        arrays[f"s{i}"] = tris
-        arrays |= {f"s{i}_{j}": p for j, p in enumerate(pieces)}
+    for i, (name, mesh, pieces, color) in enumerate(scene.structures):
+        meshes[f"s{i}"] = mesh
+        meshes |= {f"s{i}_{j}": p for j, p in enumerate(pieces)}
         meta.append([name, len(pieces), color])
+    for key, mesh in meshes.items():
+        arrays[f"{key}_v"], arrays[f"{key}_f"] = mesh.vertices, mesh.faces
     arrays["meta"] = np.array(json.dumps({"land": len(scene.land), "structures": meta}))
     path.parent.mkdir(parents=True, exist_ok=True)
     tmp = path.with_suffix(".tmp.npz")
@@ -183,10 +190,11 @@ def _read_cache(path: Path) -> GeoScene | None:
         with np.load(path) as data:
             meta = json.loads(str(data["meta"]))
             terrain = Terrain(data["xs"], data["ys"], data["z"])
-            land = [data[f"land{i}"] for i in range(meta["land"])]
+            mesh = lambda key: Mesh(data[f"{key}_v"], data[f"{key}_f"])  # noqa: E731
+            land = [mesh(f"land{i}") for i in range(meta["land"])]
             blob, ends = data["land_wkb"].tobytes(), np.cumsum(data["land_wkb_sizes"])
             polygons = [shapely.from_wkb(blob[e - n : e]) for e, n in zip(ends, data["land_wkb_sizes"])]
-            structures = [(name, data[f"s{i}"], [data[f"s{i}_{j}"] for j in range(n)], color)
+            structures = [(name, mesh(f"s{i}"), [mesh(f"s{i}_{j}") for j in range(n)], color)
                           for i, (name, n, color) in enumerate(meta["structures"])]  # fmt: skip
         return GeoScene(terrain, land, polygons, structures)
     except (OSError, KeyError, ValueError):
