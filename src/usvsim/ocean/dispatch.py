@@ -16,7 +16,7 @@ PARALLEL_MIN_POINTS = 65_536
 
 def serial_and_parallel(fn):
     """(serial, parallel) compiled versions of a numba-compatible function that uses `prange`."""
-    return njit(cache=True)(fn), njit(parallel=True)(fn)
+    return njit(cache=True)(fn), njit(parallel=True, cache=True)(fn)
 
 
 def pick(kernels, n_points: int):

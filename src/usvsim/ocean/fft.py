@@ -8,13 +8,16 @@ not small-integer multiples of each other keep the repetition invisible. Deep-wa
 bin (no time quantisation). A bin's complex amplitude is c = √(2 S(k) Δk²) e^{iφ} (deterministic amplitude,
 random phase; variance exact) or, with `gaussian_amplitudes`, c = (ξ1 + i ξ2) √(S Δk²) as in Tessendorf.
 Heights at world points invert the displacement by Newton's method on the bilinear tiles: tolerance `tol`
-(default 1e-9 m horizontal residual), at most `max_iter` (default 20) iterations.
+(default 1e-9 m horizontal residual), at most `max_iter` (default 20) iterations. Tiles are transformed at
+snapshot times and blended in time (`fft_time`): `time_tolerance` bounds the interpolation error (rms over the
+sea, relative to the sea's rms height, vertical velocity and acceleration); 0 transforms at every queried time.
 """
 
 from __future__ import annotations
 
 import math
 from collections.abc import Callable
+from functools import partial
 
 import numpy as np
 import scipy.fft
@@ -22,6 +25,7 @@ import scipy.fft
 from usvsim.ocean import fft_kernels as kern
 from usvsim.ocean.components import WaveComponents
 from usvsim.ocean.dispatch import pick
+from usvsim.ocean.fft_time import SnapshotRing, snapshot_interval
 from usvsim.ocean.field import WaveField, as_points
 from usvsim.ocean.spectra import G, cos2s
 
@@ -52,7 +56,7 @@ def cascade_sizes(peak_wavelength_m: float, bands: int = 3, resolution: int = 25
 
 
 class FFTWaveField(WaveField):
-    """Cascaded FFT tiles; implements `WaterSurface`. Tiles are recomputed lazily for the queried time."""
+    """Cascaded FFT tiles; implements `WaterSurface`. Snapshots are transformed lazily when a query needs them."""
 
     CELLS_PER_WAVELENGTH = 8  # a band hands its waves to the next band below this many cells per wavelength
 
@@ -67,6 +71,7 @@ class FFTWaveField(WaveField):
         gaussian_amplitudes: bool = False,
         tol: float = 1e-9,
         max_iter: int = 20,
+        time_tolerance: float = 1e-3,
     ):
         super().__init__(ramp_time_s)
         self.sizes = np.asarray(tile_sizes_m, dtype=float)
@@ -84,9 +89,26 @@ class FFTWaveField(WaveField):
             self._init_band(b, size, limits[b], limits[b + 1], spectrum, rng, gaussian_amplitudes)
         self.inv_cells = self.n / self.sizes
         self.decay_k = self._decay_wavenumbers()
-        self._geo = np.zeros((len(self.sizes), 2, self.n, self.n), np.complex64)
-        self._kin = np.zeros((len(self.sizes), 3, self.n, self.n), np.complex64)
-        self._geo_t = self._kin_t = None
+        self._spec = np.zeros((3, self.n, self.n), np.complex64)  # one band's spectra (scratch)
+        self.geometry = self._ring(time_tolerance, (0, 1), 2 if self.choppiness else 1, self._geometry_snapshot)
+        self.velocity_ring = self._ring(time_tolerance, (1,), 1, partial(self._kinematic_snapshot, False))
+        self.acceleration_ring = self._ring(time_tolerance, (2,), 2, partial(self._kinematic_snapshot, True))
+
+    def _ring(self, tolerance: float, powers, slots: int, compute) -> SnapshotRing:
+        """Snapshots whose interval per band bounds the error of ω^p η for every p in `powers` (η, w: 0, 1;
+        velocity 1; acceleration 2) to `tolerance` of that field's rms over the sea."""
+        var = 0.5 * np.abs(self._amp) ** 2
+        rms = [math.sqrt(float(np.sum(var * self._omega ** (2 * p)))) for p in range(3)]
+        active = max(int(np.count_nonzero(var.sum(axis=(1, 2)))), 1)
+        tol = float(tolerance) / math.sqrt(active)  # the bands' errors add in variance
+        dt = [snapshot_interval(var[b], self._omega[b], tol, rms, powers) for b in range(len(self.sizes))]
+        return SnapshotRing(dt, slots, self.n, compute)
+
+    @property
+    def snapshot_intervals_s(self) -> dict[str, list[float]]:
+        """Time between transforms of each band (s): inf = a band without energy, 0 = every queried time."""
+        rings = {"geometry": self.geometry, "velocity": self.velocity_ring, "acceleration": self.acceleration_ring}
+        return {name: ring.intervals for name, ring in rings.items()}
 
     def _band_limits(self) -> list[float]:
         if np.any(np.diff(self.sizes) >= 0):
@@ -130,40 +152,48 @@ class FFTWaveField(WaveField):
         total = weight.sum(axis=(1, 2))
         return np.where(total > 0, (weight * k).sum(axis=(1, 2)) / np.where(total > 0, total, 1.0), 0.0)
 
-    def update(self, t: float) -> None:
-        """Recompute the geometry tiles (h, Dx, Dy, w) of every band for time t (s)."""
-        if self._geo_t != t:
-            pick(kern.GEOMETRY_SPECTRA, self._amp.size)(self._amp, self._omega, self._khx, self._khy, float(t), self._geo)
-            self._geo = scipy.fft.ifft2(self._geo, norm="forward", workers=-1, overwrite_x=True)
-            self._geo_t = t
+    def _geometry_snapshot(self, b: int, t: float, out: np.ndarray) -> None:
+        slots = out.shape[0]
+        spec = self._spec[:slots]
+        kern.geometry_spectra(self._amp[b], self._omega[b], self._khx[b], self._khy[b], t, slots > 1, spec)
+        out[:] = scipy.fft.ifft2(spec, norm="forward", workers=1)
+
+    def _kinematic_snapshot(self, acceleration: bool, b: int, t: float, out: np.ndarray) -> None:
+        spec = self._spec[: out.shape[0]]
+        kern.kinematic_spectra(self._amp[b], self._omega[b], self._khx[b], self._khy[b], t, acceleration, spec)
+        out[:] = scipy.fft.ifft2(spec, norm="forward", workers=1)
+
+    def update(self, t: float) -> np.ndarray:
+        """Make the geometry snapshots around time t (s) present; returns the blend weights (ramp included)."""
+        return self.geometry.prepare(float(t), self.ramp(t))
 
     def update_kinematics(self, t: float) -> None:
-        """Recompute the velocity/acceleration tiles for time t (only needed by `kinematics`)."""
-        if self._kin_t != t:
-            pick(kern.KINEMATIC_SPECTRA, self._amp.size)(self._amp, self._omega, self._khx, self._khy, float(t), self._kin)
-            self._kin = scipy.fft.ifft2(self._kin, norm="forward", workers=-1, overwrite_x=True)
-            self._kin_t = t
+        """Make the velocity and acceleration snapshots around time t present (only `kinematics` needs them)."""
+        self.velocity_ring.prepare(float(t), self.ramp(t))
+        self.acceleration_ring.prepare(float(t), self.ramp(t))
 
     def tiles(self, t: float) -> np.ndarray:
-        """Geometry tiles (bands, 4, N, N) float32: h, Dx, Dy, w (unscaled by ramp and choppiness)."""
-        self.update(t)
-        g = self._geo
-        return np.stack([g[:, 0].real, g[:, 0].imag, g[:, 1].real, g[:, 1].imag], axis=1)
+        """Geometry tiles (bands, 4, N, N) at time t: h, Dx, Dy, w (unscaled by the ramp and choppiness)."""
+        self.geometry.prepare(float(t), 1.0)
+        g = np.einsum("br,brsyx->bsyx", self.geometry.weights, self.geometry.tiles)
+        d = g[:, 1] if g.shape[1] > 1 else np.zeros_like(g[:, 0])
+        return np.stack([g[:, 0].real, d.real, d.imag, g[:, 0].imag], axis=1)
 
     def surface_labels(self, x, y, t: float, return_iterations: bool = False):
         px, py = as_points(x, y)
-        self.update(t)
+        wts = self.update(t)
         x0, y0, z = np.empty_like(px), np.empty_like(px), np.empty_like(px)
         iters = np.empty(px.shape, dtype=np.int64)
-        args = (self._geo, self.inv_cells, self.ramp(t), self.choppiness, self.tol, self.max_iter)
+        args = (self.geometry.tiles, wts, self.inv_cells, self.choppiness, self.tol, self.max_iter)
         pick(kern.INVERT, len(px))(px, py, *args, x0, y0, z, iters)
         return (x0, y0, z, iters) if return_iterations else (x0, y0, z)
 
     def _surface(self, x0, y0, t):
         x0, y0 = as_points(x0, y0)
-        self.update(t)
+        wts = self.update(t)
         out, normals = np.empty((len(x0), 3)), np.empty((len(x0), 3))
-        pick(kern.SURFACE_POINTS, len(x0))(x0, y0, self._geo, self.inv_cells, self.ramp(t), self.choppiness, out, normals)
+        pick(kern.SURFACE_POINTS, len(x0))(x0, y0, self.geometry.tiles, wts, self.inv_cells, self.choppiness,
+                                           out, normals)  # fmt: skip
         return out, normals
 
     def displaced_surface(self, x0, y0, t: float) -> np.ndarray:
@@ -174,24 +204,29 @@ class FFTWaveField(WaveField):
         x0, y0, _ = self.surface_labels(x, y, t)
         return self._surface(x0, y0, t)[1]
 
-    def kinematics(self, x, y, z, t: float) -> tuple[np.ndarray, np.ndarray]:
+    def kinematics(self, x, y, z, t: float, acceleration: bool = True) -> tuple[np.ndarray, np.ndarray]:
         """Orbital velocity and acceleration (n, 3), ENU, at world points; linear (Airy) deep-water kinematics.
 
         Exact at the surface; below it each band decays as exp(κ_b z') with its velocity-weighted mean
         wavenumber κ_b (an approximation within a band), z' = min(z - η, 0) (Wheeler stretching, deep water).
+        Without `acceleration` the acceleration tiles are not transformed and the second array has no rows.
         """
         px, py, pz = as_points(x, y, z)
         x0, y0, eta = self.surface_labels(px, py, t)
-        self.update_kinematics(t)
+        s = self.ramp(t)
+        vel_ring, acc_ring = self.velocity_ring, self.acceleration_ring
+        vel_ring.prepare(float(t), s)
+        if acceleration:
+            acc_ring.prepare(float(t), s)
         zeff = np.minimum(pz - eta, 0.0)
-        vel, acc = np.empty((len(px), 3)), np.empty((len(px), 3))
-        pick(kern.SAMPLE_KINEMATICS, len(x0))(
-            x0, y0, zeff, self._geo, self._kin, self.inv_cells, self.decay_k, self.ramp(t), vel, acc
-        )
+        vel, acc = np.empty((len(px), 3)), np.empty((len(px) if acceleration else 0, 3))
+        pick(kern.SAMPLE_KINEMATICS, len(x0))(x0, y0, zeff, self.geometry.tiles, self.geometry.weights,
+                                              vel_ring.tiles, vel_ring.weights, acc_ring.tiles, acc_ring.weights,
+                                              self.inv_cells, self.decay_k, vel, acc)  # fmt: skip
         return vel, acc
 
     def velocity(self, x, y, z, t: float) -> np.ndarray:
-        return self.kinematics(x, y, z, t)[0]
+        return self.kinematics(x, y, z, t, acceleration=False)[0]
 
     def acceleration(self, x, y, z, t: float) -> np.ndarray:
         return self.kinematics(x, y, z, t)[1]

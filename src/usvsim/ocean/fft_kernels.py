@@ -1,9 +1,11 @@
-"""Numba kernels of the FFT wave field: spectra at time t, and bilinear tile queries with Newton inversion.
+"""Numba kernels of the FFT wave field: one band's spectra at one snapshot time, and tile queries.
 
-Tiles are complex64 arrays [band, slot, iy, ix] with cell (iy, ix) at world (ix, iy)·L/N (periodic). Geometry
-slots: 0 = h + i·Dx, 1 = Dy + i·w. Kinematics slots: 0 = u + i·v, 1 = ax + i·ay, 2 = az. The displaced surface is
-X = x0 - c·D(x0), z = h(x0), with D, h bilinear in each cell, so the physics queries the very surface that a
-renderer draws from the same tiles (and at tile vertices the two coincide exactly).
+Tiles are complex64 arrays [band, snapshot, slot, iy, ix] with cell (iy, ix) at world (ix, iy)·L/N (periodic).
+Geometry slots: 0 = h + i·w (height, vertical velocity), 1 = Dx + i·Dy (choppy displacement; only read when
+the choppiness is non-zero). Velocity slot: u + i·v; acceleration slots: ax + i·ay, az. Every query blends the
+band's four snapshots with the weights `wts[band, snapshot]` (cubic Lagrange in time, ramp included; see
+`fft_time`), then interpolates bilinearly in space. The displaced surface is X = x0 - c·D(x0), z = h(x0),
+so the physics queries the very surface that a renderer draws from the same tiles.
 """
 
 from __future__ import annotations
@@ -16,12 +18,12 @@ from usvsim.ocean.dispatch import serial_and_parallel
 
 
 @njit(cache=True, inline="always")
-def _pair(amp, omega, b, iy, ix, jy, jx, t):
+def _pair(amp, omega, iy, ix, jy, jx, t):
     """H and G = ∂H/∂t at k and -k: E = ½ c e^{-iωt}, H(k) = E(k) + conj(E(-k)), H(-k) = conj(H(k))."""
-    w = omega[b, iy, ix]
+    w = omega[iy, ix]
     rot = complex(math.cos(w * t), -math.sin(w * t))
-    e = 0.5 * amp[b, iy, ix] * rot
-    em = (0.5 * amp[b, jy, jx] * rot).conjugate()
+    e = 0.5 * amp[iy, ix] * rot
+    em = (0.5 * amp[jy, jx] * rot).conjugate()
     return e + em, -1j * w * (e - em), w
 
 
@@ -31,45 +33,54 @@ def _rows(n, iy):
     return n // 2 + 1 if iy == 0 or iy == n // 2 else n
 
 
-def _geometry_spectra(amp, omega, khx, khy, t, out):
-    """Write the geometry spectra of every band at time t into out[b, 0:2] (see module docstring).
+@njit(cache=True)
+def geometry_spectra(amp, omega, khx, khy, t, choppy, out):
+    """One band's geometry spectra at time t into out[0] (h + i·w) and, when `choppy`, out[1] (Dx + i·Dy).
 
     Each (k, -k) pair is evaluated once (one sine and cosine per pair); bins without amplitude are zeroed.
+    With a real field f = IFFT(F): f + i·g = IFFT(F + i·G), so two real fields cost one complex transform.
     """
-    nb, n = amp.shape[0], amp.shape[1]
-    for b in range(nb):
-        for iy in prange(n // 2 + 1):
-            jy = (n - iy) % n
-            for ix in range(_rows(n, iy)):
-                jx = (n - ix) % n
-                if amp[b, iy, ix] == 0 and amp[b, jy, jx] == 0:
-                    out[b, 0, iy, ix] = out[b, 1, iy, ix] = out[b, 0, jy, jx] = out[b, 1, jy, jx] = 0
-                    continue
-                h, g, _ = _pair(amp, omega, b, iy, ix, jy, jx, t)
-                hx, hy = khx[b, iy, ix], khy[b, iy, ix]
-                out[b, 0, iy, ix] = h * (1.0 + hx)
-                out[b, 1, iy, ix] = -1j * hy * h + 1j * g
-                out[b, 0, jy, jx] = h.conjugate() * (1.0 - hx)
-                out[b, 1, jy, jx] = 1j * hy * h.conjugate() + 1j * g.conjugate()
+    n = amp.shape[0]
+    for iy in range(n // 2 + 1):
+        jy = (n - iy) % n
+        for ix in range(_rows(n, iy)):
+            jx = (n - ix) % n
+            if amp[iy, ix] == 0 and amp[jy, jx] == 0:
+                out[0, iy, ix] = out[0, jy, jx] = 0
+                if choppy:
+                    out[1, iy, ix] = out[1, jy, jx] = 0
+                continue
+            h, g, _ = _pair(amp, omega, iy, ix, jy, jx, t)
+            out[0, iy, ix] = h + 1j * g
+            out[0, jy, jx] = h.conjugate() + 1j * g.conjugate()
+            if choppy:
+                hx, hy = khx[iy, ix], khy[iy, ix]
+                out[1, iy, ix] = h * complex(hy, -hx)
+                out[1, jy, jx] = h.conjugate() * complex(-hy, hx)
 
 
-def _kinematic_spectra(amp, omega, khx, khy, t, out):
-    """Write the kinematics spectra of every band at time t into out[b, 0:3] (see module docstring)."""
-    nb, n = amp.shape[0], amp.shape[1]
-    for b in range(nb):
-        for iy in prange(n // 2 + 1):
-            jy = (n - iy) % n
-            for ix in range(_rows(n, iy)):
-                jx = (n - ix) % n
-                h, g, w = _pair(amp, omega, b, iy, ix, jy, jx, t)
-                rot = 1j * khx[b, iy, ix] - khy[b, iy, ix]
-                rot_m = -1j * khx[b, iy, ix] + khy[b, iy, ix]
-                out[b, 0, iy, ix] = g * rot
-                out[b, 1, iy, ix] = -w * w * h * rot
-                out[b, 2, iy, ix] = -w * w * h
-                out[b, 0, jy, jx] = g.conjugate() * rot_m
-                out[b, 1, jy, jx] = -w * w * h.conjugate() * rot_m
-                out[b, 2, jy, jx] = -w * w * h.conjugate()
+@njit(cache=True)
+def kinematic_spectra(amp, omega, khx, khy, t, acceleration, out):
+    """One band's spectra at time t: out[0] = u + i·v, or with `acceleration` out[0] = ax + i·ay, out[1] = az."""
+    n = amp.shape[0]
+    for iy in range(n // 2 + 1):
+        jy = (n - iy) % n
+        for ix in range(_rows(n, iy)):
+            jx = (n - ix) % n
+            if amp[iy, ix] == 0 and amp[jy, jx] == 0:
+                for s in range(out.shape[0]):
+                    out[s, iy, ix] = out[s, jy, jx] = 0
+                continue
+            h, g, w = _pair(amp, omega, iy, ix, jy, jx, t)
+            rot = 1j * khx[iy, ix] - khy[iy, ix]
+            if acceleration:
+                out[0, iy, ix] = -w * w * h * rot
+                out[0, jy, jx] = w * w * h.conjugate() * rot
+                out[1, iy, ix] = -w * w * h
+                out[1, jy, jx] = -w * w * h.conjugate()
+            else:
+                out[0, iy, ix] = g * rot
+                out[0, jy, jx] = -g.conjugate() * rot
 
 
 @njit(cache=True, inline="always")
@@ -82,6 +93,34 @@ def _cell(x, inv_cell, mask):
 
 
 @njit(cache=True, inline="always")
+def _blend4(tiles, wts, b, slot, iy0, iy1, ix0, ix1):
+    """The four corner values of one cell, blended over the band's snapshots (zero weights skipped)."""
+    c00 = c10 = c01 = c11 = 0j
+    for r in range(4):
+        w = wts[b, r]
+        if w != 0.0:
+            c00 += w * tiles[b, r, slot, iy0, ix0]
+            c10 += w * tiles[b, r, slot, iy0, ix1]
+            c01 += w * tiles[b, r, slot, iy1, ix0]
+            c11 += w * tiles[b, r, slot, iy1, ix1]
+    return c00, c10, c01, c11
+
+
+@njit(cache=True, inline="always")
+def _blend4_real(tiles, wts, b, slot, iy0, iy1, ix0, ix1):
+    """`_blend4` of the real parts only (the height of geometry slot 0)."""
+    c00 = c10 = c01 = c11 = 0.0
+    for r in range(4):
+        w = wts[b, r]
+        if w != 0.0:
+            c00 += w * tiles[b, r, slot, iy0, ix0].real
+            c10 += w * tiles[b, r, slot, iy0, ix1].real
+            c01 += w * tiles[b, r, slot, iy1, ix0].real
+            c11 += w * tiles[b, r, slot, iy1, ix1].real
+    return c00, c10, c01, c11
+
+
+@njit(cache=True, inline="always")
 def _bilinear(f00, f10, f01, f11, fx, fy, inv_cell):
     """Value and (∂/∂x, ∂/∂y) of the bilinear interpolant on one cell."""
     val = f00 * (1 - fx) * (1 - fy) + f10 * fx * (1 - fy) + f01 * (1 - fx) * fy + f11 * fx * fy
@@ -91,47 +130,40 @@ def _bilinear(f00, f10, f01, f11, fx, fy, inv_cell):
 
 
 @njit(cache=True, inline="always")
-def _evaluate(geo, inv_cells, x0, y0, s, chop):
-    """Displaced position, height and the Jacobian of X at label (x0, y0), summed over bands."""
-    mask = geo.shape[2] - 1
-    X, Y, z = x0, y0, 0.0
+def _evaluate(geo, wts, inv_cells, x0, y0, chop):
+    """Displaced position, height, the Jacobian of X and the height gradient at label (x0, y0)."""
+    mask = geo.shape[3] - 1
+    X, Y, z, zx, zy = x0, y0, 0.0, 0.0, 0.0
     jxx, jxy, jyx, jyy = 1.0, 0.0, 0.0, 1.0
     for b in range(geo.shape[0]):
         ix0, ix1, fx = _cell(x0, inv_cells[b], mask)
         iy0, iy1, fy = _cell(y0, inv_cells[b], mask)
-        a00, a10, a01, a11 = (
-            geo[b, 0, iy0, ix0],
-            geo[b, 0, iy0, ix1],
-            geo[b, 0, iy1, ix0],
-            geo[b, 0, iy1, ix1],
-        )
-        c00, c10, c01, c11 = (
-            geo[b, 1, iy0, ix0],
-            geo[b, 1, iy0, ix1],
-            geo[b, 1, iy1, ix0],
-            geo[b, 1, iy1, ix1],
-        )
-        h, _, _ = _bilinear(a00.real, a10.real, a01.real, a11.real, fx, fy, inv_cells[b])
-        dx, dxx, dxy = _bilinear(a00.imag, a10.imag, a01.imag, a11.imag, fx, fy, inv_cells[b])
-        dy, dyx, dyy = _bilinear(c00.real, c10.real, c01.real, c11.real, fx, fy, inv_cells[b])
-        z += s * h
-        X -= s * chop * dx
-        Y -= s * chop * dy
-        jxx -= s * chop * dxx
-        jxy -= s * chop * dxy
-        jyx -= s * chop * dyx
-        jyy -= s * chop * dyy
-    return X, Y, z, jxx, jxy, jyx, jyy
+        a00, a10, a01, a11 = _blend4_real(geo, wts, b, 0, iy0, iy1, ix0, ix1)
+        h, hx, hy = _bilinear(a00, a10, a01, a11, fx, fy, inv_cells[b])
+        z += h
+        zx += hx
+        zy += hy
+        if chop != 0.0:
+            c00, c10, c01, c11 = _blend4(geo, wts, b, 1, iy0, iy1, ix0, ix1)
+            dx, dxx, dxy = _bilinear(c00.real, c10.real, c01.real, c11.real, fx, fy, inv_cells[b])
+            dy, dyx, dyy = _bilinear(c00.imag, c10.imag, c01.imag, c11.imag, fx, fy, inv_cells[b])
+            X -= chop * dx
+            Y -= chop * dy
+            jxx -= chop * dxx
+            jxy -= chop * dxy
+            jyx -= chop * dyx
+            jyy -= chop * dyy
+    return X, Y, z, jxx, jxy, jyx, jyy, zx, zy
 
 
-def _invert(px, py, geo, inv_cells, s, chop, tol, max_iter, x0_out, y0_out, z_out, it_out):
+def _invert(px, py, geo, wts, inv_cells, chop, tol, max_iter, x0_out, y0_out, z_out, it_out):
     """Newton inversion of X(x0) = p on the interpolated tiles; fixed-point step where det J ≤ 1e-3."""
     for p in prange(px.shape[0]):
         x0 = px[p]
         y0 = py[p]
         it = 0
         while True:
-            X, Y, z, jxx, jxy, jyx, jyy = _evaluate(geo, inv_cells, x0, y0, s, chop)
+            X, Y, z, jxx, jxy, jyx, jyy, _, _ = _evaluate(geo, wts, inv_cells, x0, y0, chop)
             rx = px[p] - X
             ry = py[p] - Y
             if rx * rx + ry * ry <= tol * tol or it >= max_iter:
@@ -150,21 +182,10 @@ def _invert(px, py, geo, inv_cells, s, chop, tol, max_iter, x0_out, y0_out, z_ou
         it_out[p] = it
 
 
-def _surface_points(x0, y0, geo, inv_cells, s, chop, out, normals):
+def _surface_points(x0, y0, geo, wts, inv_cells, chop, out, normals):
     """Displaced points and unit normals (of the interpolated surface) at labels (x0, y0)."""
-    mask = geo.shape[2] - 1
     for p in prange(x0.shape[0]):
-        X, Y, z, jxx, jxy, jyx, jyy = _evaluate(geo, inv_cells, x0[p], y0[p], s, chop)
-        zx = 0.0
-        zy = 0.0
-        for b in range(geo.shape[0]):
-            ix0, ix1, fx = _cell(x0[p], inv_cells[b], mask)
-            iy0, iy1, fy = _cell(y0[p], inv_cells[b], mask)
-            h00, h10 = geo[b, 0, iy0, ix0].real, geo[b, 0, iy0, ix1].real
-            h01, h11 = geo[b, 0, iy1, ix0].real, geo[b, 0, iy1, ix1].real
-            _, hx, hy = _bilinear(h00, h10, h01, h11, fx, fy, inv_cells[b])
-            zx += s * hx
-            zy += s * hy
+        X, Y, z, jxx, jxy, jyx, jyy, zx, zy = _evaluate(geo, wts, inv_cells, x0[p], y0[p], chop)
         out[p, 0], out[p, 1], out[p, 2] = X, Y, z
         # tangents Tx = (jxx, jyx, zx), Ty = (jxy, jyy, zy); n = Tx × Ty
         nx = jyx * zy - zx * jyy
@@ -175,36 +196,37 @@ def _surface_points(x0, y0, geo, inv_cells, s, chop, out, normals):
 
 
 @njit(cache=True, inline="always")
-def _lerp(tiles, b, slot, iy0, iy1, ix0, ix1, fx, fy):
-    top = tiles[b, slot, iy0, ix0] * (1 - fx) + tiles[b, slot, iy0, ix1] * fx
-    bottom = tiles[b, slot, iy1, ix0] * (1 - fx) + tiles[b, slot, iy1, ix1] * fx
-    return top * (1 - fy) + bottom * fy
+def _lerp(tiles, wts, b, slot, iy0, iy1, ix0, ix1, fx, fy):
+    c00, c10, c01, c11 = _blend4(tiles, wts, b, slot, iy0, iy1, ix0, ix1)
+    return (c00 * (1 - fx) + c10 * fx) * (1 - fy) + (c01 * (1 - fx) + c11 * fx) * fy
 
 
-def _sample_kinematics(x0, y0, zeff, geo, kin, inv_cells, decay_k, s, vel, acc):
-    """Bilinear velocity/acceleration at labels, each band attenuated by exp(κ_b z') (deep water)."""
-    mask = geo.shape[2] - 1
+def _sample_kinematics(x0, y0, zeff, geo, geo_wts, vel, vel_wts, acc, acc_wts, inv_cells, decay_k, v_out, a_out):
+    """Bilinear velocity (and acceleration when a_out has rows) at labels, each band attenuated by exp(κ_b z')."""
+    mask = geo.shape[3] - 1
+    with_acc = a_out.shape[0] > 0
     for p in prange(x0.shape[0]):
-        vel[p, 0] = vel[p, 1] = vel[p, 2] = acc[p, 0] = acc[p, 1] = acc[p, 2] = 0.0
+        v_out[p, 0] = v_out[p, 1] = v_out[p, 2] = 0.0
+        if with_acc:
+            a_out[p, 0] = a_out[p, 1] = a_out[p, 2] = 0.0
         for b in range(geo.shape[0]):
             ix0, ix1, fx = _cell(x0[p], inv_cells[b], mask)
             iy0, iy1, fy = _cell(y0[p], inv_cells[b], mask)
-            f = s * math.exp(decay_k[b] * zeff[p])
-            uv = _lerp(kin, b, 0, iy0, iy1, ix0, ix1, fx, fy)
-            axy = _lerp(kin, b, 1, iy0, iy1, ix0, ix1, fx, fy)
-            az = _lerp(kin, b, 2, iy0, iy1, ix0, ix1, fx, fy)
-            w = _lerp(geo, b, 1, iy0, iy1, ix0, ix1, fx, fy)
-            vel[p, 0] += f * uv.real
-            vel[p, 1] += f * uv.imag
-            vel[p, 2] += f * w.imag
-            acc[p, 0] += f * axy.real
-            acc[p, 1] += f * axy.imag
-            acc[p, 2] += f * az.real
+            f = math.exp(decay_k[b] * zeff[p])
+            uv = _lerp(vel, vel_wts, b, 0, iy0, iy1, ix0, ix1, fx, fy)
+            hw = _lerp(geo, geo_wts, b, 0, iy0, iy1, ix0, ix1, fx, fy)
+            v_out[p, 0] += f * uv.real
+            v_out[p, 1] += f * uv.imag
+            v_out[p, 2] += f * hw.imag
+            if with_acc:
+                axy = _lerp(acc, acc_wts, b, 0, iy0, iy1, ix0, ix1, fx, fy)
+                az = _lerp(acc, acc_wts, b, 1, iy0, iy1, ix0, ix1, fx, fy)
+                a_out[p, 0] += f * axy.real
+                a_out[p, 1] += f * axy.imag
+                a_out[p, 2] += f * az.real
 
 
-# (serial, parallel) kernel pairs, chosen by batch size (points or spectrum bins) with `dispatch.pick`.
-GEOMETRY_SPECTRA = serial_and_parallel(_geometry_spectra)
-KINEMATIC_SPECTRA = serial_and_parallel(_kinematic_spectra)
+# (serial, parallel) kernel pairs, chosen by the number of points with `dispatch.pick`.
 INVERT = serial_and_parallel(_invert)
 SURFACE_POINTS = serial_and_parallel(_surface_points)
 SAMPLE_KINEMATICS = serial_and_parallel(_sample_kinematics)

@@ -51,15 +51,18 @@ class Ocean:
             return np.tile([0.0, 0.0, 1.0], (np.size(x), 1))
         return self.waves.normal(x, y, t)
 
-    def kinematics(self, x, y, z, t: float) -> tuple[np.ndarray, np.ndarray]:
-        """Water velocity (orbital + current) and acceleration (orbital), (n, 3) each, ENU, at world points."""
+    def kinematics(self, x, y, z, t: float, acceleration: bool = True) -> tuple[np.ndarray, np.ndarray]:
+        """Water velocity (orbital + current) and acceleration (orbital), (n, 3) each, ENU, at world points.
+        Without `acceleration` the second array has no rows (and costs nothing)."""
         self.advance(t)
         px, py, pz = as_points(x, y, z)
         zrel = pz - self.level_m
         if self.waves is None:
-            vel, acc = np.zeros((len(px), 3)), np.zeros((len(px), 3))
-        else:
+            vel, acc = np.zeros((len(px), 3)), np.zeros((len(px) if acceleration else 0, 3))
+        elif acceleration:
             vel, acc = self.waves.kinematics(px, py, zrel, t)
+        else:
+            vel, acc = self.waves.velocity(px, py, zrel, t), np.zeros((0, 3))
         return vel + self.current.velocity(zrel), acc
 
     def velocity(self, x, y, z, t: float) -> np.ndarray:
@@ -67,7 +70,7 @@ class Ocean:
         if self.waves is None:  # fast path (every physics step in calm scenarios): current only
             self.current.advance(t)
             return self.current.velocity(np.asarray(z, dtype=float) - self.level_m)
-        return self.kinematics(x, y, z, t)[0]
+        return self.kinematics(x, y, z, t, acceleration=False)[0]
 
     def acceleration(self, x, y, z, t: float) -> np.ndarray:
         """Water particle acceleration (n, 3), m/s² ENU (the current's slow variation is neglected)."""

@@ -1,0 +1,75 @@
+"""FFT snapshots blended in time: the error bound holds against exact transforms, results do not depend on
+the query history, silent bands are never transformed."""
+
+import math
+
+import numpy as np
+import pytest
+
+from usvsim.ocean import spectra
+from usvsim.ocean.fft import FFTWaveField, cascade_sizes, directional_spectrum
+from usvsim.ocean.fft_time import error_factor, lagrange_weights
+
+JONSWAP = directional_spectrum(lambda w: spectra.jonswap(w, 1.88, 8.8, 2.0), 0.3, 10.0)
+SIZES = cascade_sizes(2 * math.pi * spectra.G / (2 * math.pi / 8.8) ** 2, 3, 64)
+
+
+def field(tolerance, seed=4):
+    return FFTWaveField(JONSWAP, SIZES, np.random.default_rng(seed), 64, time_tolerance=tolerance)
+
+
+def test_error_factor_is_the_lagrange_remainder():
+    x = np.array([0.05, 0.2, 0.4])
+    # |R| ≤ max|f''''|/4! · max_u |(u+1)u(u-1)(u-2)| = x⁴ · 0.5625/24 for cos and sin, so ≤ √2 times that
+    assert np.all(error_factor(x) <= math.sqrt(2) * 0.5625 / 24 * x**4 * 1.01)
+    assert np.all(error_factor(x) >= 0.5625 / 24 * x**4 * 0.9)
+    np.testing.assert_allclose(lagrange_weights(np.array([0.0, 1.0])), [[0, 1, 0, 0], [0, 0, 1, 0]], atol=1e-15)
+
+
+def test_interpolated_field_is_within_its_bound_of_the_exact_one():
+    fast, exact = field(2e-3), field(0.0)
+    assert all(0.05 < d < 2.0 for d in fast.snapshot_intervals_s["geometry"])
+    rng = np.random.default_rng(0)
+    x, y = rng.uniform(0, 500, 3000), rng.uniform(0, 500, 3000)
+    z = np.full(3000, 3.0)  # above the surface: surface kinematics
+    comps = exact.components()
+    sigma = [math.sqrt(np.sum(0.5 * comps.amplitude**2 * comps.omega ** (2 * p))) for p in range(3)]
+    for t in (3.217, 7.5, 12.0031):
+        eta = fast.elevation(x, y, t) - exact.elevation(x, y, t)
+        v_fast, a_fast = fast.kinematics(x, y, z, t)
+        v_exact, a_exact = exact.kinematics(x, y, z, t)
+        assert np.sqrt(np.mean(eta**2)) <= 2e-3 * sigma[0]
+        assert np.sqrt(np.mean((v_fast - v_exact)[:, 2] ** 2)) <= 2e-3 * sigma[1]
+        assert np.sqrt(np.mean((a_fast - a_exact)[:, 2] ** 2)) <= 2e-3 * sigma[2]
+
+
+def test_a_time_gives_the_same_sea_whatever_was_queried_before():
+    a, b = field(1e-3), field(1e-3)
+    x = np.linspace(0, 80, 200)
+    for t in np.arange(0.0, 3.0, 0.01):  # a stepped run
+        a.elevation(x, x, t)
+    b.elevation(x, x, 50.0)  # another history
+    t = 3.0
+    np.testing.assert_array_equal(a.elevation(x, x, t), b.elevation(x, x, t))
+    np.testing.assert_array_equal(a.velocity(x, x, x * 0, t), b.velocity(x, x, x * 0, t))
+
+
+def test_transforms_are_amortized_and_silent_bands_skipped():
+    def two_bands(kx, ky, band):
+        return JONSWAP(kx, ky, band) if band == 0 else np.zeros_like(kx)
+
+    f = FFTWaveField(two_bands, SIZES[:2], np.random.default_rng(1), 64)
+    assert math.isinf(f.snapshot_intervals_s["geometry"][1])
+    x = np.zeros(4)
+    for t in np.arange(0.0, 10.0, 0.01):
+        f.elevation(x, x, t)
+    assert f.geometry.transforms <= 4 + 10.0 / f.snapshot_intervals_s["geometry"][0] + 1
+    assert f.velocity_ring.transforms == f.acceleration_ring.transforms == 0
+
+
+@pytest.mark.parametrize("tolerance", [0.0, 1e-3])
+def test_ramp_scales_every_snapshot(tolerance):
+    f = FFTWaveField(JONSWAP, SIZES, np.random.default_rng(2), 64, ramp_time_s=5.0, time_tolerance=tolerance)
+    g = FFTWaveField(JONSWAP, SIZES, np.random.default_rng(2), 64, time_tolerance=tolerance)
+    x = np.linspace(0, 50, 20)
+    np.testing.assert_allclose(f.elevation(x, x, 2.0), (1 - math.exp(-0.4)) * g.elevation(x, x, 2.0), atol=1e-12)
