@@ -6,9 +6,9 @@ the image are left out, and the box never describes an object the image does not
 
 Box (`box` in the config), in published-image pixels (pixel centres at integers, u right, v down):
 - `projected` (default): the 3D box (sensors/objects.py) projected with the camera's CameraInfo model,
-  distortion included, clipped to the image [-0.5, W-0.5] x [-0.5, H-0.5]. Edges are clipped to the near
-  plane and sampled (distortion bends them); points outside the image's field of view are clamped to its edge
-  first, so the distortion polynomial is only used where it is valid.
+  distortion included: its faces clipped against the view frustum, projected and clipped to the image
+  [-0.5, W-0.5] x [-0.5, H-0.5] (camera/clip.py), so objects cut by the image edge or reaching behind the
+  camera get the box of their part in view (the amodal box).
 - `visible`: the tight box around the object's visible pixels (modal box: occluded parts are not included).
 The hypothesis pose is the object's box pose in the camera's optical frame.
 """
@@ -18,14 +18,11 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from usvsim.sensors.camera.intrinsics import Intrinsics, distort
+from usvsim.sensors.camera.clip import frustum_planes, image_box
+from usvsim.sensors.camera.intrinsics import Intrinsics
 from usvsim.sensors.detections import quat_of
 from usvsim.sensors.messages import detection2d_msg
 from usvsim.sensors.objects import TrackedObject, geom_owner
-
-# the 12 edges of a box whose corners are ordered as in TrackedObject.corners_world (x major, z minor)
-EDGES = np.array([[0, 1], [2, 3], [4, 5], [6, 7], [0, 2], [1, 3], [4, 6], [5, 7], [0, 4], [1, 5], [2, 6], [3, 7]])
-EDGE_SAMPLES = 16
 
 
 @njit(cache=True, nogil=True)
@@ -53,28 +50,12 @@ class BoxMaker:
         self.owner = geom_owner(model, objects)
         xy = cam.rays()  # undistorted normalized rays of every output pixel: the field of view
         margin = np.array([1.0 / cam.fx, 1.0 / cam.fy])
-        self.reach_low, self.reach_high = xy.min(axis=(0, 1)) - margin, xy.max(axis=(0, 1)) + margin
+        self.planes = frustum_planes(near_m, xy.min(axis=(0, 1)) - margin, xy.max(axis=(0, 1)) + margin)
 
     def project(self, corners_optical: np.ndarray) -> np.ndarray | None:
-        """Clipped pixel box (u_min, v_min, u_max, v_max) of a 3D box (8 corners, optical frame), None if unseen."""
-        a, b = corners_optical[EDGES[:, 0]], corners_optical[EDGES[:, 1]]
-        za, zb = a[:, 2], b[:, 2]
-        front = (za >= self.near_m) | (zb >= self.near_m)
-        if not front.any():
-            return None
-        a, b, za, zb = a[front], b[front], za[front], zb[front]
-        with np.errstate(divide="ignore", invalid="ignore"):
-            cross = np.clip((self.near_m - za) / (zb - za), 0.0, 1.0)
-        t0, t1 = np.where(za >= self.near_m, 0.0, cross), np.where(zb >= self.near_m, 1.0, cross)
-        ts = t0[:, None] + (t1 - t0)[:, None] * np.linspace(0.0, 1.0, EDGE_SAMPLES)[None, :]
-        points = (a[:, None, :] + ts[..., None] * (b - a)[:, None, :]).reshape(-1, 3)
-        xy = np.clip(points[:, :2] / points[:, 2:3], self.reach_low, self.reach_high)
-        xy_d = distort(xy, self.cam.D) if self.cam.distorted else xy
-        u, v = self.cam.fx * xy_d[:, 0] + self.cam.cx, self.cam.fy * xy_d[:, 1] + self.cam.cy
-        lo_u, lo_v, hi_u, hi_v = -0.5, -0.5, self.cam.width - 0.5, self.cam.height - 0.5
-        box = np.array([np.clip(u.min(), lo_u, hi_u), np.clip(v.min(), lo_v, hi_v),
-                        np.clip(u.max(), lo_u, hi_u), np.clip(v.max(), lo_v, hi_v)])  # fmt: skip
-        return box if box[2] > box[0] and box[3] > box[1] else None
+        """Pixel box (u_min, v_min, u_max, v_max) of a 3D box (8 corners, optical frame) clipped to the view
+        frustum and the image (camera/clip.py); None if no part of it is in view."""
+        return image_box(corners_optical, self.cam, self.planes)
 
     def visible(self, seg: np.ndarray) -> list[tuple[int, np.ndarray]]:
         """(object index, pixel box of its visible pixels) of every object with enough visible pixels."""
