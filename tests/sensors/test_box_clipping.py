@@ -42,7 +42,12 @@ def _reference(corners, cam, spacing_m=0.02, most=1000):
     pts = pts[pts[:, 2] > NEAR]
     uv, _ = cv2.projectPoints(pts, np.zeros(3), np.zeros(3), cam.K, np.asarray(cam.D))
     uv = uv.reshape(-1, 2)
-    inside = (uv[:, 0] >= -0.5) & (uv[:, 0] <= cam.width - 0.5) & (uv[:, 1] >= -0.5) & (uv[:, 1] <= cam.height - 0.5)
+    inside = (
+        (uv[:, 0] >= -0.5)
+        & (uv[:, 0] <= cam.width - 0.5)
+        & (uv[:, 1] >= -0.5)
+        & (uv[:, 1] <= cam.height - 0.5)
+    )
     if not inside.any():
         return None
     uv = uv[inside]
@@ -65,7 +70,10 @@ def test_clipped_box_equals_opencv_reference(case):
     box, ref = image_box(corners, cam, _planes(cam)), _reference(corners, cam)
     assert box is not None and ref is not None
     assert np.all(box[:2] <= ref[:2] + 1e-6) and np.all(ref[2:] <= box[2:] + 1e-6), (box, ref)
-    assert np.abs(box - ref).max() < 3.0, (box, ref)  # the samples' spacing (up to ~3 px 1.5 m from the camera)
+    assert np.abs(box - ref).max() < 3.0, (
+        box,
+        ref,
+    )  # the samples' spacing (up to ~3 px 1.5 m from the camera)
     if case in EXACT:  # by hand: f = 320 px, c = (319.5, 239.5), extreme points on the image edge x/z = 1
         assert np.allclose(box, EXACT[case], atol=1e-6)
 
@@ -77,21 +85,34 @@ EXACT = {"half_behind_camera": [320 * 1.5 / 10 + 319.5, 239.5, 639.5, 320 * 1.0 
 
 def test_random_boxes_match_reference_and_unseen_ones_are_none():
     rng = np.random.default_rng(3)
-    cams = [Intrinsics.from_fov(320, 240, 80.0), Intrinsics.from_fov(320, 240, 70.0, (-0.15, 0.03, 0.001, -0.0015, 0.002))]
+    cams = [
+        Intrinsics.from_fov(320, 240, 80.0),
+        Intrinsics.from_fov(320, 240, 70.0, (-0.15, 0.03, 0.001, -0.0015, 0.002)),
+    ]
     for i in range(24):
         cam = cams[i % 2]
         q = rng.normal(size=4)
         rot = cv2.Rodrigues(q[:3] / np.linalg.norm(q[:3]) * rng.uniform(0, np.pi))[0]
         center, size = rng.uniform([-8, -6, -2], [8, 6, 15]), rng.uniform(0.3, 8.0, 3)
-        if np.all(np.abs(rot.T @ center) < size / 2 + 1.0):  # the camera inside or within 1 m: samples too sparse
+        if np.all(
+            np.abs(rot.T @ center) < size / 2 + 1.0
+        ):  # the camera inside or within 1 m: samples too sparse
             continue
         corners = _corners(center, size, rot)
         box, ref = image_box(corners, cam, _planes(cam)), _reference(corners, cam, spacing_m=0.04, most=250)
         if ref is None:
             assert box is None or min(box[2] - box[0], box[3] - box[1]) < 2.0
             continue
-        assert box is not None and np.all(box[:2] <= ref[:2] + 1e-6) and np.all(ref[2:] <= box[2:] + 1e-6), (i, box, ref)
-        assert np.abs(box - ref).max() < 3.0, (i, box, ref)  # the samples' spacing, up to ~2 px near the camera
+        assert box is not None and np.all(box[:2] <= ref[:2] + 1e-6) and np.all(ref[2:] <= box[2:] + 1e-6), (
+            i,
+            box,
+            ref,
+        )
+        assert np.abs(box - ref).max() < 3.0, (
+            i,
+            box,
+            ref,
+        )  # the samples' spacing, up to ~2 px near the camera
     assert image_box(_corners((0.0, 0.0, -5.0), (2.0, 2.0, 2.0)), cams[0], _planes(cams[0])) is None  # behind
 
 

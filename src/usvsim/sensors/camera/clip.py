@@ -54,7 +54,9 @@ def _project(poly: np.ndarray, cam: Intrinsics) -> np.ndarray:
     """Pixel outline (n, 2) of a clipped face (points in front of the camera, inside the field of view)."""
     if cam.distorted:
         t = np.linspace(0.0, 1.0, EDGE_SAMPLES, endpoint=False)
-        poly = (poly[:, None, :] + t[None, :, None] * (np.roll(poly, -1, axis=0) - poly)[:, None, :]).reshape(-1, 3)
+        poly = (poly[:, None, :] + t[None, :, None] * (np.roll(poly, -1, axis=0) - poly)[:, None, :]).reshape(
+            -1, 3
+        )
     xy = poly[:, :2] / poly[:, 2:3]
     if cam.distorted:
         xy = distort(xy, cam.D)
