@@ -29,7 +29,7 @@ from usvsim.core.errors import DivergenceError
 from usvsim.core.overlap import Overlap
 from usvsim.core.rng import RngStreams
 from usvsim.core.transforms import quat_from_rpy
-from usvsim.geo.parts import GeoParts, geo_parts
+from usvsim.geo.parts import GeoParts, geo_parts, set_clip_planes
 from usvsim.geo.resolve import load_place, resolve_geo, with_local_depth
 from usvsim.ground_truth import GroundTruth
 from usvsim.hydro.hydrostatics import HullSet
@@ -91,6 +91,8 @@ class Simulation:
         static = static_parts(scenario.objects, base_dir(scenario), source_of(scenario))
         geo = geo_parts(self.place) if self.place else GeoParts([], [])
         self.model = build_model(floating, static, self.clock.dt, self.g, geo.visual, geo.collision)
+        if self.place:
+            set_clip_planes(self.model, self.place.settings.extent_m)
         self.data = mujoco.MjData(self.model)
         self._init_physics(floating)
         self._init_handles(floating)

@@ -51,3 +51,4 @@ class Part:
     rgba: tuple[float, float, float, float] = (0.8, 0.8, 0.8, 1.0)
     name: str = field(default="")
     heights: np.ndarray | None = None
+    texture: np.ndarray | None = None  # (rows, cols, 3) uint8 stretched over a height field, row 0 at +y

@@ -65,6 +65,8 @@ def _add_geom(spec: mujoco.MjSpec, parent, part: Part, group: int, collide: bool
         spec.add_hfield(name=tag, size=[part.size[0], part.size[1], span, HFIELD_BASE_M], nrow=z.shape[0],
                         ncol=z.shape[1], userdata=((z - lo) / span).ravel().tolist())  # MuJoCo rescales to [0, 1]
         geom.hfieldname = tag
+        if part.texture is not None:
+            _add_texture(spec, geom, tag, part.texture)
         part = Part(part.kind, part.size, (part.pos[0], part.pos[1], part.pos[2] + lo), part.quat, rgba=part.rgba)
     else:
         size = list(part.size) + [0.0] * (3 - len(part.size))
@@ -75,6 +77,16 @@ def _add_geom(spec: mujoco.MjSpec, parent, part: Part, group: int, collide: bool
     geom.contype = geom.conaffinity = 1 if collide else 0
     geom.friction = [0.6, 0.005, 0.0001]
     geom.mass = 0.0
+
+
+def _add_texture(spec: mujoco.MjSpec, geom, tag: str, rgb: np.ndarray) -> None:
+    """An RGB image (rows, cols, 3) stretched once over the geom (a height field's extent)."""
+    rows, cols, _ = rgb.shape
+    texture = spec.add_texture(name=tag, type=mujoco.mjtTexture.mjTEXTURE_2D, width=cols, height=rows, nchannel=3)
+    texture.data = np.ascontiguousarray(rgb, dtype=np.uint8).tobytes()
+    material = spec.add_material(name=tag, texrepeat=[1, 1], texuniform=False, specular=0.1, shininess=0.1)
+    material.textures[mujoco.mjtTextureRole.mjTEXROLE_RGB] = tag
+    geom.material = tag
 
 
 def _add_floating(spec: mujoco.MjSpec, fb: FloatingBody) -> None:
