@@ -15,17 +15,17 @@ from usvsim.messages import ros
 from usvsim.messages.envelope import Envelope
 
 if TYPE_CHECKING:
-    from usvsim.simulation import Simulation
+    from usvsim.world.world import World
 
 
 class GroundTruth:
-    def __init__(self, sim: Simulation, clock_rate_hz: float, odometry_rate_hz: float):
-        self.sim = sim
-        self.clock_every = steps_per_period(clock_rate_hz, sim.clock.step_ns)
-        self.odom_every = steps_per_period(odometry_rate_hz, sim.clock.step_ns)
-        self.vessels = list(sim.vessels.values())
-        self.odom_origin = {v.name: (v.position, v.quat) for v in self.vessels}
-        self.tf = sim.scenario.outputs.tf
+    def __init__(self, world: World, clock_rate_hz: float, odometry_rate_hz: float):
+        self.world = world
+        self.clock_every = steps_per_period(clock_rate_hz, world.clock.step_ns)
+        self.odom_every = steps_per_period(odometry_rate_hz, world.clock.step_ns)
+        self.vessels = list(world.vessels.values())
+        self.odom_origin = world.odom_origin
+        self.tf = world.scenario.outputs.tf
 
     def static_transforms(self, extra=()) -> list[Envelope]:
         """The one `/tf_static` message: `world → <vessel>/odom` plus `extra` transforms (sensor mounts)."""

@@ -1,108 +1,43 @@
-"""The Simulation: owns the world, ocean, floating bodies, thrusters and clock; runs the one step loop.
+"""The Simulation: the step loop around one `World` (usvsim.world.world, the owner of all state).
 
-Step: queued commands from bridges (bridges/commands.py) → vessel controllers (at their rates) → ocean
-advanced → hull vertices → water heights (direct or patch) → hydrostatics (one batched kernel) → relative
-velocities → each body's buoyancy and hydrodynamics models + wind (hydro/models.py) → thruster dynamics →
-wrenches into MuJoCo (`xfrc_applied`, world frame, about each CoM) → `mj_step` (divergence check) → clock
-tick → body kinematics → sensors → messages due at this tick go to subscribers.
+Step: queued commands (usvsim.commands) → vessel controllers (at their rates) → the world's physics step
+(ocean, hydrostatics, marine models, thrusters, `mj_step`, clock tick, kinematics; see `World`) → sensors
+→ messages due at this tick go to subscribers. Sensors, controllers and ground truth take the World.
 """
 
 from __future__ import annotations
 
-import math
 import time
 from collections.abc import Callable
-from dataclasses import dataclass, field
 from pathlib import Path
 
-import mujoco
 import numpy as np
 
-from usvsim.bridges.commands import CommandInbox
-from usvsim.config.loader import base_dir, load_scenario, source_of
-from usvsim.config.objects import Buoy
+from usvsim.commands import CommandInbox
+from usvsim.config.loader import load_scenario
 from usvsim.config.scenario import Scenario
-from usvsim.config.vessel import TriangleBuoyancy
 from usvsim.control.factory import control_loop
-from usvsim.core.clock import Clock, period_ns
-from usvsim.core.errors import DivergenceError
-from usvsim.core.overlap import Overlap
-from usvsim.core.rng import RngStreams
-from usvsim.core.transforms import quat_from_rpy
-from usvsim.geo.parts import GeoParts, geo_parts, set_clip_planes
-from usvsim.geo.resolve import load_place, resolve_geo, with_local_depth
 from usvsim.ground_truth import GroundTruth
-from usvsim.hydro.hydrostatics import HullSet
-from usvsim.hydro.models import MarineModels
-from usvsim.hydro.thrusters import ThrusterBank
-from usvsim.hydro.wrenches import assemble, body_kinematics, relative_velocity_body
 from usvsim.messages.envelope import Envelope
-from usvsim.ocean import build_ocean
-from usvsim.ocean.patch import WaterPatch
 from usvsim.sensors import SensorSuite
-from usvsim.vessel import Body, Thruster, Vessel
-from usvsim.vessels import buoy
-from usvsim.vessels.library import vessel_model
-from usvsim.world.builder import FloatingBody, build_model
-from usvsim.world.obstacles import static_parts
+from usvsim.world.state import BodyState
+from usvsim.world.world import World
 
-OVERLAP_MIN_FACES = 8000  # below this the thread hand-off costs more than overlapping the two kernels saves
-BAD_QPOS, BAD_QVEL, BAD_QACC = (int(mujoco.mjtWarning.mjWARN_BADQPOS), int(mujoco.mjtWarning.mjWARN_BADQVEL),
-                                int(mujoco.mjtWarning.mjWARN_BADQACC))  # fmt: skip
-
-
-@dataclass
-class BodyState:
-    """Kinematics of all floating bodies at the current time (world ENU unless named _body)."""
-
-    n: int
-    pos: np.ndarray = field(init=False)
-    rot: np.ndarray = field(init=False)
-    com_world: np.ndarray = field(init=False)
-    vcom_world: np.ndarray = field(init=False)
-    omega_body: np.ndarray = field(init=False)
-    nu: np.ndarray = field(init=False)
-
-    def __post_init__(self):
-        n = self.n
-        self.pos, self.rot, self.com_world = np.zeros((n, 3)), np.zeros((n, 3, 3)), np.zeros((n, 3))
-        self.vcom_world, self.omega_body, self.nu = np.zeros((n, 3)), np.zeros((n, 3)), np.zeros((n, 6))
+__all__ = ["BodyState", "Simulation", "World"]
 
 
 class Simulation:
     """A scenario running in MuJoCo with marine physics. `seed` drives every random stream."""
 
     def __init__(self, scenario: Scenario, seed: int = 0):
-        scenario = resolve_geo(scenario)
-        self.place = load_place(scenario)  # a real place (geo/), or None
-        scenario = with_local_depth(scenario, self.place)
-        self.scenario, self.seed = scenario, int(seed)
-        self.rng = RngStreams(self.seed)
-        world = scenario.world
-        self.rho, self.g, self.rho_air = (
-            world.water_density_kgpm3,
-            world.gravity_mps2,
-            world.air_density_kgpm3,
-        )
-        self.clock = Clock(period_ns(world.physics_rate_hz))
-        self.look = scenario.rendering  # the current look (config/rendering.py); cameras read it every frame
-        self.ocean = build_ocean(scenario.environment, self.rng.get("ocean"), dt_s=self.clock.dt)
-        floating = self._floating_bodies()
-        static = static_parts(scenario.objects, base_dir(scenario), source_of(scenario))
-        geo = geo_parts(self.place) if self.place else GeoParts([], [])
-        self.model = build_model(floating, static, self.clock.dt, self.g, geo.visual, geo.collision)
-        if self.place:
-            set_clip_planes(self.model, self.place.settings.extent_m)
-        self.data = mujoco.MjData(self.model)
-        self._init_physics(floating)
-        self._init_handles(floating)
-        self.controllers = {v.name: control_loop(self, v.name, v.controller)
+        self.world = world = World(scenario, seed)
+        scenario = world.scenario  # with a real place's parts resolved (geo/)
+        self.controllers = {v.name: control_loop(world, v.name, v.controller)
                             for v in scenario.vessels if v.controller is not None}  # fmt: skip
         rec = scenario.outputs.recording
-        self.ground_truth = GroundTruth(self, rec.clock_rate_hz, rec.ground_truth_rate_hz)
-        self.sensors = SensorSuite(self)
-        self.commands = CommandInbox(self)
-        self._overlap = Overlap()
+        self.ground_truth = GroundTruth(world, rec.clock_rate_hz, rec.ground_truth_rate_hz)
+        self.sensors = SensorSuite(world)
+        self.commands = CommandInbox(world, self.controllers, self.reset)
         self._subscribers: list[Callable[[Envelope], None]] = []
         self._announced = False  # /tf_static and the t = 0 messages go out before the first step
 
@@ -111,196 +46,95 @@ class Simulation:
         """A built-in scenario by name (see `usvsim scenarios`) or a YAML file path."""
         return cls(load_scenario(name_or_path), seed=seed)
 
-    # -- construction -------------------------------------------------------------------------
-    def _floating_bodies(self) -> list[FloatingBody]:
-        out, source = [], source_of(self.scenario)
-        for i, v in enumerate(self.scenario.vessels):
-            model = vessel_model(v, i, base_dir(self.scenario), source)
-            quat = quat_from_rpy(
-                *(math.radians(a) for a in (v.pose.roll_deg, v.pose.pitch_deg, v.pose.yaw_deg))
-            )
-            out.append(FloatingBody(v.name, model, v.pose.position, tuple(quat)))
-        for obj in self.scenario.objects:
-            if isinstance(obj, Buoy):
-                x, y, _ = obj.position
-                m = obj.mooring
-                anchor = (x, y, -m.water_depth_m) if m else None
-                length = m.scope * m.water_depth_m if m else 0.0
-                out.append(FloatingBody(obj.name, buoy.build(obj), obj.position, (1.0, 0.0, 0.0, 0.0),
-                                        anchor, length, obj.radius_m))  # fmt: skip
-        return out
+    # -- the world's state (delegated) ----------------------------------------------------------
+    scenario = property(lambda self: self.world.scenario)
+    seed = property(lambda self: self.world.seed)
+    rng = property(lambda self: self.world.rng)
+    clock = property(lambda self: self.world.clock)
+    ocean = property(lambda self: self.world.ocean)
+    model = property(lambda self: self.world.model)
+    data = property(lambda self: self.world.data)
+    state = property(lambda self: self.world.state)
+    hulls = property(lambda self: self.world.hulls)
+    marine = property(lambda self: self.world.marine)
+    thrusters = property(lambda self: self.world.thrusters)
+    hydrostatics = property(lambda self: self.world.hydrostatics)
+    vessels = property(lambda self: self.world.vessels)
+    bodies = property(lambda self: self.world.bodies)
+    rho = property(lambda self: self.world.rho)
+    g = property(lambda self: self.world.g)
+    rho_air = property(lambda self: self.world.rho_air)
+    odom_origin = property(lambda self: self.world.odom_origin)
+    place = property(lambda self: self.world.place)
 
-    def _init_physics(self, floating: list[FloatingBody]) -> None:
-        m, n = self.model, len(floating)
-        self._body_ids = np.arange(1, n + 1)
-        joints = m.body_jntadr[self._body_ids]
-        self._qpos_adr, self._qvel_adr = m.jnt_qposadr[joints].copy(), m.jnt_dofadr[joints].copy()
-        self.hulls = HullSet([(fb.model.hull.vertices, fb.model.hull.faces) for fb in floating])
-        self._com_body = np.array([fb.model.com for fb in floating], dtype=float).reshape(n, 3)
-        self._body_wrenches = np.zeros((2, n, 6))  # body-frame: marine (damping + wind), thrust
-        self._xfrc = np.zeros((n, 6))
-        self._air = np.zeros((n, 3))
-        self._warnings = self.data.warning.number  # a live view of MuJoCo's warning counters
-        self.state = BodyState(n)
-        entries, timeouts = [], np.zeros(n)
-        for i, v in enumerate(self.scenario.vessels):
-            timeouts[i] = v.command_timeout_s
-            entries += [(i, f"{v.name}/{t.name}", t) for t in floating[i].model.thrusters]
-        self.thrusters = ThrusterBank(entries, n, timeouts)
-        self._patches = {i: WaterPatch(self.ocean, v.water_sampling.resolution, v.water_sampling.margin_m)
-                         for i, v in enumerate(self.scenario.vessels) if v.water_sampling.mode == "patch"}  # fmt: skip
-        self._direct_vertices = ~np.isin(self.hulls.vert_body, list(self._patches))
-        vessels = self.scenario.vessels
-        buoyancy = [v.buoyancy for v in vessels] + [TriangleBuoyancy()] * (n - len(vessels))
-        hydro = [v.hydrodynamics or fb.model.drag for v, fb in zip(vessels, floating)]
-        hydro += [fb.model.drag for fb in floating[len(vessels) :]]
-        self.marine = MarineModels([fb.model for fb in floating], buoyancy, hydro, self.hulls, self.model,
-                                   self._qvel_adr, self.rho, self.g, self.rho_air)  # fmt: skip
-        self._update_kinematics()
-        self.hydrostatics = self._hydrostatics()
+    @property
+    def look(self):
+        """The current rendering look (config/rendering.py); assign a new one between frames."""
+        return self.world.look
 
-    def _init_handles(self, floating: list[FloatingBody]) -> None:
-        self.vessels: dict[str, Vessel] = {}
-        self.bodies: dict[str, Body] = {}
-        for i, fb in enumerate(floating):
-            if i < len(self.scenario.vessels):
-                handles = {n.split("/", 1)[1]: Thruster(self, k, n) for k, n in enumerate(self.thrusters.names)
-                           if self.thrusters.body[k] == i}  # fmt: skip
-                self.bodies[fb.name] = self.vessels[fb.name] = Vessel(self, i, fb.name, fb.model, handles)
-            else:
-                self.bodies[fb.name] = Body(self, i, fb.name, fb.model)
+    @look.setter
+    def look(self, value) -> None:
+        self.world.look = value
 
-    # -- time ---------------------------------------------------------------------------------
     @property
     def time(self) -> float:
         """Simulation time in seconds (float); `clock_ns` is exact."""
-        return self.clock.seconds
+        return self.world.clock.seconds
 
     @property
     def clock_ns(self) -> int:
-        return self.clock.now_ns
+        return self.world.clock.now_ns
 
+    def body_quat(self, i: int) -> np.ndarray:
+        return self.world.body_quat(i)
+
+    def origin_velocity(self, i: int) -> np.ndarray:
+        """World-frame velocity of body i's frame origin (m/s)."""
+        return self.world.origin_velocity(i)
+
+    def contacts(self) -> list[tuple[str, str, float]]:
+        """Active contacts as (body name, other body name or 'world', penetration depth m >= 0)."""
+        return self.world.contacts()
+
+    # -- the loop -------------------------------------------------------------------------------
     def step(self) -> None:
         """Advance one physics step."""
+        world = self.world
         if not self._announced and self._subscribers:
             self._announced = True
             static = self.ground_truth.static_transforms(self.sensors.static_transforms())
             self._emit(static + self.ground_truth.due(0, 0))
         self.commands.apply()
         for loop in self.controllers.values():
-            loop(self)
-        self._apply_marine_wrenches()
-        mujoco.mj_step(self.model, self.data)
-        w = self._warnings  # MuJoCo resets the state on NaN/inf and only counts a warning
-        if w[BAD_QPOS] or w[BAD_QVEL] or w[BAD_QACC]:
-            self._raise_divergence()
-        self.clock.tick()
-        self._update_kinematics()
-        measurements = self.sensors.on_step(self)  # every step: the IMU differentiates velocities
+            loop(world)
+        world.step_physics()
+        measurements = self.sensors.on_step(world)  # every step: the IMU differentiates velocities
         if self._subscribers:
-            self._emit(self.ground_truth.due(self.clock.steps, self.clock.now_ns) + measurements)
+            self._emit(self.ground_truth.due(world.clock.steps, world.clock.now_ns) + measurements)
 
     def reset(self) -> None:
         """Back to the scenario's initial state at t = 0 (bodies, thrusters, clock); subscribers stay."""
-        mujoco.mj_resetData(self.model, self.data)
-        self.clock.reset()
-        self.look = self.scenario.rendering
-        self.thrusters.reset()
-        self.marine.reset()
+        self.world.reset()
         self.sensors.reset()
         for loop in self.controllers.values():
             loop.reset()
-        self._update_kinematics()
-        self.hydrostatics = self._hydrostatics()
         self._announced = False
 
     def run(
         self, seconds: float, realtime: bool = False, on_step: Callable[[Simulation], None] | None = None
     ):
         """Run for `seconds` of simulation time, as fast as possible or paced to the wall clock."""
-        steps = round(seconds * 1e9 / self.clock.step_ns)
-        start_wall, start_ns = time.perf_counter(), self.clock.now_ns
+        clock = self.world.clock
+        steps = round(seconds * 1e9 / clock.step_ns)
+        start_wall, start_ns = time.perf_counter(), clock.now_ns
         for _ in range(steps):
             self.step()
             if on_step is not None:
                 on_step(self)
             if realtime:
-                ahead = (self.clock.now_ns - start_ns) / 1e9 - (time.perf_counter() - start_wall)
+                ahead = (clock.now_ns - start_ns) / 1e9 - (time.perf_counter() - start_wall)
                 if ahead > 0:
                     time.sleep(ahead)
-
-    # -- physics ------------------------------------------------------------------------------
-    def _update_kinematics(self) -> None:
-        s = self.state
-        body_kinematics(self.data.qpos, self.data.qvel, self._qpos_adr, self._qvel_adr, self._com_body,
-                        s.pos, s.rot, s.com_world, s.vcom_world, s.omega_body)  # fmt: skip
-
-    def _hydrostatics(self):
-        s, t = self.state, self.clock.seconds
-        verts = self.hulls.world_vertices(s.pos, s.rot)
-        return self.hulls.compute(verts, self._water_heights(verts, t), s.com_world, self.rho, self.g)
-
-    def _water_heights(self, verts: np.ndarray, t: float) -> np.ndarray:
-        """Water surface z (m) above every hull vertex: queried directly, or from each patch vessel's grid."""
-        if not self._patches:
-            return self.ocean.elevation(verts[:, 0], verts[:, 1], t)
-        eta = np.empty(len(verts))
-        direct = self._direct_vertices
-        eta[direct] = self.ocean.elevation(verts[direct, 0], verts[direct, 1], t)
-        for i, patch in self._patches.items():
-            a, b = self.hulls.vert_offsets[i], self.hulls.vert_offsets[i + 1]
-            patch.update(verts[a:b, :2], t)
-            eta[a:b] = patch.water_height(verts[a:b, 0], verts[a:b, 1])
-        return eta
-
-    def _apply_marine_wrenches(self) -> None:
-        s, t = self.state, self.clock.seconds
-        self.ocean.advance(t)
-        verts = self.hulls.world_vertices(s.pos, s.rot)
-        eta = self._water_heights(verts, t)
-        args = (verts, eta, s.com_world, self.rho, self.g)
-        if self.marine.has_kerner and len(self.hulls.faces) >= OVERLAP_MIN_FACES:  # both kernels on two cores
-            hydrostatics = self._overlap.submit(self.hulls.compute, *args)
-        else:
-            hydrostatics = self.hulls.compute(*args)
-        water = self.ocean.velocity(s.com_world[:, 0], s.com_world[:, 1], s.com_world[:, 2], t)
-        relative_velocity_body(s.rot, s.vcom_world, s.omega_body, water, s.nu)
-        self._air[:] = self.ocean.wind_velocity(t)  # one wind for every body, no allocation per step
-        self.hydrostatics = self.marine.compute(s, hydrostatics, verts, eta, self.ocean, t, self.clock.dt, water,
-                                                self._air)  # fmt: skip
-        self._body_wrenches[0] = self.marine.body_wrench
-        self._body_wrenches[1] = self.thrusters.step(self.clock.now_ns, self.clock.dt, self._com_body)
-        assemble(s.rot, self._body_wrenches, self.marine.world_force, self.marine.world_torque, self._xfrc)
-        self.data.xfrc_applied[self._body_ids] = self._xfrc
-
-    def _raise_divergence(self) -> None:
-        """Name the body whose degree of freedom MuJoCo found non-finite (its warning's info field)."""
-        for kind in (BAD_QPOS, BAD_QVEL, BAD_QACC):
-            warning = self.data.warning[kind]
-            if warning.number > 0:
-                dof = min(max(warning.lastinfo, 0), self.model.nv - 1)
-                body = max(int(self.model.dof_bodyid[dof]) - 1, 0)
-                raise DivergenceError(list(self.bodies)[body], self.time, f"({mujoco.mjtWarning(kind).name})")
-
-    # -- state access -------------------------------------------------------------------------
-    def body_quat(self, i: int) -> np.ndarray:
-        a = self._qpos_adr[i]
-        q = self.data.qpos[a + 3 : a + 7]
-        return q / np.linalg.norm(q)
-
-    def origin_velocity(self, i: int) -> np.ndarray:
-        """World-frame velocity of body i's frame origin (m/s)."""
-        a = self._qvel_adr[i]
-        return self.data.qvel[a : a + 3].copy()
-
-    def contacts(self) -> list[tuple[str, str, float]]:
-        """Active contacts as (body name, other body name or 'world', penetration depth m >= 0)."""
-        names = ["world", *self.bodies]
-        out = []
-        for c in self.data.contact[: self.data.ncon]:
-            b1, b2 = self.model.geom_bodyid[c.geom[0]], self.model.geom_bodyid[c.geom[1]]
-            out.append((names[b1], names[b2], max(0.0, -float(c.dist))))
-        return out
 
     # -- outputs ------------------------------------------------------------------------------
     def subscribe(self, callback: Callable[[Envelope], None]) -> Callable[[], None]:
@@ -311,7 +145,7 @@ class Simulation:
     def close(self) -> None:
         """Release sensor resources (render contexts, thread pools)."""
         self.sensors.close()
-        self._overlap.close()
+        self.world.close()
 
     def _emit(self, envelopes: list[Envelope]) -> None:
         for env in envelopes:

@@ -1,8 +1,8 @@
-"""User-facing handles: a floating body's state and a vessel's thrusters (read from the simulation)."""
+"""User-facing handles: a floating body's state and a vessel's thrusters (views of the `World`)."""
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Protocol
 
 import numpy as np
 from pydantic import TypeAdapter
@@ -11,50 +11,70 @@ from usvsim.config.vessel import Buoyancy, Hydrodynamics
 from usvsim.core.transforms import rpy_from_quat
 
 if TYPE_CHECKING:
-    from usvsim.simulation import Simulation
+    from usvsim.hydro.hydrostatics import HullSet, HydrostaticsResult
+    from usvsim.hydro.models import MarineModels
+    from usvsim.hydro.thrusters import ThrusterBank
     from usvsim.vessels.model import BodyModel
+    from usvsim.world.state import BodyState
+
+
+class World(Protocol):
+    """What the handles read: a view of `usvsim.world.world.World`, which satisfies it (and owns them)."""
+
+    state: BodyState
+    thrusters: ThrusterBank
+    hydrostatics: HydrostaticsResult
+    hulls: HullSet
+    marine: MarineModels
+
+    @property
+    def clock_ns(self) -> int: ...
+
+    def body_quat(self, i: int) -> np.ndarray: ...
+
+    def origin_velocity(self, i: int) -> np.ndarray: ...
 
 
 class Thruster:
     """One thruster of a vessel. Commands: normalized thrust u in [-1, 1], azimuth angle in rad (REP 103)."""
 
-    def __init__(self, sim: Simulation, index: int, name: str):
-        self._sim, self._i, self.name = sim, index, name
+    def __init__(self, world: World, index: int, name: str):
+        self._world, self._i, self.name = world, index, name
 
     def command(self, thrust: float, angle_rad: float | None = None) -> bool:
         """Set the command; returns False (and counts it) if rejected: NaN/inf or |thrust| > 1."""
-        return self._sim.thrusters.command(self._i, float(thrust), angle_rad, self._sim.clock_ns)
+        return self._world.thrusters.command(self._i, float(thrust), angle_rad, self._world.clock_ns)
 
     def command_angle(self, angle_rad: float) -> bool:
         """Set only the azimuth command (rad, REP 103); False (counted) if not finite."""
-        return self._sim.thrusters.command_angle(self._i, float(angle_rad))
+        return self._world.thrusters.command_angle(self._i, float(angle_rad))
 
     @property
     def thrust_n(self) -> float:
         """Current thrust (N) after the thruster's dynamics."""
-        return float(self._sim.thrusters.thrust[self._i])
+        return float(self._world.thrusters.thrust[self._i])
 
     @property
     def angle_rad(self) -> float:
         """Current azimuth angle (rad, CCW from the mounting heading)."""
-        return float(self._sim.thrusters.angle[self._i])
+        return float(self._world.thrusters.angle[self._i])
 
 
 class Body:
     """A floating body (vessel or buoy): pose of its frame in the world, twist, hydrostatic outputs."""
 
-    def __init__(self, sim: Simulation, index: int, name: str, model: BodyModel):
-        self._sim, self.index, self.name, self.model = sim, index, name, model
+    def __init__(self, world: World, index: int, name: str, model: BodyModel):
+        self._world, self.index, self.name, self.model = world, index, name, model
 
     @property
     def position(self) -> np.ndarray:
         """Origin of the body frame (base_link) in the world, ENU m."""
-        return self._sim.state.pos[self.index].copy()
+        return self._world.state.pos[self.index].copy()
 
     @property
     def quat(self) -> np.ndarray:
         """Orientation (w, x, y, z), body FLU → world ENU."""
-        return self._sim.body_quat(self.index)
+        return self._world.body_quat(self.index)
 
     @property
     def rpy(self) -> np.ndarray:
@@ -64,40 +84,40 @@ class Body:
     @property
     def velocity_body(self) -> np.ndarray:
         """Linear velocity of the body-frame origin, in the body frame FLU (m/s)."""
-        s = self._sim.state
-        return s.rot[self.index].T @ self._sim.origin_velocity(self.index)
+        s = self._world.state
+        return s.rot[self.index].T @ self._world.origin_velocity(self.index)
 
     @property
     def angular_velocity_body(self) -> np.ndarray:
         """Angular velocity in the body frame FLU (rad/s)."""
-        return self._sim.state.omega_body[self.index].copy()
+        return self._world.state.omega_body[self.index].copy()
 
     @property
     def displaced_volume(self) -> float:
         """Displaced water volume at the last step (m^3)."""
-        return float(self._sim.hydrostatics.volume[self.index])
+        return float(self._world.hydrostatics.volume[self.index])
 
     def waterline(self) -> np.ndarray:
         """Waterline segments (k, 2, 3), world ENU m, from the last step."""
-        return self._sim.hulls.waterline(self.index)
+        return self._world.hulls.waterline(self.index)
 
     @property
     def hydrodynamics(self):
         """The active hydrodynamics model (a config section: state_space, kerner or fossen)."""
-        return self._sim.marine.hydrodynamics[self.index]
+        return self._world.marine.hydrodynamics[self.index]
 
     def set_hydrodynamics(self, model) -> None:
         """Switch the hydrodynamics model now; `model` is a section or a dict like {"type": "kerner"}."""
-        self._sim.marine.set_hydrodynamics(self.index, _validated(model, Hydrodynamics))
+        self._world.marine.set_hydrodynamics(self.index, _validated(model, Hydrodynamics))
 
     @property
     def buoyancy(self):
         """The active buoyancy model (a config section: triangles or voxels)."""
-        return self._sim.marine.buoyancy[self.index]
+        return self._world.marine.buoyancy[self.index]
 
     def set_buoyancy(self, model) -> None:
         """Switch the buoyancy model now; `model` is a section or a dict like {"type": "voxels"}."""
-        self._sim.marine.set_buoyancy(self.index, _validated(model, Buoyancy))
+        self._world.marine.set_buoyancy(self.index, _validated(model, Buoyancy))
 
 
 def _validated(model, annotation):
@@ -110,8 +130,8 @@ def _validated(model, annotation):
 class Vessel(Body):
     """A vessel: a floating body with named thrusters."""
 
-    def __init__(self, sim: Simulation, index: int, name: str, model: BodyModel, thrusters: dict[str, Thruster]):
-        super().__init__(sim, index, name, model)
+    def __init__(self, world: World, index: int, name: str, model: BodyModel, thrusters: dict[str, Thruster]):
+        super().__init__(world, index, name, model)
         self.thrusters = thrusters
 
     def command(self, thrust: float, angle_rad: float | None = None) -> bool:

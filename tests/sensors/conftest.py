@@ -14,7 +14,7 @@ def rig():
 
     def make(*sensor_dicts, **sim_kwargs):
         sim = make_sim(**sim_kwargs)
-        suite = SensorSuite(sim, {"wamv": sensor_configs(*sensor_dicts)})
+        suite = SensorSuite(sim.world, {"wamv": sensor_configs(*sensor_dicts)})
         return sim, suite, Collector(sim, suite)
 
     return make

@@ -20,7 +20,7 @@ CAM = {"type": "camera", "width": 320, "height": 240, "horizontal_fov_deg": 70.0
 @pytest.fixture(scope="module")
 def scene():
     sim = make_sim(objects=(BOX,))
-    suite = SensorSuite(sim, {"wamv": sensor_configs({**CAM, "name": "pin"}, {**CAM, "name": "dist", "distortion": DIST},
+    suite = SensorSuite(sim.world, {"wamv": sensor_configs({**CAM, "name": "pin"}, {**CAM, "name": "dist", "distortion": DIST},
                                                      {"type": "lidar", "name": "lidar", "preset": "os1_128",
                                                       "range_stddev_m": 0.0, "mount": MOUNT})})  # fmt: skip
     sim.run(0.5)
@@ -92,7 +92,7 @@ def test_noise_is_applied_and_seeded():
     cams = sensor_configs({**CAM, "name": "clean", "streams": ["rgb", "depth"]},
                           {**CAM, "name": "noisy", "streams": ["rgb", "depth"], "rgb_noise_stddev": 0.05,
                            "depth_noise_stddev_m": 0.01})  # fmt: skip
-    suite = SensorSuite(sim, {"wamv": cams})
+    suite = SensorSuite(sim.world, {"wamv": cams})
     sim.step()
     try:
         a = {e.topic.split("/", 3)[-1]: e.msg for e in suite["wamv/clean"].sample(sim, 10)}

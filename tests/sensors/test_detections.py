@@ -32,7 +32,7 @@ CAM = {"type": "camera", "width": 320, "height": 240, "horizontal_fov_deg": 70.0
 @pytest.fixture(scope="module")
 def scene():
     sim = make_sim(objects=(TARGET, HIDDEN, WALL, DOCK))
-    suite = SensorSuite(sim, {"wamv": sensor_configs(
+    suite = SensorSuite(sim.world, {"wamv": sensor_configs(
         {**CAM, "name": "pin", "detections": {}}, {**CAM, "name": "dist", "distortion": DIST, "detections": {}},
         {**CAM, "name": "vis", "detections": {"box": "visible", "include_own_vessel": True}},
         {"type": "detections", "name": "detections_3d"},

@@ -19,7 +19,7 @@ MOUNT = {"position": [0.7, 0.0, 1.2]}
 
 def _suite(*sensors, objects=(BOX,)):
     sim = make_sim(objects=objects)
-    suite = SensorSuite(sim, {"wamv": sensor_configs(*sensors)})
+    suite = SensorSuite(sim.world, {"wamv": sensor_configs(*sensors)})
     sim.step()
     return sim, suite
 
@@ -126,7 +126,7 @@ def test_rate_and_motion_distortion_timing():
     sim = make_sim(objects=(BOX,))
     cfgs = sensor_configs({"type": "lidar", "name": "l", "preset": "vlp16", "columns": 360, "rate_hz": 10,
                            "motion_distortion": True, "mount": MOUNT})  # fmt: skip
-    suite = SensorSuite(sim, {"wamv": cfgs})
+    suite = SensorSuite(sim.world, {"wamv": cfgs})
     col = Collector(sim, suite).run(2.0)
     got = col.by_topic["/wamv/l/points"]
     assert len(got) == 20
@@ -141,7 +141,7 @@ def test_distortion_moves_points_of_a_turning_boat():
     sim = make_sim(objects=(BOX,))
     base = {"type": "lidar", "name": "a", "preset": "vlp16", "columns": 720, "organized": True, "range_stddev_m": 0.0,
             "mount": MOUNT}  # fmt: skip
-    suite = SensorSuite(sim, {"wamv": sensor_configs(base, {**base, "name": "b", "motion_distortion": True})})
+    suite = SensorSuite(sim.world, {"wamv": sensor_configs(base, {**base, "name": "b", "motion_distortion": True})})
 
     def turn(sim):
         for t in sim.vessels["wamv"].thrusters.values():
@@ -200,7 +200,7 @@ def test_body_frame_casting_matches_world_posed_geometry():
 
     sim = Simulation.from_scenario("harbor")
     cfg = {"type": "lidar", "name": "l", "preset": "os1_64", "columns": 1024, "range_stddev_m": 0.0}
-    suite = SensorSuite(sim, {"wamv": sensor_configs({**cfg, "mount": {"position": [0.7, 0.0, 1.03], "roll_deg": 3}})})
+    suite = SensorSuite(sim.world, {"wamv": sensor_configs({**cfg, "mount": {"position": [0.7, 0.0, 1.03], "roll_deg": 3}})})
     lidar = suite["wamv/l"]
 
     def turn(sim):

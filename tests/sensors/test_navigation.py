@@ -62,7 +62,7 @@ def test_imu_vrx_bias_walks_and_streams_are_independent():
     def readings(extra):
         sim = make_sim(seed=3)
         cfgs = sensor_configs({"type": "imu", "name": "imu", "preset": "vrx"}, *extra)
-        suite = SensorSuite(sim, {"wamv": cfgs})
+        suite = SensorSuite(sim.world, {"wamv": cfgs})
         out = []
         sim.run(1.0, on_step=lambda s: out.extend(e.msg.angular_velocity.x for e in suite.on_step(s) if "imu" in e.topic))
         return np.array(out), suite["wamv/imu"]
@@ -142,4 +142,4 @@ def test_odometry_noise_and_covariance(rig):
 def test_bad_rate_is_a_scenario_error():
     sim = make_sim()
     with pytest.raises(ScenarioError, match=r"sensors\[0\]\.rate_hz"):
-        SensorSuite(sim, {"wamv": sensor_configs({"type": "imu", "name": "imu", "rate_hz": 33})})
+        SensorSuite(sim.world, {"wamv": sensor_configs({"type": "imu", "name": "imu", "rate_hz": 33})})

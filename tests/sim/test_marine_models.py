@@ -51,7 +51,7 @@ def _restart_with(sc, source: Simulation) -> Simulation:
     sim.data.qpos[:], sim.data.qvel[:] = source.data.qpos, source.data.qvel
     sim.clock.steps, sim.clock.now_ns = source.clock.steps, source.clock.now_ns
     sim.thrusters.thrust[:], sim.thrusters.angle[:] = source.thrusters.thrust, source.thrusters.angle
-    sim._update_kinematics()
+    sim.world._update_kinematics()
     return sim
 
 
@@ -62,13 +62,13 @@ def test_switching_gives_exactly_the_new_models_force(scenario_of, first, second
     difference between the models), with no transient from the switch itself, and no NaN."""
     sim = Simulation(scenario(scenario_of, MODELS[first]))
     sim.run(8.0)
-    before = sim._xfrc.copy()
+    before = sim.world._xfrc.copy()
     sim.vessels["boat"].set_hydrodynamics(MODELS[second])
     reference = _restart_with(scenario(scenario_of, MODELS[second]), sim)
-    reference._apply_marine_wrenches()
-    sim._apply_marine_wrenches()
-    np.testing.assert_allclose(sim._xfrc, reference._xfrc, rtol=1e-9, atol=1e-9)
-    assert np.isfinite(sim._xfrc).all() and not np.allclose(before, sim._xfrc)
+    reference.world._apply_marine_wrenches()
+    sim.world._apply_marine_wrenches()
+    np.testing.assert_allclose(sim.world._xfrc, reference.world._xfrc, rtol=1e-9, atol=1e-9)
+    assert np.isfinite(sim.world._xfrc).all() and not np.allclose(before, sim.world._xfrc)
     sim.run(10.0)
     assert np.isfinite(sim.data.qvel).all()
 
@@ -91,7 +91,7 @@ def test_bad_model_switch_is_a_clear_error(scenario_of):
 
 def test_hydrostatics_beside_kerner_on_a_second_thread_gives_identical_motion(scenario_of, monkeypatch):
     """The overlapped path (hydrostatics on a worker thread while Kerner runs) changes timing, not results."""
-    import usvsim.simulation as simulation
+    import usvsim.world.world as world_module
 
     def trajectory() -> np.ndarray:
         sc = scenario_of({
@@ -99,12 +99,12 @@ def test_hydrostatics_beside_kerner_on_a_second_thread_gives_identical_motion(sc
             "vessels": [{"name": "wamv", "model": "wamv", "hydrodynamics": {"type": "kerner"},
                          "pose": {"position": [0.0, 0.0, 0.2], "roll_deg": 5.0}}],
         })  # fmt: skip
-        sim = simulation.Simulation(sc)
+        sim = Simulation(sc)
         sim.vessels["wamv"].command(0.6, 0.2)
         sim.run(1.0)
         sim.close()
         return sim.data.qpos.copy()
 
     serial = trajectory()
-    monkeypatch.setattr(simulation, "OVERLAP_MIN_FACES", 0)
+    monkeypatch.setattr(world_module, "OVERLAP_MIN_FACES", 0)
     assert np.array_equal(trajectory(), serial)

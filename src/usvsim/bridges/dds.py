@@ -28,9 +28,10 @@ import threading
 from collections import deque
 from typing import TYPE_CHECKING, Any, Literal
 
-from usvsim.bridges import dds_types, queues
+from usvsim.bridges import dds_types
 from usvsim.bridges.dds_config import cyclone_config
 from usvsim.bridges.dds_domain import acquire_domain, release_domain
+from usvsim.core import queues
 from usvsim.messages.envelope import Envelope, QosProfile
 from usvsim.messages.ros import typestore
 

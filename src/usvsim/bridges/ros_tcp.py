@@ -36,7 +36,6 @@ import time
 from collections import deque
 from typing import TYPE_CHECKING, Any
 
-from usvsim.bridges import queues
 from usvsim.bridges.ros_tcp_profiles import make_profile
 from usvsim.bridges.ros_tcp_protocol import (
     KEEPALIVE,
@@ -50,6 +49,7 @@ from usvsim.bridges.ros_tcp_protocol import (
     publish_command,
     subscribe_command,
 )
+from usvsim.core import queues
 
 if TYPE_CHECKING:
     from usvsim.messages.envelope import Envelope

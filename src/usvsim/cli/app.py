@@ -12,13 +12,15 @@ from rich.console import Console
 from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
 from rich.table import Table
 
+from usvsim.cli.errors import console, fail
 from usvsim.cli.geo_map import map_command
 from usvsim.core.errors import UsvsimError
 
 app = typer.Typer(
     add_completion=False, no_args_is_help=True, help="usvsim: unmanned surface vehicle simulator."
 )
-console = Console(stderr=True)
+_fail = fail  # the name command modules used before cli/errors.py
+
 EXPERIMENTS = {
     "sphere": ("usvsim.experiments.sphere", "sphere lowered through flat water: volume vs the analytic cap"),
     "voxel-sphere": (
@@ -39,11 +41,6 @@ EXPERIMENTS = {
         "one hour in sea state 6 with each model: afloat, upright, bounded",
     ),
 }
-
-
-def _fail(exc: Exception) -> None:
-    console.print(f"[bold red]usvsim: error:[/] {exc}", highlight=False, soft_wrap=True)
-    raise typer.Exit(2)
 
 
 @app.command()

@@ -13,7 +13,7 @@ def map_command(
     out: Annotated[Path, typer.Option(help="PNG file to write")] = Path("map.png"),
 ) -> None:
     """Draw a plan view of a scenario (land, depth contours, structures, objects, vessels) to a PNG."""
-    from usvsim.cli.app import _fail
+    from usvsim.cli.errors import fail as _fail
     from usvsim.core.errors import UsvsimError
     from usvsim.geo.plan import draw_plan
     from usvsim.simulation import Simulation

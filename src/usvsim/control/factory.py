@@ -45,11 +45,11 @@ def check_rate(config: cfg.VelocityController, step_ns: int, source: str, key: s
         raise ScenarioError(source, f"{key}.rate_hz", str(exc)) from None
 
 
-def control_loop(sim, vessel_name: str, config: cfg.VelocityController) -> ControlLoop:
+def control_loop(world, vessel_name: str, config: cfg.VelocityController) -> ControlLoop:
     """A ControlLoop for one scenario vessel: velocity controllers start at rest (reference 0), station
     keeping holds its `target` or the vessel's pose at construction."""
-    vessel = sim.vessels[vessel_name]
-    loop = ControlLoop(sim, vessel_name, build_controller(config, vessel.model), config.rate_hz)
+    vessel = world.vessels[vessel_name]
+    loop = ControlLoop(world, vessel_name, build_controller(config, vessel.model), config.rate_hz)
     if isinstance(config, cfg.StationKeeping):
         t = config.target
         if t is None:

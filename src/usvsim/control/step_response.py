@@ -38,7 +38,7 @@ class ClosedLoop:
 
     def kick(self, sway_mps: float, yaw_rate_rad_s: float) -> None:
         """Add a sway velocity and a yaw rate to the vessel (an external disturbance)."""
-        a = self.sim._qvel_adr[0]
+        a = self.sim.world.qvel_adr[0]
         self.sim.data.qvel[a : a + 3] += self.sim.state.rot[0] @ np.array([0.0, sway_mps, 0.0])
         self.sim.data.qvel[a + 5] += yaw_rate_rad_s
 

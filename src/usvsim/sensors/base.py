@@ -23,7 +23,7 @@ from usvsim.messages.envelope import Envelope
 
 if TYPE_CHECKING:
     from usvsim.config.sensors import SensorBase
-    from usvsim.simulation import Simulation
+    from usvsim.world.world import World
 
 # optical frame (z fwd, x right, y down) expressed in the FLU sensor frame: columns are optical axes
 OPTICAL_ROT = np.array([[0.0, 0.0, 1.0], [-1.0, 0.0, 0.0], [0.0, -1.0, 0.0]])
@@ -37,7 +37,7 @@ class Sensor:
     observes_every_step = False
     optical = False
 
-    def __init__(self, cfg: SensorBase, vessel: str, sim: Simulation):
+    def __init__(self, cfg: SensorBase, vessel: str, sim: World):
         self.cfg, self.vessel = cfg, vessel
         self.body = sim.vessels[vessel].index
         self.name = f"{vessel}/{cfg.name}"
@@ -55,7 +55,7 @@ class Sensor:
         self._pending: deque[tuple[int, list[Envelope]]] = deque()
 
     # -- scheduling -------------------------------------------------------------------------------
-    def tick(self, sim: Simulation) -> list[Envelope]:
+    def tick(self, sim: World) -> list[Envelope]:
         """Called after every physics step: observe, sample when due, release what its latency allows."""
         steps, now_ns = sim.clock.steps, sim.clock.now_ns
         if self.observes_every_step:
@@ -80,19 +80,19 @@ class Sensor:
         self._pending.clear()
         self.latest = []
 
-    def observe(self, sim: Simulation) -> None:  # pragma: no cover - overridden where used
+    def observe(self, sim: World) -> None:  # pragma: no cover - overridden where used
         pass
 
-    def sample(self, sim: Simulation, stamp_ns: int) -> list[Envelope]:
+    def sample(self, sim: World, stamp_ns: int) -> list[Envelope]:
         raise NotImplementedError
 
     # -- frames -----------------------------------------------------------------------------------
-    def pose_world(self, sim: Simulation) -> tuple[np.ndarray, np.ndarray]:
+    def pose_world(self, sim: World) -> tuple[np.ndarray, np.ndarray]:
         """Sensor frame origin (ENU, m) and rotation matrix sensor (FLU) → world (ENU)."""
         rot_body = sim.state.rot[self.body]
         return sim.state.pos[self.body] + rot_body @ self.mount_pos, rot_body @ self.mount_rot
 
-    def quat_world(self, sim: Simulation) -> np.ndarray:
+    def quat_world(self, sim: World) -> np.ndarray:
         """Orientation (w, x, y, z) of the sensor frame w.r.t. world ENU."""
         return quat_multiply(sim.body_quat(self.body), self.mount_quat)
 

@@ -18,13 +18,13 @@ from usvsim.sensors.objects import TrackedObject, catalogue
 
 if TYPE_CHECKING:
     from usvsim.config.sensors import ObjectFilter
-    from usvsim.simulation import Simulation
+    from usvsim.world.world import World
 
 OBJECTS_KEY = "objects"  # the suite's one object catalogue in `shared`
 WORLD_FRAME = "world"
 
 
-def shared_objects(sim: Simulation, shared: dict) -> list[TrackedObject]:
+def shared_objects(sim: World, shared: dict) -> list[TrackedObject]:
     """The scene's objects, built once per suite."""
     if OBJECTS_KEY not in shared:
         shared[OBJECTS_KEY] = catalogue(sim)
@@ -47,11 +47,11 @@ def quat_of(rot: np.ndarray) -> np.ndarray:
 class Detections3D(Sensor):
     """Oriented 3D boxes of the selected objects in `world` or in the sensor frame, on `/<vessel>/<name>`."""
 
-    def __init__(self, cfg, vessel: str, sim: Simulation, shared: dict):
+    def __init__(self, cfg, vessel: str, sim: World, shared: dict):
         super().__init__(cfg, vessel, sim)
         self.objects = selected(shared_objects(sim, shared), cfg, vessel)
 
-    def boxes(self, sim: Simulation) -> list[tuple[TrackedObject, np.ndarray, np.ndarray]]:
+    def boxes(self, sim: World) -> list[tuple[TrackedObject, np.ndarray, np.ndarray]]:
         """(object, box centre, box axes → output frame rotation) in the output frame, range-filtered."""
         pos, rot = self.pose_world(sim)
         out = []
@@ -64,7 +64,7 @@ class Detections3D(Sensor):
             out.append((obj, center, axes))
         return out
 
-    def sample(self, sim: Simulation, stamp_ns: int) -> list[Envelope]:
+    def sample(self, sim: World, stamp_ns: int) -> list[Envelope]:
         frame = WORLD_FRAME if self.cfg.frame == "world" else self.frame_id
         detections = [detection3d_msg(stamp_ns, frame, obj.name, obj.label, center, quat_of(axes), obj.size_m)
                       for obj, center, axes in self.boxes(sim)]  # fmt: skip

@@ -27,13 +27,13 @@ from usvsim.sensors.noise import TriadNoise
 
 if TYPE_CHECKING:
     from usvsim.config.sensors import Imu as ImuConfig
-    from usvsim.simulation import Simulation
+    from usvsim.world.world import World
 
 
 class Imu(Sensor):
     observes_every_step = True
 
-    def __init__(self, cfg: ImuConfig, vessel: str, sim: Simulation):
+    def __init__(self, cfg: ImuConfig, vessel: str, sim: World):
         super().__init__(cfg, vessel, sim)
         self.topic = cfg.topic or f"/{vessel}/{cfg.name}/data"
         self.dt = sim.clock.dt
@@ -43,22 +43,22 @@ class Imu(Sensor):
         self.accel = TriadNoise(cfg.accel_noise(), dt_sample, self.rng)
         self._v_prev = self._v_now = self._mount_velocity(sim)
 
-    def _mount_velocity(self, sim: Simulation) -> np.ndarray:
+    def _mount_velocity(self, sim: World) -> np.ndarray:
         rot = sim.state.rot[self.body]
         omega_world = rot @ sim.state.omega_body[self.body]
         return sim.origin_velocity(self.body) + np.cross(omega_world, rot @ self.mount_pos)
 
-    def observe(self, sim: Simulation) -> None:
+    def observe(self, sim: World) -> None:
         self._v_prev, self._v_now = self._v_now, self._mount_velocity(sim)
 
-    def true_values(self, sim: Simulation) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    def true_values(self, sim: World) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Exact (quaternion w,x,y,z w.r.t. ENU, gyro rad/s, specific force m/s^2), sensor frame."""
         _, rot_sensor = self.pose_world(sim)
         accel_world = (self._v_now - self._v_prev) / self.dt
         gyro = self.mount_rot.T @ sim.state.omega_body[self.body]
         return self.quat_world(sim), gyro, rot_sensor.T @ (accel_world - self.gravity)
 
-    def sample(self, sim: Simulation, stamp_ns: int) -> list[Envelope]:
+    def sample(self, sim: World, stamp_ns: int) -> list[Envelope]:
         quat, gyro, accel = self.true_values(sim)
         sigma_q = self.cfg.orientation_stddev_rad
         if sigma_q > 0:

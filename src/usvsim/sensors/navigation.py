@@ -23,12 +23,12 @@ from usvsim.sensors.base import Sensor, gaussian
 from usvsim.sensors.messages import navsat_fix_msg, twist_cov_stamped_msg
 
 if TYPE_CHECKING:
-    from usvsim.simulation import Simulation
+    from usvsim.world.world import World
 
 _FIX_STATUS = {"no_fix": -1, "fix": 0, "sbas_fix": 1, "gbas_fix": 2}
 
 
-def mount_velocity_world(sensor: Sensor, sim: Simulation) -> np.ndarray:
+def mount_velocity_world(sensor: Sensor, sim: World) -> np.ndarray:
     """World (ENU) velocity of the sensor's mount point, m/s."""
     rot = sim.state.rot[sensor.body]
     return sim.origin_velocity(sensor.body) + np.cross(rot @ sim.state.omega_body[sensor.body], rot @ sensor.mount_pos)
@@ -39,17 +39,15 @@ def _cov6(linear_var: float, angular_var: float) -> np.ndarray:
 
 
 class Odometry(Sensor):
-    def __init__(self, cfg, vessel: str, sim: Simulation):
+    def __init__(self, cfg, vessel: str, sim: World):
         super().__init__(cfg, vessel, sim)
-        v = sim.vessels[vessel]
-        gt = getattr(sim, "ground_truth", None)
-        self.origin_pos, self.origin_quat = gt.odom_origin[vessel] if gt else (v.position, v.quat)
+        self.origin_pos, self.origin_quat = sim.odom_origin[vessel]
         self.odom_frame, self.child_frame = f"{vessel}/odom", f"{vessel}/base_link"
 
     def static_transforms(self) -> list:
         return []  # odometry refers to base_link itself; GroundTruth owns world → odom and odom → base_link
 
-    def sample(self, sim: Simulation, stamp_ns: int) -> list[Envelope]:
+    def sample(self, sim: World, stamp_ns: int) -> list[Envelope]:
         c, v = self.cfg, sim.vessels[self.vessel]
         inv = quat_conjugate(self.origin_quat)
         pos = matrix_from_quat(inv) @ (v.position - self.origin_pos) + gaussian(self.rng, c.position_stddev_m)
@@ -65,7 +63,7 @@ class Odometry(Sensor):
 
 
 class Gnss(Sensor):
-    def __init__(self, cfg, vessel: str, sim: Simulation):
+    def __init__(self, cfg, vessel: str, sim: World):
         super().__init__(cfg, vessel, sim)
         o = sim.scenario.world.origin
         self.origin = (o.latitude_deg, o.longitude_deg, o.altitude_m)
@@ -94,7 +92,7 @@ class Gnss(Sensor):
         super().reset()
         self.error = None if self.sigma.any() else np.zeros(3)
 
-    def sample(self, sim: Simulation, stamp_ns: int) -> list[Envelope]:
+    def sample(self, sim: World, stamp_ns: int) -> list[Envelope]:
         c, sigma = self.cfg, self.sigma
         pos, _ = self.pose_world(sim)
         noisy = pos + self.position_error()
@@ -108,7 +106,7 @@ class Gnss(Sensor):
 
 
 class GroundTruthPose(Sensor):
-    def sample(self, sim: Simulation, stamp_ns: int) -> list[Envelope]:
+    def sample(self, sim: World, stamp_ns: int) -> list[Envelope]:
         pos, rot = self.pose_world(sim)
         lin = rot.T @ mount_velocity_world(self, sim)
         ang = self.mount_rot.T @ sim.state.omega_body[self.body]

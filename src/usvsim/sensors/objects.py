@@ -25,7 +25,7 @@ from usvsim.world.builder import VISUAL_GROUP
 from usvsim.world.obstacles import static_parts
 
 if TYPE_CHECKING:
-    from usvsim.simulation import Simulation
+    from usvsim.world.world import World
 
 _G = mujoco.mjtGeom
 _RIM = np.linspace(0.0, 2.0 * math.pi, 32, endpoint=False)
@@ -46,7 +46,7 @@ class TrackedObject:
     center_box: np.ndarray
     size_m: np.ndarray  # full extents along the box frame's x, y, z
 
-    def pose_world(self, sim: Simulation) -> tuple[np.ndarray, np.ndarray]:
+    def pose_world(self, sim: World) -> tuple[np.ndarray, np.ndarray]:
         """Box centre (ENU, m) and box axes → world rotation at the simulation's current state."""
         if self.state_index >= 0:
             origin, rot = sim.state.pos[self.state_index], sim.state.rot[self.state_index]
@@ -54,7 +54,7 @@ class TrackedObject:
             origin, rot = self.origin_world, self.rot_world
         return origin + rot @ self.center_box, rot
 
-    def corners_world(self, sim: Simulation) -> np.ndarray:
+    def corners_world(self, sim: World) -> np.ndarray:
         """The box's 8 corners (8, 3) in world ENU."""
         center, rot = self.pose_world(sim)
         signs = np.array([[sx, sy, sz] for sx in (-1, 1) for sy in (-1, 1) for sz in (-1, 1)], dtype=float)
@@ -93,7 +93,7 @@ def _yaw(deg: float) -> np.ndarray:
     return np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
 
 
-def _floating(sim: Simulation, name: str, category: str, label: str) -> TrackedObject:
+def _floating(sim: World, name: str, category: str, label: str) -> TrackedObject:
     m = sim.model
     body = mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_BODY, name)
     geoms = np.flatnonzero((m.geom_bodyid == body) & (m.geom_group == VISUAL_GROUP))
@@ -101,14 +101,14 @@ def _floating(sim: Simulation, name: str, category: str, label: str) -> TrackedO
     return TrackedObject(name, category, label, geoms, body - 1, np.zeros(3), np.eye(3), center, size)
 
 
-def _static(sim: Simulation, obj, geoms: np.ndarray) -> TrackedObject:
+def _static(sim: World, obj, geoms: np.ndarray) -> TrackedObject:
     m = sim.model
     origin, rot = np.asarray(obj.position, float), _yaw(obj.yaw_deg)
     center, size = _box_of(m, geoms, origin, rot)
     return TrackedObject(obj.name, "static", obj.type, geoms, -1, origin, rot, center, size)
 
 
-def catalogue(sim: Simulation) -> list[TrackedObject]:
+def catalogue(sim: World) -> list[TrackedObject]:
     """Every vessel, buoy and static obstacle of the scenario, in scenario order."""
     scenario, m = sim.scenario, sim.model
     out = [_floating(sim, v.name, "vessel", "vessel") for v in scenario.vessels]

@@ -1,8 +1,8 @@
 """`SensorSuite`: every sensor of every vessel, ticked once per physics step by the simulation.
 
-Wiring (in `Simulation`): build it after the vessels, ground truth and RNG exist, call `on_step(sim)`
-after `clock.tick()` and `_update_kinematics()`, and emit what it returns; put `static_transforms()` into
-the one `/tf_static` message together with GroundTruth's.
+Wiring (in `Simulation`): build it from the `World`, call `on_step(world)` after the world's physics step
+(clock tick and kinematics), and emit what it returns; put `static_transforms()` into the one
+`/tf_static` message together with GroundTruth's.
 """
 
 from __future__ import annotations
@@ -18,7 +18,7 @@ from usvsim.sensors.imu import Imu
 from usvsim.sensors.navigation import Gnss, GroundTruthPose, Odometry
 
 if TYPE_CHECKING:
-    from usvsim.simulation import Simulation
+    from usvsim.world.world import World
 
 
 def _lidar(cfg, vessel, sim, shared):
@@ -53,7 +53,7 @@ class SensorSuite:
     """All sensors, keyed `<vessel>/<name>`. `configs` maps vessel name → sensor configs; by default it is
     read from each scenario vessel's `sensors` key."""
 
-    def __init__(self, sim: Simulation, configs: Mapping[str, Sequence[Any]] | None = None):
+    def __init__(self, sim: World, configs: Mapping[str, Sequence[Any]] | None = None):
         if configs is None:
             configs = {v.name: getattr(v, "sensors", None) or () for v in sim.scenario.vessels}
         self.sensors: dict[str, Sensor] = {}
@@ -64,7 +64,7 @@ class SensorSuite:
                 key = f"vessels[{names.index(vessel) if vessel in names else '?'}].sensors[{k}]"
                 self._add(sim, vessel, cfg, key)
 
-    def _add(self, sim: Simulation, vessel: str, cfg: Any, key: str) -> None:
+    def _add(self, sim: World, vessel: str, cfg: Any, key: str) -> None:
         source = getattr(sim.scenario, "_source", sim.scenario.name)
         if vessel not in sim.vessels:
             raise ScenarioError(source, key, f"no vessel named {vessel!r}")
@@ -83,7 +83,7 @@ class SensorSuite:
     def __len__(self) -> int:
         return len(self.sensors)
 
-    def on_step(self, sim: Simulation) -> list[Envelope]:
+    def on_step(self, sim: World) -> list[Envelope]:
         """Call after every physics step (after the clock tick): the messages due now, in sensor order."""
         out: list[Envelope] = []
         for sensor in self.sensors.values():

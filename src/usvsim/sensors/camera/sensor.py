@@ -29,7 +29,7 @@ from usvsim.sensors.detections import selected, shared_objects
 from usvsim.sensors.messages import camera_info_msg, detection_array_msg
 
 if TYPE_CHECKING:
-    from usvsim.simulation import Simulation
+    from usvsim.world.world import World
 
 GL_KEY = "camera/gl"  # the suite's one RenderContext in `shared`, closed by SensorSuite.close()
 
@@ -37,7 +37,7 @@ GL_KEY = "camera/gl"  # the suite's one RenderContext in `shared`, closed by Sen
 class Camera(Sensor):
     optical = True
 
-    def __init__(self, cfg, vessel: str, sim: Simulation, shared: dict):
+    def __init__(self, cfg, vessel: str, sim: World, shared: dict):
         super().__init__(cfg, vessel, sim)
         d = cfg.distortion
         self.intrinsics = Intrinsics.from_fov(cfg.width, cfg.height, cfg.horizontal_fov_deg, (d.k1, d.k2, d.p1, d.p2, d.k3))
@@ -54,7 +54,7 @@ class Camera(Sensor):
         self._rgb_normal = np.empty((cfg.height, cfg.width, 3) if cfg.rgb_noise_stddev > 0 else 0, np.float32)
         self._depth_normal = np.empty((cfg.height, cfg.width) if cfg.depth_noise_stddev_m > 0 else 0, np.float32)
 
-    def render(self, sim: Simulation) -> dict[str, np.ndarray]:
+    def render(self, sim: World) -> dict[str, np.ndarray]:
         """Images of the current state: 'rgb' (H, W, 3) uint8, 'depth' (H, W) float32 m, 'segmentation' uint16
         (the configured streams, and segmentation when detections need it)."""
         pos, rot = self.pose_world(sim)
@@ -79,7 +79,7 @@ class Camera(Sensor):
             images["depth"] += np.float32(c.depth_noise_stddev_m) * self._depth_normal
         return images
 
-    def sample(self, sim: Simulation, stamp_ns: int) -> list[Envelope]:
+    def sample(self, sim: World, stamp_ns: int) -> list[Envelope]:
         images = self._noisy(self.render(sim))
         frame, base, cam = self.optical_frame_id, self.topic, self.intrinsics
         info = camera_info_msg(stamp_ns, frame, cam.width, cam.height, cam.K, cam.D)
@@ -97,7 +97,7 @@ class Camera(Sensor):
             out.append(Envelope(f"{base}/detections", stamp_ns, self._detections(sim, images["segmentation"], stamp_ns)))
         return out
 
-    def _detections(self, sim: Simulation, seg: np.ndarray, stamp_ns: int):
+    def _detections(self, sim: World, seg: np.ndarray, stamp_ns: int):
         pos, rot = self.pose_world(sim)
         frame = self.optical_frame_id
         boxes = self.boxes.detections(sim, seg, pos, rot @ OPTICAL_ROT, stamp_ns, frame)

@@ -38,14 +38,14 @@ from usvsim.sensors.messages import POINT_DTYPE, laser_scan_msg, point_cloud2_ms
 from usvsim.sensors.navigation import mount_velocity_world
 
 if TYPE_CHECKING:
-    from usvsim.simulation import Simulation
+    from usvsim.world.world import World
 
 GROUPS = {"visual": 1, "collision": 3}
 WATER = -2  # geom id of a water return
 _NO_DRAWS = np.zeros(0)
 
 
-def reflectivities(sim: Simulation, overrides: dict[str, float]) -> np.ndarray:
+def reflectivities(sim: World, overrides: dict[str, float]) -> np.ndarray:
     """Per MuJoCo geom reflectivity in [0.05, 1] (+ water at index WATER)."""
     m = sim.model
     luminance = m.geom_rgba[:, :3] @ np.array([0.2126, 0.7152, 0.0722])
@@ -68,7 +68,7 @@ def rotations(rotvecs: np.ndarray) -> np.ndarray:
 
 
 class Lidar(Sensor):
-    def __init__(self, cfg, vessel: str, sim: Simulation, shared: dict):
+    def __init__(self, cfg, vessel: str, sim: World, shared: dict):
         super().__init__(cfg, vessel, sim)
         self.pattern = p = patterns.resolve(cfg)
         self.azimuths, self.increment = patterns.azimuths(p)
@@ -90,7 +90,7 @@ class Lidar(Sensor):
         self.reflectivity[WATER] = cfg.water_reflectivity
         self.sweep_s = self.every * sim.clock.dt
 
-    def _rays(self, sim: Simulation) -> tuple[np.ndarray, np.ndarray, int, np.ndarray]:
+    def _rays(self, sim: World) -> tuple[np.ndarray, np.ndarray, int, np.ndarray]:
         """World origins (n, 3), directions (n, 3), header stamp offset (ns), per-point time (s)."""
         origin, rot = self.pose_world(sim)
         if not self.cfg.motion_distortion:
@@ -117,7 +117,7 @@ class Lidar(Sensor):
             self._own_hits = self.world.cast_in_body(self._own_scene, origins_body, dirs_body, max_range)
         return self.world.cast(origins, dirs, max_range, prior=self._own_hits, skip=self._own_scene)
 
-    def measure(self, sim: Simulation) -> tuple[np.ndarray, np.ndarray, int, np.ndarray]:
+    def measure(self, sim: World) -> tuple[np.ndarray, np.ndarray, int, np.ndarray]:
         """Ranges (n,) m with +inf for no return, intensities (n,), stamp offset ns, point times (n,) s."""
         p, cfg = self.pattern, self.cfg
         origins, dirs, offset_ns, times = self._rays(sim)
@@ -138,7 +138,7 @@ class Lidar(Sensor):
         kernels.noisy_returns(dist, geom, cos_inc, noise, np.float32(p.range_stddev_m), self.reflectivity, intensity)
         return dist, intensity, offset_ns, times
 
-    def sample(self, sim: Simulation, stamp_ns: int) -> list[Envelope]:
+    def sample(self, sim: World, stamp_ns: int) -> list[Envelope]:
         dist, intensity, offset_ns, times = self.measure(sim)
         stamp = stamp_ns + offset_ns
         if self.pattern.output == "scan":

@@ -1,4 +1,5 @@
-"""Commands into a running simulation from any bridge (DDS, ROS-TCP, Foxglove) or thread.
+"""Commands into a running simulation from any bridge (DDS, ROS-TCP, Foxglove) or thread. The inbox belongs
+to the loop (`Simulation.commands`); it works on the `World`, the loop's controllers and its reset.
 
 Command topics (absolute ROS names; `<v>` a vessel, `<t>` one of its thrusters):
 
@@ -24,13 +25,14 @@ from __future__ import annotations
 import math
 import threading
 from collections import deque
+from collections.abc import Callable
 from typing import TYPE_CHECKING, Any
 
-from usvsim.bridges import queues
+from usvsim.core import queues
 from usvsim.messages.ros import typestore
 
 if TYPE_CHECKING:
-    from usvsim.simulation import Simulation
+    from usvsim.world.world import World
 
 FLOAT64, TWIST, EMPTY = "std_msgs/msg/Float64", "geometry_msgs/msg/Twist", "std_msgs/msg/Empty"
 QUEUE_LIMIT = 1024  # commands waiting for the next step; the oldest is dropped beyond this
@@ -40,11 +42,11 @@ STAT_KEYS = ("received", "applied", "rejected", "malformed", "unknown", "dropped
 class CommandInbox:
     """Thread-safe command queue of one simulation; `topics` maps each command topic to its ROS type."""
 
-    def __init__(self, sim: Simulation):
-        self._sim = sim
+    def __init__(self, world: World, controllers: dict[str, Any], reset: Callable[[], None]):
+        self._world, self._controllers, self._reset = world, controllers, reset
         self.topics: dict[str, str] = {"/reset": EMPTY}
         self._targets: dict[str, tuple[str, str, str | None]] = {"/reset": ("reset", "", None)}
-        for vname, vessel in sim.vessels.items():
+        for vname, vessel in world.vessels.items():
             self.topics[f"/{vname}/cmd_vel"] = TWIST
             self._targets[f"/{vname}/cmd_vel"] = ("cmd_vel", vname, None)
             for tname in vessel.thrusters:
@@ -105,44 +107,44 @@ class CommandInbox:
             self._count("applied" if ok else "rejected")
 
     def _execute(self, kind: str, vessel: str, thruster: str | None, value: Any) -> bool:
-        sim = self._sim
+        world, controllers = self._world, self._controllers
         if kind == "reset":
             self._velocity_deadline_ns.clear()
             for name in self._created_loops:
-                sim.controllers.pop(name, None)
+                controllers.pop(name, None)
             self._created_loops.clear()
             for name, reference in self._held_references.items():
-                sim.controllers[name].reference = reference
+                controllers[name].reference = reference
             self._held_references.clear()
-            sim.reset()
+            self._reset()
             return True
         if kind == "thrust":
-            return sim.vessels[vessel].thrusters[thruster].command(value)
+            return world.vessels[vessel].thrusters[thruster].command(value)
         if kind == "angle":
-            return sim.vessels[vessel].thrusters[thruster].command_angle(value)
-        loop = sim.controllers.get(vessel)
+            return world.vessels[vessel].thrusters[thruster].command_angle(value)
+        loop = controllers.get(vessel)
         if loop is None:
-            loop = sim.controllers[vessel] = _default_velocity_loop(sim, vessel)
+            loop = controllers[vessel] = _default_velocity_loop(world, vessel)
             self._created_loops.add(vessel)
         elif vessel not in self._created_loops:
             self._held_references.setdefault(vessel, loop.reference)
         loop.reference, loop.force = value, None
-        timeout_s = sim.scenario.vessels[sim.vessels[vessel].index].command_timeout_s
+        timeout_s = world.scenario.vessels[world.vessels[vessel].index].command_timeout_s
         if timeout_s > 0:
-            self._velocity_deadline_ns[vessel] = sim.clock_ns + round(timeout_s * 1e9)
+            self._velocity_deadline_ns[vessel] = world.clock_ns + round(timeout_s * 1e9)
         return True
 
     def _expire_velocity_commands(self) -> None:
-        now = self._sim.clock_ns
+        now = self._world.clock_ns
         for vessel, deadline in list(self._velocity_deadline_ns.items()):
             if now <= deadline:
                 continue
             del self._velocity_deadline_ns[vessel]
             if vessel in self._created_loops:
                 self._created_loops.discard(vessel)
-                self._sim.controllers.pop(vessel, None)
+                self._controllers.pop(vessel, None)
             elif vessel in self._held_references:
-                self._sim.controllers[vessel].reference = self._held_references.pop(vessel)
+                self._controllers[vessel].reference = self._held_references.pop(vessel)
 
 
 def _value(kind: str, msg: Any):
@@ -158,10 +160,10 @@ def _value(kind: str, msg: Any):
     return nu if all(math.isfinite(v) for v in nu) else None
 
 
-def _default_velocity_loop(sim: Simulation, vessel: str):
+def _default_velocity_loop(world: World, vessel: str):
     """A velocity controller with gains derived from the vessel, at 20 Hz (or the nearest whole step count)."""
     from usvsim.config.control import VelocityController
     from usvsim.control.factory import control_loop
 
-    rate_hz = 1e9 / (max(1, round(50_000_000 / sim.clock.step_ns)) * sim.clock.step_ns)
-    return control_loop(sim, vessel, VelocityController(rate_hz=rate_hz))
+    rate_hz = 1e9 / (max(1, round(50_000_000 / world.clock.step_ns)) * world.clock.step_ns)
+    return control_loop(world, vessel, VelocityController(rate_hz=rate_hz))

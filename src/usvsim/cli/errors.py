@@ -1,0 +1,14 @@
+"""How every CLI command reports a usvsim error: one line on stderr, exit status 2. Command modules import
+`fail` from here (not from `cli.app`, which imports them: that would be an import cycle)."""
+
+from __future__ import annotations
+
+import typer
+from rich.console import Console
+
+console = Console(stderr=True)
+
+
+def fail(exc: Exception) -> None:
+    console.print(f"[bold red]usvsim: error:[/] {exc}", highlight=False, soft_wrap=True)
+    raise typer.Exit(2)

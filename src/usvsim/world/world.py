@@ -1,0 +1,244 @@
+"""The World: the one owner of simulation state. Clock, random streams, MuJoCo model and data, body
+kinematics, the ocean (waves, wind, current), hull sets, marine models and thrusters live here.
+
+Sensors, controllers, ground truth and the vessel/thruster handles take a `World` (a narrow view, as
+dm_control's tasks take `Physics`), never the loop (`usvsim.simulation.Simulation`, which orders the step,
+applies commands and feeds subscribers). One physics step of the world (`step_physics`): ocean advanced →
+hull vertices → water heights (direct or patch) → hydrostatics (one batched kernel) → relative velocities
+→ each body's buoyancy and hydrodynamics models + wind (hydro/models.py) → thruster dynamics → wrenches
+into MuJoCo (`xfrc_applied`, world frame, about each CoM) → `mj_step` (divergence check) → clock tick →
+body kinematics.
+"""
+
+from __future__ import annotations
+
+import math
+
+import mujoco
+import numpy as np
+
+from usvsim.config.loader import base_dir, source_of
+from usvsim.config.objects import Buoy
+from usvsim.config.scenario import Scenario
+from usvsim.config.vessel import TriangleBuoyancy
+from usvsim.core.clock import Clock, period_ns
+from usvsim.core.errors import DivergenceError
+from usvsim.core.overlap import Overlap
+from usvsim.core.rng import RngStreams
+from usvsim.core.transforms import quat_from_rpy
+from usvsim.geo.parts import GeoParts, geo_parts, set_clip_planes
+from usvsim.geo.resolve import load_place, resolve_geo, with_local_depth
+from usvsim.hydro.hydrostatics import HullSet
+from usvsim.hydro.models import MarineModels
+from usvsim.hydro.thrusters import ThrusterBank
+from usvsim.hydro.wrenches import assemble, body_kinematics, relative_velocity_body
+from usvsim.ocean import build_ocean
+from usvsim.ocean.patch import WaterPatch
+from usvsim.vessel import Body, Thruster, Vessel
+from usvsim.vessels import buoy
+from usvsim.vessels.library import vessel_model
+from usvsim.world.builder import FloatingBody, build_model
+from usvsim.world.obstacles import static_parts
+from usvsim.world.state import BodyState
+
+OVERLAP_MIN_FACES = 8000  # below this the thread hand-off costs more than overlapping the two kernels saves
+BAD_QPOS, BAD_QVEL, BAD_QACC = (int(mujoco.mjtWarning.mjWARN_BADQPOS), int(mujoco.mjtWarning.mjWARN_BADQVEL),
+                                int(mujoco.mjtWarning.mjWARN_BADQACC))  # fmt: skip
+
+
+class World:
+    """The state of one scenario: physics, ocean, bodies, thrusters, clock. `seed` drives every random stream."""
+
+    def __init__(self, scenario: Scenario, seed: int = 0):
+        scenario = resolve_geo(scenario)
+        self.place = load_place(scenario)  # a real place (geo/), or None
+        scenario = with_local_depth(scenario, self.place)
+        self.scenario, self.seed = scenario, int(seed)
+        self.rng = RngStreams(self.seed)
+        world = scenario.world
+        self.rho, self.g, self.rho_air = (
+            world.water_density_kgpm3,
+            world.gravity_mps2,
+            world.air_density_kgpm3,
+        )
+        self.clock = Clock(period_ns(world.physics_rate_hz))
+        self.look = scenario.rendering  # the current look (config/rendering.py); cameras read it every frame
+        self.ocean = build_ocean(scenario.environment, self.rng.get("ocean"), dt_s=self.clock.dt)
+        floating = self._floating_bodies()
+        static = static_parts(scenario.objects, base_dir(scenario), source_of(scenario))
+        geo = geo_parts(self.place) if self.place else GeoParts([], [])
+        self.model = build_model(floating, static, self.clock.dt, self.g, geo.visual, geo.collision)
+        if self.place:
+            set_clip_planes(self.model, self.place.settings.extent_m)
+        self.data = mujoco.MjData(self.model)
+        self._overlap = Overlap()
+        self._init_physics(floating)
+        self._init_handles(floating)
+        self.odom_origin = {
+            name: (v.position, v.quat) for name, v in self.vessels.items()
+        }  # ground truth's odom
+
+    # -- construction -------------------------------------------------------------------------
+    def _floating_bodies(self) -> list[FloatingBody]:
+        out, source = [], source_of(self.scenario)
+        for i, v in enumerate(self.scenario.vessels):
+            model = vessel_model(v, i, base_dir(self.scenario), source)
+            quat = quat_from_rpy(
+                *(math.radians(a) for a in (v.pose.roll_deg, v.pose.pitch_deg, v.pose.yaw_deg))
+            )
+            out.append(FloatingBody(v.name, model, v.pose.position, tuple(quat)))
+        for obj in self.scenario.objects:
+            if isinstance(obj, Buoy):
+                x, y, _ = obj.position
+                m = obj.mooring
+                anchor = (x, y, -m.water_depth_m) if m else None
+                length = m.scope * m.water_depth_m if m else 0.0
+                out.append(FloatingBody(obj.name, buoy.build(obj), obj.position, (1.0, 0.0, 0.0, 0.0),
+                                        anchor, length, obj.radius_m))  # fmt: skip
+        return out
+
+    def _init_physics(self, floating: list[FloatingBody]) -> None:
+        m, n = self.model, len(floating)
+        self._body_ids = np.arange(1, n + 1)
+        joints = m.body_jntadr[self._body_ids]
+        self.qpos_adr, self.qvel_adr = m.jnt_qposadr[joints].copy(), m.jnt_dofadr[joints].copy()
+        self.hulls = HullSet([(fb.model.hull.vertices, fb.model.hull.faces) for fb in floating])
+        self._com_body = np.array([fb.model.com for fb in floating], dtype=float).reshape(n, 3)
+        self._body_wrenches = np.zeros((2, n, 6))  # body-frame: marine (damping + wind), thrust
+        self._xfrc = np.zeros((n, 6))
+        self._air = np.zeros((n, 3))
+        self._warnings = self.data.warning.number  # a live view of MuJoCo's warning counters
+        self.state = BodyState(n)
+        entries, timeouts = [], np.zeros(n)
+        for i, v in enumerate(self.scenario.vessels):
+            timeouts[i] = v.command_timeout_s
+            entries += [(i, f"{v.name}/{t.name}", t) for t in floating[i].model.thrusters]
+        self.thrusters = ThrusterBank(entries, n, timeouts)
+        self._patches = {i: WaterPatch(self.ocean, v.water_sampling.resolution, v.water_sampling.margin_m)
+                         for i, v in enumerate(self.scenario.vessels) if v.water_sampling.mode == "patch"}  # fmt: skip
+        self._direct_vertices = ~np.isin(self.hulls.vert_body, list(self._patches))
+        vessels = self.scenario.vessels
+        buoyancy = [v.buoyancy for v in vessels] + [TriangleBuoyancy()] * (n - len(vessels))
+        hydro = [v.hydrodynamics or fb.model.drag for v, fb in zip(vessels, floating)]
+        hydro += [fb.model.drag for fb in floating[len(vessels) :]]
+        self.marine = MarineModels([fb.model for fb in floating], buoyancy, hydro, self.hulls, self.model,
+                                   self.qvel_adr, self.rho, self.g, self.rho_air)  # fmt: skip
+        self._update_kinematics()
+        self.hydrostatics = self._hydrostatics()
+
+    def _init_handles(self, floating: list[FloatingBody]) -> None:
+        self.vessels: dict[str, Vessel] = {}
+        self.bodies: dict[str, Body] = {}
+        for i, fb in enumerate(floating):
+            if i < len(self.scenario.vessels):
+                handles = {n.split("/", 1)[1]: Thruster(self, k, n) for k, n in enumerate(self.thrusters.names)
+                           if self.thrusters.body[k] == i}  # fmt: skip
+                self.bodies[fb.name] = self.vessels[fb.name] = Vessel(self, i, fb.name, fb.model, handles)
+            else:
+                self.bodies[fb.name] = Body(self, i, fb.name, fb.model)
+
+    # -- time ---------------------------------------------------------------------------------
+    @property
+    def time(self) -> float:
+        """Simulation time in seconds (float); `clock_ns` is exact."""
+        return self.clock.seconds
+
+    @property
+    def clock_ns(self) -> int:
+        return self.clock.now_ns
+
+    def step_physics(self) -> None:
+        """Advance the physics one step: marine and thrust wrenches, `mj_step`, clock tick, kinematics."""
+        self._apply_marine_wrenches()
+        mujoco.mj_step(self.model, self.data)
+        w = self._warnings  # MuJoCo resets the state on NaN/inf and only counts a warning
+        if w[BAD_QPOS] or w[BAD_QVEL] or w[BAD_QACC]:
+            self._raise_divergence()
+        self.clock.tick()
+        self._update_kinematics()
+
+    def reset(self) -> None:
+        """Back to the scenario's initial state at t = 0 (bodies, thrusters, clock)."""
+        mujoco.mj_resetData(self.model, self.data)
+        self.clock.reset()
+        self.look = self.scenario.rendering
+        self.thrusters.reset()
+        self.marine.reset()
+        self._update_kinematics()
+        self.hydrostatics = self._hydrostatics()
+
+    def close(self) -> None:
+        self._overlap.close()
+
+    # -- physics ------------------------------------------------------------------------------
+    def _update_kinematics(self) -> None:
+        s = self.state
+        body_kinematics(self.data.qpos, self.data.qvel, self.qpos_adr, self.qvel_adr, self._com_body,
+                        s.pos, s.rot, s.com_world, s.vcom_world, s.omega_body)  # fmt: skip
+
+    def _hydrostatics(self):
+        s, t = self.state, self.clock.seconds
+        verts = self.hulls.world_vertices(s.pos, s.rot)
+        return self.hulls.compute(verts, self._water_heights(verts, t), s.com_world, self.rho, self.g)
+
+    def _water_heights(self, verts: np.ndarray, t: float) -> np.ndarray:
+        """Water surface z (m) above every hull vertex: queried directly, or from each patch vessel's grid."""
+        if not self._patches:
+            return self.ocean.elevation(verts[:, 0], verts[:, 1], t)
+        eta = np.empty(len(verts))
+        direct = self._direct_vertices
+        eta[direct] = self.ocean.elevation(verts[direct, 0], verts[direct, 1], t)
+        for i, patch in self._patches.items():
+            a, b = self.hulls.vert_offsets[i], self.hulls.vert_offsets[i + 1]
+            patch.update(verts[a:b, :2], t)
+            eta[a:b] = patch.water_height(verts[a:b, 0], verts[a:b, 1])
+        return eta
+
+    def _apply_marine_wrenches(self) -> None:
+        s, t = self.state, self.clock.seconds
+        self.ocean.advance(t)
+        verts = self.hulls.world_vertices(s.pos, s.rot)
+        eta = self._water_heights(verts, t)
+        args = (verts, eta, s.com_world, self.rho, self.g)
+        if self.marine.has_kerner and len(self.hulls.faces) >= OVERLAP_MIN_FACES:  # both kernels on two cores
+            hydrostatics = self._overlap.submit(self.hulls.compute, *args)
+        else:
+            hydrostatics = self.hulls.compute(*args)
+        water = self.ocean.velocity(s.com_world[:, 0], s.com_world[:, 1], s.com_world[:, 2], t)
+        relative_velocity_body(s.rot, s.vcom_world, s.omega_body, water, s.nu)
+        self._air[:] = self.ocean.wind_velocity(t)  # one wind for every body, no allocation per step
+        self.hydrostatics = self.marine.compute(s, hydrostatics, verts, eta, self.ocean, t, self.clock.dt, water,
+                                                self._air)  # fmt: skip
+        self._body_wrenches[0] = self.marine.body_wrench
+        self._body_wrenches[1] = self.thrusters.step(self.clock.now_ns, self.clock.dt, self._com_body)
+        assemble(s.rot, self._body_wrenches, self.marine.world_force, self.marine.world_torque, self._xfrc)
+        self.data.xfrc_applied[self._body_ids] = self._xfrc
+
+    def _raise_divergence(self) -> None:
+        """Name the body whose degree of freedom MuJoCo found non-finite (its warning's info field)."""
+        for kind in (BAD_QPOS, BAD_QVEL, BAD_QACC):
+            warning = self.data.warning[kind]
+            if warning.number > 0:
+                dof = min(max(warning.lastinfo, 0), self.model.nv - 1)
+                body = max(int(self.model.dof_bodyid[dof]) - 1, 0)
+                raise DivergenceError(list(self.bodies)[body], self.time, f"({mujoco.mjtWarning(kind).name})")
+
+    # -- state access -------------------------------------------------------------------------
+    def body_quat(self, i: int) -> np.ndarray:
+        a = self.qpos_adr[i]
+        q = self.data.qpos[a + 3 : a + 7]
+        return q / np.linalg.norm(q)
+
+    def origin_velocity(self, i: int) -> np.ndarray:
+        """World-frame velocity of body i's frame origin (m/s)."""
+        a = self.qvel_adr[i]
+        return self.data.qvel[a : a + 3].copy()
+
+    def contacts(self) -> list[tuple[str, str, float]]:
+        """Active contacts as (body name, other body name or 'world', penetration depth m >= 0)."""
+        names = ["world", *self.bodies]
+        out = []
+        for c in self.data.contact[: self.data.ncon]:
+            b1, b2 = self.model.geom_bodyid[c.geom[0]], self.model.geom_bodyid[c.geom[1]]
+            out.append((names[b1], names[b2], max(0.0, -float(c.dist))))
+        return out
