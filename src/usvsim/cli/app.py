@@ -14,6 +14,7 @@ from rich.table import Table
 
 from usvsim.cli.errors import console, fail
 from usvsim.cli.geo_map import map_command
+from usvsim.cli.task import task as task_command
 from usvsim.core.errors import UsvsimError
 
 app = typer.Typer(
@@ -220,6 +221,7 @@ def experiment(
 
 
 app.command("map")(map_command)
+app.command("task")(task_command)
 
 
 def main() -> None:

@@ -1,0 +1,147 @@
+"""A task: a scenario (WAM-V + objects + a difficulty's sea and wind), a scorer updated every physics step,
+VRX's task info, and the features a learning agent observes.
+
+Lifecycle: `Task(difficulty, seed)` → `scenario()` → `bind(sim)` → `update()` after every physics step
+(`score`, `finished`, `info()`); `reset(seed)` re-samples the layout (goals only: objects are fixed per
+level, as in VRX's worlds) and clears the scorer. Frames: world ENU (m), yaw rad CCW from east.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from usvsim.config.scenario import Scenario
+from usvsim.tasks import levels
+from usvsim.tasks.timing import CollisionCounter, TaskTiming
+
+VESSEL = "wamv"
+
+
+class Task:
+    name = ""  # usvsim name (registry key); vrx_name is VRX's task_name
+    vrx_name = ""
+    higher_is_better = False
+    collision_buffer_s = 3.0
+    n_features = 0
+
+    def __init__(self, difficulty: int = 0, seed: int = 0, timing: TaskTiming | None = None,
+                 sea_state: int | None = None):  # fmt: skip
+        self.difficulty, self.sea_state = int(difficulty), sea_state
+        self.timing = timing or TaskTiming()
+        self.environment = levels.environment(self.difficulty, sea_state)
+        self.collisions = CollisionCounter(self.collision_buffer_s)
+        self.sim, self.seed = None, int(seed)
+        self.sample(np.random.default_rng(self.seed))
+
+    # -- scene -------------------------------------------------------------------------------
+    def objects(self) -> list[dict]:
+        """Scenario `objects` (fixed per difficulty)."""
+        return []
+
+    def sample(self, rng: np.random.Generator) -> None:
+        """Draw the layout (goals) from a seed and build the scorer."""
+        raise NotImplementedError
+
+    def scenario(self, extra_vessel: dict | None = None) -> Scenario:
+        vessel = {"name": VESSEL, "model": "wamv", **(extra_vessel or {})}
+        return Scenario.model_validate({
+            "version": 1, "name": f"{self.name}_{self.difficulty}",
+            "description": f"VRX {self.vrx_name} task, difficulty {self.difficulty} ({levels.LEVELS[self.difficulty]})",
+            "environment": self.environment, "vessels": [vessel], "objects": self.objects(),
+            "outputs": {"tf": {"world_to_odom": False}}})  # fmt: skip
+
+    # -- running ----------------------------------------------------------------------------
+    def bind(self, sim) -> None:
+        self.sim = sim
+        self.index = sim.vessels[VESSEL].index
+        self.body_id = int(sim._body_ids[self.index])
+        self.object_index = {name: b.index for name, b in sim.bodies.items()}
+        self.clear()
+
+    def reset(self, seed: int | None = None) -> None:
+        if seed is not None:
+            self.seed = int(seed)
+            self.sample(np.random.default_rng(self.seed))
+        self.clear()
+
+    def clear(self) -> None:
+        self.collisions.reset()
+        self._finished = False
+
+    def pose(self) -> tuple[float, float, float]:
+        """Vessel base_link x, y (world ENU, m) and yaw (rad)."""
+        s = self.sim.state
+        p, r = s.pos[self.index], s.rot[self.index]
+        return float(p[0]), float(p[1]), math.atan2(r[1, 0], r[0, 0])
+
+    def object_xy(self, name: str) -> tuple[float, float]:
+        p = self.sim.state.pos[self.object_index[name]]
+        return float(p[0]), float(p[1])
+
+    def in_contact(self) -> bool:
+        d, m = self.sim.data, self.sim.model
+        if d.ncon == 0:
+            return False
+        geoms = d.contact.geom[: d.ncon]
+        return bool(np.any(m.geom_bodyid[geoms] == self.body_id))
+
+    @property
+    def state(self) -> str:
+        return self.timing.state(self.sim.time, self._finished)
+
+    @property
+    def elapsed_s(self) -> float:
+        return max(0.0, self.sim.time - self.timing.start_s)
+
+    def update(self) -> None:
+        """Call after every physics step."""
+        if self.state != "running":
+            return
+        if self.in_contact() and self.collisions.update(self.sim.time, True):
+            self.on_collision()
+        self.score_step(*self.pose())
+
+    def score_step(self, x_m: float, y_m: float, yaw_rad: float) -> None:
+        raise NotImplementedError
+
+    def on_collision(self) -> None:
+        pass
+
+    @property
+    def score(self) -> float:
+        raise NotImplementedError
+
+    @property
+    def finished(self) -> bool:
+        return self.state == "finished"
+
+    def info(self) -> dict:
+        """VRX `/vrx/task/info` fields."""
+        t, start = self.sim.time, self.timing.start_s
+        return {"name": self.vrx_name, "state": self.state, "ready_time": self.timing.initial_s,
+                "running_time": start, "elapsed_time": self.elapsed_s,
+                "remaining_time": max(0.0, start + self.timing.running_s - t),
+                "timed_out": t >= start + self.timing.running_s, "num_collisions": self.collisions.count,
+                "score": float(self.score)}  # fmt: skip
+
+    # -- learning ---------------------------------------------------------------------------
+    def features(self) -> np.ndarray:
+        """Task features for a state observation (body-frame goal offsets etc.), length n_features."""
+        return np.zeros(0)
+
+    def reward(self) -> float:
+        """Shaped reward for the last control period (see docs/tasks.md)."""
+        return 0.0
+
+    def reference_target(self):
+        """What the built-in solution steers to now: a `Pose2D` (or None to stop)."""
+        return None
+
+
+def body_offset(x_m, y_m, yaw_rad, gx, gy) -> tuple[float, float]:
+    """A world point (gx, gy) in the vessel's planar body frame (x forward, y left), m."""
+    dx, dy = gx - x_m, gy - y_m
+    c, s = math.cos(yaw_rad), math.sin(yaw_rad)
+    return c * dx + s * dy, -s * dx + c * dy

@@ -1,0 +1,136 @@
+"""Gymnasium environments for the VRX tasks (`gymnasium.make("usvsim/StationKeeping-v0", ...)`).
+
+One env step = one control period (10 Hz: 10 physics steps at 100 Hz); the task is scored at every physics
+step as VRX does. Actions (normalized to [-1, 1]):
+- `thrusters`: one normalized thrust per thruster (the vessel's own thrust map and dynamics apply);
+- `velocity`: (u, v, r) references for base_link, body FLU, scaled by `VELOCITY_SCALE`, tracked by
+  usvsim's velocity controller and thrust allocator.
+Observation `state` (float32): base_link velocity (u, v m/s, r rad/s, body FLU), roll and pitch (rad),
+thrusts / their maxima, then the task's features (goal offsets in the body frame, see docs/tasks.md).
+`terminated`: the task finished (course done, all animals circled); `truncated`: the time limit.
+Reward: the task's shaping (station keeping: minus the mean VRX pose error of the period).
+`reset(seed=s)` re-samples the task (goals) from s and restarts the simulation with seed s.
+"""
+
+from __future__ import annotations
+
+import gymnasium as gym
+import numpy as np
+from gymnasium import spaces
+
+from usvsim.core.clock import steps_per_period
+from usvsim.tasks.library import TASKS
+from usvsim.tasks.timing import TaskTiming
+
+VELOCITY_SCALE = np.array([2.0, 1.0, 0.5])  # m/s, m/s, rad/s at action ±1
+OBSERVATIONS = ("state",)
+
+
+def limit_numba_threads(threads: int | None) -> None:
+    """One environment per process: numba's pool at `threads` (None leaves it as it is)."""
+    if threads is not None:
+        import numba
+
+        numba.set_num_threads(min(threads, numba.config.NUMBA_NUM_THREADS))
+
+
+class TaskEnv(gym.Env):
+    metadata = {"render_modes": ["rgb_array"], "render_fps": 10}
+
+    def __init__(self, task: str = "station_keeping", difficulty: int = 0, action_type: str = "thrusters",
+                 observation=("state",), control_rate_hz: float = 10.0, time_limit_s: float = 60.0,
+                 sea_state: int | None = None, render_mode: str | None = None, numba_threads: int | None = 1):  # fmt: skip
+        from usvsim.simulation import Simulation
+
+        observation = (observation,) if isinstance(observation, str) else tuple(observation)
+        if task not in TASKS or action_type not in ("thrusters", "velocity") or set(observation) - set(OBSERVATIONS):
+            raise ValueError(f"task in {list(TASKS)}, action_type thrusters|velocity, observation in {OBSERVATIONS}")
+        limit_numba_threads(numba_threads)
+        self.render_mode, self.action_type = render_mode, action_type
+        self.task = TASKS[task](difficulty, 0, TaskTiming(running_s=time_limit_s), sea_state)
+        self._scenario = self.task.scenario()
+        self.sim = Simulation(self._scenario, seed=0)
+        self.task.bind(self.sim)
+        self.vessel = self.sim.vessels["wamv"]
+        self._thrusters = list(self.vessel.thrusters.values())
+        self._max_thrust = np.array([t.thrust.max_forward_n for t in self.vessel.model.thrusters])
+        self._every = steps_per_period(control_rate_hz, self.sim.clock.step_ns)
+        self._controller, self._renderer = None, None
+        n_act = len(self._thrusters) if action_type == "thrusters" else 3
+        self.action_space = spaces.Box(-1.0, 1.0, (n_act,), np.float32)
+        n_obs = 5 + len(self._thrusters) + self.task.n_features
+        self.observation_space = spaces.Box(-np.inf, np.inf, (n_obs,), np.float32)
+
+    # -- gymnasium API ----------------------------------------------------------------------
+    def reset(self, *, seed: int | None = None, options: dict | None = None):
+        super().reset(seed=seed)
+        episode_seed = int(seed) if seed is not None else int(self.np_random.integers(2**31 - 1))
+        self._restart(episode_seed)
+        return self._observe(), self.task.info() | {"seed": episode_seed}
+
+    def step(self, action):
+        self._act(np.asarray(action, dtype=float))
+        for _ in range(self._every):
+            self.sim.step()
+            self.task.update()
+            if self.task.finished:
+                break
+        terminated = bool(self.task._finished)
+        truncated = not terminated and self.task.finished
+        return self._observe(), float(self.task.reward()), terminated, truncated, self.task.info()
+
+    def render(self):
+        if self.render_mode != "rgb_array":
+            return None
+        from usvsim.tasks.gym.render import ChaseRenderer
+
+        if self._renderer is None:
+            self._renderer = ChaseRenderer(self.sim)
+        return self._renderer.frame(self.task.index)
+
+    def close(self):
+        if self._renderer is not None:
+            self._renderer.close()
+            self._renderer = None
+        self.sim.close()
+
+    # -- internals --------------------------------------------------------------------------
+    def _restart(self, seed: int) -> None:
+        """Simulation back to t = 0 with `seed`: its own exact reset(seed) where it has one, else a rebuild."""
+        from usvsim.simulation import Simulation
+
+        self.task.reset(seed)
+        try:
+            self.sim.reset(seed=seed)
+        except TypeError:
+            self.sim.close()
+            self.sim = Simulation(self._scenario, seed=seed)
+            self.vessel = self.sim.vessels["wamv"]
+            self._thrusters = list(self.vessel.thrusters.values())
+            self._renderer = None
+        self.task.bind(self.sim)
+        if self._controller is not None:
+            self._controller.reset()
+
+    def _act(self, action: np.ndarray) -> None:
+        if not np.all(np.isfinite(action)):
+            raise ValueError(f"action must be finite, got {action}")
+        action = np.clip(action, -1.0, 1.0)
+        if self.action_type == "thrusters":
+            for t, u in zip(self._thrusters, action):
+                t.command(float(u))
+            return
+        if self._controller is None:
+            from usvsim.tasks.solutions import reference_controller
+
+            self._controller = reference_controller(self.sim)
+        self._controller.apply(self.vessel, action * VELOCITY_SCALE, self._every * self.sim.clock.dt)
+
+    def _observe(self) -> np.ndarray:
+        s, i = self.sim.state, self.task.index
+        rot = s.rot[i]
+        vel_body = rot.T @ self.sim.origin_velocity(i)
+        roll, pitch = np.arctan2(rot[2, 1], rot[2, 2]), -np.arcsin(np.clip(rot[2, 0], -1.0, 1.0))
+        thrust = self.sim.thrusters.thrust[[t._i for t in self._thrusters]] / self._max_thrust
+        head = [vel_body[0], vel_body[1], s.omega_body[i, 2], roll, pitch]
+        return np.concatenate([head, thrust, self.task.features()]).astype(np.float32)
