@@ -47,7 +47,7 @@ def test_velocity_actions():
 
 
 def test_sync_and_async_vector_envs_are_equal():
-    kwargs = dict(difficulty=1, time_limit_s=3.0)
+    kwargs = {"difficulty": 1, "time_limit_s": 3.0}
     results = []
     for mode in ("sync", "async"):
         envs = gymnasium.make_vec("usvsim/StationKeeping-v0", num_envs=2, vectorization_mode=mode, **kwargs)

@@ -4,7 +4,6 @@ reference solutions."""
 import math
 
 import mujoco
-import numpy as np
 import pytest
 
 from usvsim.simulation import Simulation
