@@ -13,11 +13,12 @@ from usvsim.tasks.solutions import run_trial
 
 def hold(sim, index, x, y, yaw):
     """Put body `index` at (x, y, yaw) (world ENU) at rest: the scripted trajectory."""
-    a, v = sim._qpos_adr[index], sim._qvel_adr[index]
+    world = sim.world
+    a, v = world.qpos_adr[index], world.qvel_adr[index]
     sim.data.qpos[a : a + 7] = [x, y, 0.0, math.cos(yaw / 2), 0.0, 0.0, math.sin(yaw / 2)]
     sim.data.qvel[v : v + 6] = 0.0
     mujoco.mj_forward(sim.model, sim.data)
-    sim._update_kinematics()
+    world._update_kinematics()
 
 
 def test_station_keeping_scripted_offsets_give_vrx_formula():

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import math
 
+import mujoco
 import numpy as np
 
 from usvsim.config.scenario import Scenario
@@ -54,9 +55,10 @@ class Task:
 
     # -- running ----------------------------------------------------------------------------
     def bind(self, sim) -> None:
+        """Attach to a running `World` (or a `Simulation`, which delegates to its world)."""
         self.sim = sim
         self.index = sim.vessels[VESSEL].index
-        self.body_id = int(sim._body_ids[self.index])
+        self.body_id = mujoco.mj_name2id(sim.model, mujoco.mjtObj.mjOBJ_BODY, VESSEL)
         self.object_index = {name: b.index for name, b in sim.bodies.items()}
         self.clear()
 
