@@ -74,6 +74,7 @@ def test_depth_equals_the_raster_at_pixel_centres_and_is_bilinear_between(place)
     mid = sim.place.depth_at((x[1] + x[2]) / 2, (y[1] + y[2]) / 2)[0]  # halfway between two diagonal centres
     assert mid == pytest.approx(-(values[160, 140] + values[161, 141]) / 2, abs=1e-3)
     assert sim.place.depth_at(0.0, COAST_Y + 50)[0] == pytest.approx(-4.0)  # land: minus its height
+    assert sim.world.depth_at(x, y) == pytest.approx(sim.place.depth_at(x, y))
     sim.close()
 
 

@@ -234,6 +234,13 @@ class World:
         a = self.qvel_adr[i]
         return self.data.qvel[a : a + 3].copy()
 
+    def depth_at(self, x_m, y_m) -> np.ndarray:
+        """Water depth (m, positive down from still water) at ENU points: the place's seabed (geo/; minus the
+        land height on land), else the environment's `water_depth_m` (inf: deep water)."""
+        if self.place is not None:
+            return self.place.depth_at(x_m, y_m)
+        return np.full(np.shape(np.atleast_1d(x_m)), self.scenario.environment.water_depth_m or math.inf)
+
     def contacts(self) -> list[tuple[str, str, float]]:
         """Active contacts as (body name, other body name or 'world', penetration depth m >= 0)."""
         names = ["world", *self.bodies]
