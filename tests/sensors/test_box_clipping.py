@@ -10,7 +10,7 @@ import pytest
 from sensor_rig import make_sim, sensor_configs
 
 from usvsim.sensors import SensorSuite
-from usvsim.sensors.camera.clip import frustum_planes, image_box
+from usvsim.sensors.camera.clip import camera_planes, image_box
 from usvsim.sensors.camera.intrinsics import Intrinsics
 
 cv2 = pytest.importorskip("cv2")
@@ -24,9 +24,7 @@ def _corners(center, size, rot=None):
 
 
 def _planes(cam):
-    xy = cam.rays()
-    margin = np.array([1 / cam.fx, 1 / cam.fy])
-    return frustum_planes(NEAR, xy.min(axis=(0, 1)) - margin, xy.max(axis=(0, 1)) + margin)
+    return camera_planes(cam, NEAR)
 
 
 def _reference(corners, cam, spacing_m=0.02, most=1000):

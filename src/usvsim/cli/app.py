@@ -13,6 +13,7 @@ from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
 from rich.table import Table
 
 from usvsim.cli.errors import console, fail
+from usvsim.cli.dataset import dataset_command
 from usvsim.cli.geo_map import map_command
 from usvsim.cli.task import task as task_command
 from usvsim.core.errors import UsvsimError
@@ -222,6 +223,7 @@ def experiment(
 
 app.command("map")(map_command)
 app.command("task")(task_command)
+app.command("dataset")(dataset_command)
 
 
 def main() -> None:

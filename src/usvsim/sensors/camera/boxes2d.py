@@ -18,7 +18,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from usvsim.sensors.camera.clip import frustum_planes, image_box
+from usvsim.sensors.camera.clip import camera_planes, image_box
 from usvsim.sensors.camera.intrinsics import Intrinsics
 from usvsim.sensors.detections import quat_of
 from usvsim.sensors.messages import detection2d_msg
@@ -48,9 +48,7 @@ class BoxMaker:
     def __init__(self, rule, objects: list[TrackedObject], model, cam: Intrinsics, near_m: float):
         self.rule, self.objects, self.cam, self.near_m = rule, objects, cam, near_m
         self.owner = geom_owner(model, objects)
-        xy = cam.rays()  # undistorted normalized rays of every output pixel: the field of view
-        margin = np.array([1.0 / cam.fx, 1.0 / cam.fy])
-        self.planes = frustum_planes(near_m, xy.min(axis=(0, 1)) - margin, xy.max(axis=(0, 1)) + margin)
+        self.planes = camera_planes(cam, near_m)
 
     def project(self, corners_optical: np.ndarray) -> np.ndarray | None:
         """Pixel box (u_min, v_min, u_max, v_max) of a 3D box (8 corners, optical frame) clipped to the view

@@ -44,6 +44,13 @@ def frustum_planes(near_m: float, low: np.ndarray, high: np.ndarray) -> list[tup
             (np.array([0.0, 1.0, -low[1]]), 0.0), (np.array([0.0, -1.0, high[1]]), 0.0)]  # fmt: skip
 
 
+def camera_planes(cam: Intrinsics, near_m: float) -> list[tuple[np.ndarray, float]]:
+    """The frustum of every output pixel's ray (half a pixel beyond the outer pixel centres)."""
+    xy = cam.rays()  # undistorted normalized rays of every output pixel: the field of view
+    margin = np.array([1.0 / cam.fx, 1.0 / cam.fy])
+    return frustum_planes(near_m, xy.min(axis=(0, 1)) - margin, xy.max(axis=(0, 1)) + margin)
+
+
 def _image_planes(cam: Intrinsics) -> list[tuple[np.ndarray, float]]:
     w, h = cam.width - 0.5, cam.height - 0.5
     return [(np.array([1.0, 0.0]), -0.5), (np.array([-1.0, 0.0]), -w),

@@ -54,17 +54,19 @@ class Camera(Sensor):
         self._rgb_normal = np.empty((cfg.height, cfg.width, 3) if cfg.rgb_noise_stddev > 0 else 0, np.float32)
         self._depth_normal = np.empty((cfg.height, cfg.width) if cfg.depth_noise_stddev_m > 0 else 0, np.float32)
 
-    def render(self, sim: World) -> dict[str, np.ndarray]:
+    def render(self, sim: World, pose=None, streams=None) -> dict[str, np.ndarray]:
         """Images of the current state: 'rgb' (H, W, 3) uint8, 'depth' (H, W) float32 m, 'segmentation' uint16
-        (the configured streams, and segmentation when detections need it)."""
-        pos, rot = self.pose_world(sim)
+        (the configured `streams`, and segmentation when detections need it); `pose` (position ENU m, FLU →
+        world rotation) replaces the mounted camera's."""
+        pos, rot = pose if pose is not None else self.pose_world(sim)
+        streams = self.streams if streams is None else set(streams)
         r = self.renderer
         if self.cfg.water_surface:  # centred on the vessel: its cameras share one upload per tick
             r.context.refresh_water(sim, sim.state.pos[self.body, :2])
         r.update(sim.data.qpos, pos, rot @ OPTICAL_ROT)
-        images = r.capture(rgb_depth=bool(self.streams & {"rgb", "depth"}),
-                           segmentation="segmentation" in self.streams or self.boxes is not None)  # fmt: skip
-        out = {k: v for k, v in images.items() if k in self.streams or k == "segmentation"}
+        images = r.capture(rgb_depth=bool(streams & {"rgb", "depth"}),
+                           segmentation="segmentation" in streams or self.boxes is not None)  # fmt: skip
+        out = {k: v for k, v in images.items() if k in streams or k == "segmentation"}
         if self.remap is not None:
             out = {k: (self.remap.linear(v) if k == "rgb" else self.remap.closest(v)) for k, v in out.items()}
         return out

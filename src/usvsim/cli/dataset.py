@@ -1,0 +1,58 @@
+"""`usvsim dataset`: a labelled image data set (YOLO, COCO, masks) from a scenario's cameras."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Annotated
+
+import typer
+from rich.console import Console
+from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeRemainingColumn
+
+from usvsim.core.errors import UsvsimError
+
+
+def dataset_command(
+    scenario: Annotated[str, typer.Argument(help="built-in scenario name or YAML file (needs a camera)")],
+    frames: Annotated[int, typer.Option(help="frames per camera", min=1)] = 100,
+    out: Annotated[Path, typer.Option(help="output folder")] = Path("dataset"),
+    format: Annotated[
+        str, typer.Option("--format", help="comma-separated: yolo, coco, masks")
+    ] = "yolo,coco,masks",
+    seed: Annotated[int, typer.Option(help="random seed: the same seed writes the same bytes")] = 0,
+    randomize: Annotated[
+        str | None, typer.Option(help="randomization YAML file or preset (clear_calm, foggy_wavy)")
+    ] = None,
+    resolution: Annotated[str | None, typer.Option(help="WIDTHxHEIGHT for every camera")] = None,
+    splits: Annotated[str, typer.Option(help="train,val,test fractions")] = "0.8,0.1,0.1",
+    min_visible_pixels: Annotated[int, typer.Option(help="leave out objects with fewer visible pixels")] = 20,
+    min_visible_fraction: Annotated[
+        float, typer.Option(help="leave out objects less visible (box areas)")
+    ] = 0.0,
+) -> None:
+    """Render a scenario's cameras with domain randomization and write images, labels and masks."""
+    from usvsim.datasets.generate import DatasetSpec, generate
+
+    console = Console(stderr=True)
+    try:
+        size = tuple(int(v) for v in resolution.lower().split("x")) if resolution else None
+        fractions = tuple(float(v) for v in splits.split(","))
+        if (size and len(size) != 2) or len(fractions) != 3:
+            raise ValueError
+    except ValueError:
+        console.print(
+            "[bold red]usvsim: error:[/] --resolution is WIDTHxHEIGHT and --splits three fractions",
+            highlight=False,
+        )
+        raise typer.Exit(2) from None
+    try:
+        spec = DatasetSpec(scenario, frames, out, tuple(f.strip() for f in format.split(",")), seed, randomize,
+                           size, fractions, min_visible_pixels, min_visible_fraction)  # fmt: skip
+        columns = (TextColumn("dataset"), BarColumn(), MofNCompleteColumn(), TimeRemainingColumn())
+        with Progress(*columns, console=console) as bar:
+            task = bar.add_task("frames", total=frames)
+            generate(spec, progress=lambda n: bar.update(task, completed=n))
+    except UsvsimError as exc:
+        console.print(f"[bold red]usvsim: error:[/] {exc}", highlight=False, soft_wrap=True)
+        raise typer.Exit(2) from None
+    console.print(f"wrote {frames} frames to {out}")

@@ -1,0 +1,241 @@
+"""Generates a labelled data set from a scenario's cameras with domain randomization (`usvsim dataset`).
+
+Run: the randomization's `environment` values are drawn once and merged into the scenario, which is built
+without its sensors (only the dataset's cameras render, and only the frames written). Episode: the
+simulation is reset, the scene and look values are drawn, buoys and the camera's vessel are moved by the drawn
+offsets, and physics runs `settle_s`; later frames of the episode follow `frame_interval_s` apart. Frame:
+each camera renders RGB, depth and segmentation from its (jittered) pose under the drawn look; masks and
+labels come from the segmentation (datasets/labels.py) and are written (datasets/writers.py) by worker
+threads. One generator seeded with `seed` draws every value in a fixed order: the same seed gives the same
+bytes.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from concurrent.futures import ThreadPoolExecutor
+from dataclasses import asdict, dataclass
+from pathlib import Path
+
+import mujoco
+import numpy as np
+import yaml
+from pydantic import ValidationError
+
+from usvsim.config.loader import parse_scenario, resolve
+from usvsim.core.errors import UsvsimError
+from usvsim.core.transforms import quat_from_rpy, quat_multiply
+from usvsim.datasets.labels import Labeller
+from usvsim.datasets.look import LookAdapter
+from usvsim.datasets.randomization import draw, draw_all, load_randomization, nested
+from usvsim.datasets.writers import FORMATS, SPLITS, DatasetWriter
+from usvsim.sensors.base import OPTICAL_ROT
+from usvsim.sensors.camera.clip import camera_planes
+from usvsim.sensors.camera.sensor import Camera
+from usvsim.sensors.objects import catalogue
+from usvsim.simulation import Simulation
+
+
+@dataclass(frozen=True)
+class DatasetSpec:
+    scenario: str
+    frames: int
+    out: Path
+    formats: tuple[str, ...] = FORMATS
+    seed: int = 0
+    randomize: str | None = None  # preset name or YAML file
+    resolution: tuple[int, int] | None = None  # (width, height) for every camera; None: the scenario's
+    splits: tuple[float, float, float] = (0.8, 0.1, 0.1)
+    min_visible_pixels: int = 20
+    min_visible_fraction: float = 0.0
+    settle_s: float = 0.5
+    frame_interval_s: float = 0.2
+    workers: int = 2
+
+    def __post_init__(self):
+        bad = set(self.formats) - set(FORMATS)
+        if bad or not self.formats:
+            raise UsvsimError(f"--format: unknown {sorted(bad)}; choose from {', '.join(FORMATS)}")
+        if self.frames < 1 or abs(sum(self.splits) - 1.0) > 1e-9 or min(self.splits) < 0:
+            raise UsvsimError("frames must be >= 1 and the splits non-negative fractions summing to 1")
+
+
+def _scenario(spec: DatasetSpec, environment: dict):
+    """The scenario with the drawn environment merged in, sensors removed; and its camera configs."""
+    text, base = resolve(spec.scenario)
+    data = yaml.safe_load(text)
+    env = data.setdefault("environment", {})
+    for key, value in nested(environment).items():
+        env[key] = (
+            {**env[key], **value} if isinstance(value, dict) and key in env and "type" not in value else value
+        )
+    cameras = []
+    for v in data.get("vessels", []):
+        for s in v.pop("sensors", []) or []:
+            if s.get("type") == "camera":
+                s = {**s, "streams": ["rgb", "depth", "segmentation"], "detections": None, "rate_hz": 10}
+                if spec.resolution:
+                    s["width"], s["height"] = spec.resolution
+                cameras.append((v["name"], s))
+    if not cameras:
+        raise UsvsimError(f"scenario {spec.scenario}: no camera sensor to render a data set from")
+    return parse_scenario(data, spec.scenario, base), cameras
+
+
+def _move(sim: Simulation, body_index: int, dx: float, dy: float, dyaw_rad: float) -> None:
+    """Shift a floating body horizontally and turn it about world z (its free joint's qpos)."""
+    adr = sim.model.jnt_qposadr[sim.model.body_jntadr[body_index + 1]]
+    sim.data.qpos[adr : adr + 2] += (dx, dy)
+    turn = quat_from_rpy(0.0, 0.0, dyaw_rad)
+    sim.data.qpos[adr + 3 : adr + 7] = quat_multiply(turn, sim.data.qpos[adr + 3 : adr + 7])
+
+
+def draw_scene(scene: dict, buoys: list[str], rng: np.random.Generator) -> dict:
+    """Concrete scene values: per buoy [dx, dy], vessel [dx, dy], yaw and camera jitter (0 where not given)."""
+
+    def one(key):
+        return draw(scene[key], rng) if key in scene else 0.0
+
+    out = {"buoy_offset_m": {b: [one("buoy_offset_m"), one("buoy_offset_m")] for b in buoys}}
+    out["vessel_offset_m"] = [one("vessel_offset_m"), one("vessel_offset_m")]
+    for key in ("vessel_yaw_deg", "camera_height_m", "camera_pitch_deg"):
+        out[key] = one(key)
+    return out
+
+
+def apply_scene(sim: Simulation, values: dict, vessel: str) -> None:
+    """Moves the buoys and the camera's vessel by drawn scene values."""
+    for name, (dx, dy) in values["buoy_offset_m"].items():
+        _move(sim, sim.model.body(name).id - 1, dx, dy, 0.0)
+    dx, dy = values["vessel_offset_m"]
+    _move(sim, sim.vessels[vessel].index, dx, dy, math.radians(values["vessel_yaw_deg"]))
+    mujoco.mj_forward(sim.model, sim.data)
+    sim._update_kinematics()  # until [api]'s vessel.teleport lands: the one place that places bodies
+
+
+def jittered_pose(cam: Camera, sim: Simulation, values: dict):
+    """Camera position (ENU, m) and optical → world rotation with the height and pitch jitter."""
+    pos, rot = cam.pose_world(sim)
+    pitch = math.radians(values["camera_pitch_deg"])
+    c, s = math.cos(pitch), math.sin(pitch)
+    pos = pos + sim.state.rot[cam.body][:, 2] * values["camera_height_m"]
+    rot = rot @ np.array([[c, 0.0, s], [0.0, 1.0, 0.0], [-s, 0.0, c]])  # FLU pitch: positive looks down
+    return pos, rot
+
+
+class DatasetGenerator:
+    """Renders and writes the frames of a `DatasetSpec`; `run(progress)` calls progress(frames_done)."""
+
+    def __init__(self, spec: DatasetSpec):
+        self.spec = spec
+        self.rnd = load_randomization(spec.randomize)
+        self.rng = np.random.default_rng(spec.seed)
+        self.environment = draw_all(self.rnd.environment, self.rng)
+        scenario, camera_cfgs = _scenario(spec, self.environment)
+        try:  # a wrong key path in `look` fails here, before any frame
+            scenario.rendering.updated(nested(draw_all(self.rnd.look, np.random.default_rng(0))))
+        except ValidationError as exc:
+            raise UsvsimError(
+                f"randomization {spec.randomize}: look: {exc.errors()[0]['loc']}: {exc.errors()[0]['msg']}"
+            ) from None
+        self.sim = Simulation(scenario, seed=spec.seed)
+        self.shared: dict = {}
+        self.cameras = [(v, Camera(_camera_config(cfg), v, self.sim, self.shared)) for v, cfg in camera_cfgs]
+        objects = catalogue(self.sim)
+        self.buoys = [o.name for o in objects if o.category == "buoy"]
+        self.labellers, self.looks = [], []
+        for vessel, cam in self.cameras:
+            mine = [o for o in objects if o.name != vessel]
+            self.labellers.append(Labeller(self.sim.model, mine, cam.intrinsics, cam.cfg.near_m,
+                                           camera_planes(cam.intrinsics, cam.cfg.near_m)))  # fmt: skip
+            self.looks.append(LookAdapter(self.sim, cam.renderer, cam.intrinsics))
+        self.writer = DatasetWriter(spec.out, spec.formats)
+
+    def run(self, progress: Callable[[int], None] | None = None) -> Path:
+        spec, per_episode = self.spec, (1 if self.rnd.per == "frame" else self.rnd.frames_per_episode)
+        with ThreadPoolExecutor(max(1, spec.workers)) as pool:
+            jobs = []
+            for i in range(spec.frames):
+                if i % per_episode == 0:
+                    look, scene = self._episode()
+                else:
+                    self.sim.run(spec.frame_interval_s)
+                split = SPLITS[
+                    int(np.searchsorted(np.cumsum(spec.splits), self.rng.random(), side="right").clip(0, 2))
+                ]
+                jobs += self._frame(i, split, look, scene, pool)
+                if progress:
+                    progress(i + 1)
+            for job in jobs:
+                job.result()
+        self.writer.finish({**asdict(spec), "out": str(spec.out), "environment": self.environment,
+                            "randomization": self.rnd.model_dump(mode="json")})  # fmt: skip
+        return spec.out
+
+    def close(self) -> None:
+        for _, cam in self.cameras:
+            cam.renderer.close()
+        gl = self.shared.pop("camera/gl", None)
+        if gl is not None:
+            gl.close()
+        self.sim.close()
+
+    def _episode(self):
+        sim = self.sim
+        sim.reset()
+        look = sim.scenario.rendering.updated(nested(draw_all(self.rnd.look, self.rng)))
+        scene = draw_scene(self.rnd.scene, self.buoys, self.rng)
+        apply_scene(sim, scene, self.cameras[0][0])
+        sim.run(self.spec.settle_s)
+        return look, scene
+
+    def _frame(self, i: int, split: str, look, scene: dict, pool) -> list:
+        jobs, sim = [], self.sim
+        for k, ((vessel, cam), lab, adapter) in enumerate(zip(self.cameras, self.labellers, self.looks)):
+            stem = f"{i:06d}_{cam.cfg.name}" if len(self.cameras) > 1 or k else f"{i:06d}"
+            pos, rot = jittered_pose(cam, sim, scene)
+            adapter.before(look)
+            images = cam.render(sim, pose=(pos, rot), streams=("rgb", "depth", "segmentation"))
+            frame_rng = np.random.default_rng([self.spec.seed, i, k])
+            rgb = adapter.after(look, images["rgb"], images["depth"], frame_rng)
+            instance, semantic = lab.masks(images["segmentation"])
+            labels = lab.objects_in(sim, images["segmentation"], pos, rot @ OPTICAL_ROT,
+                                    self.spec.min_visible_pixels, self.spec.min_visible_fraction)  # fmt: skip
+            image_id = i * len(self.cameras) + k + 1
+            self.writer.add_coco(split, stem, image_id, rgb.shape, instance, labels)
+            meta = frame_metadata(
+                sim, i, f"{vessel}/{cam.cfg.name}", split, look, scene, self.environment, pos, rot
+            )
+            meta["objects"] = [asdict(x) for x in labels]
+            jobs.append(
+                pool.submit(self.writer.frame, split, stem, image_id, rgb, instance, semantic, labels, meta)
+            )
+        return jobs
+
+
+def _camera_config(cfg: dict):
+    from pydantic import TypeAdapter
+
+    from usvsim.config.sensors import Sensor
+
+    return TypeAdapter(Sensor).validate_python(cfg)
+
+
+def frame_metadata(sim, i, camera, split, look, scene, environment, pos, rot) -> dict:
+    """Everything that made the frame: enough to re-render it (`rerender` in datasets/rerender.py)."""
+    bodies = {name: {"position_m": sim.state.pos[v.index].round(6).tolist(), "quat_wxyz": sim.body_quat(v.index).round(8).tolist()}
+              for name, v in sim.vessels.items()}  # fmt: skip
+    return {"frame": i, "camera": camera, "split": split, "seed": sim.seed, "time_s": round(sim.time, 9),
+            "look": look.model_dump(mode="json"), "scene": scene, "environment": environment,
+            "vessels": bodies, "camera_position_m": np.round(pos, 6).tolist(),
+            "camera_rotation_flu_to_world": np.round(rot, 8).tolist(), "qpos": np.round(sim.data.qpos, 9).tolist()}  # fmt: skip
+
+
+def generate(spec: DatasetSpec, progress: Callable[[int], None] | None = None) -> Path:
+    """Python API of `usvsim dataset`: writes the data set and returns its folder."""
+    gen = DatasetGenerator(spec)
+    try:
+        return gen.run(progress)
+    finally:
+        gen.close()

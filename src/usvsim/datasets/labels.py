@@ -1,0 +1,91 @@
+"""Per-frame labels from a camera's segmentation: instance and semantic masks, visible and amodal boxes.
+
+Classes (fixed ids, the same in every scenario, so data sets can be merged): 0 sky, 1 water, 2 other (the
+camera's own vessel and unlabelled world geometry), then the detectable classes of sensors/objects.py. Each
+class belongs to one of the MaSTr1325/LaRS groups: sky, water, static obstacle, dynamic obstacle.
+
+Boxes are in pixel-edge coordinates (COCO: the pixel at column u covers [u, u + 1)):
+- visible box: the tight box of the object's visible pixels (modal; occluders and the image edge cut it);
+- amodal box: the object's 3D box projected, clipped against the view frustum and the image
+  (sensors/camera/clip.py): where the whole object would be if nothing hid it;
+- visible_fraction: area(visible box) / area(amodal box), in 0–1 (1: fully in view and unoccluded, within a
+  pixel); truncated: the amodal box reaches the image edge.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from usvsim.config.objects import COLORS
+from usvsim.sensors.camera.boxes2d import label_stats
+from usvsim.sensors.camera.clip import image_box
+from usvsim.sensors.objects import TrackedObject, geom_owner
+from usvsim.world.builder import WATER_GROUP
+
+STATIC = ("dock", "wall", "box", "pier", "berth", "mesh", "land", "structure")
+CLASSES = ("sky", "water", "other", "vessel", *(f"buoy_{c}" for c in COLORS), *STATIC)
+GROUPS = {"sky": "sky", "water": "water", "other": "static_obstacle", "vessel": "dynamic_obstacle",
+          **{f"buoy_{c}": "dynamic_obstacle" for c in COLORS}, **dict.fromkeys(STATIC, "static_obstacle")}  # fmt: skip
+FIRST_OBJECT_CLASS = CLASSES.index("vessel")
+DETECTABLE = CLASSES[FIRST_OBJECT_CLASS:]
+
+
+@dataclass(frozen=True)
+class ObjectLabel:
+    """One object visible in a frame; boxes (x_min, y_min, x_max, y_max) in pixel-edge coordinates."""
+
+    instance: int  # value in the instance mask (object index + 1)
+    name: str
+    category: str
+    visible_box: tuple[float, float, float, float]
+    amodal_box: tuple[float, float, float, float]
+    visible_pixels: int
+    visible_fraction: float
+    truncated: bool
+
+
+class Labeller:
+    """Masks and object labels of one camera's frames for the scenario's `objects` (own vessel left out)."""
+
+    def __init__(self, model, objects: list[TrackedObject], cam, near_m: float, planes):
+        self.objects, self.cam, self.planes = objects, cam, planes
+        self.owner = geom_owner(model, objects)  # geom id + 1 → object index + 1
+        sem = np.full(model.ngeom + 1, CLASSES.index("other"), np.uint8)
+        sem[0] = CLASSES.index("sky")
+        sem[1:][model.geom_group == WATER_GROUP] = CLASSES.index("water")
+        for obj in objects:
+            sem[obj.geoms + 1] = CLASSES.index(obj.label)
+        self.semantic_lut = sem
+        self.instance_lut = self.owner.astype(np.uint16)
+
+    def masks(self, seg: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """(instance mask uint16: object index + 1, 0 none; semantic mask uint8: class id) of a segmentation."""
+        return self.instance_lut[seg], self.semantic_lut[seg]
+
+    def objects_in(self, sim, seg: np.ndarray, pos_world, rot_optical, min_pixels: int, min_fraction: float):
+        """ObjectLabel of every object with at least `min_pixels` visible pixels and `min_fraction`."""
+        counts, bounds = label_stats(seg, self.owner, len(self.objects))
+        w, h = self.cam.width, self.cam.height
+        out = []
+        for k in np.flatnonzero(counts[1:] >= max(min_pixels, 1)):
+            obj = self.objects[k]
+            amodal = image_box((obj.corners_world(sim) - pos_world) @ rot_optical, self.cam, self.planes)
+            visible = bounds[k + 1].astype(float) + np.array([0.0, 0.0, 1.0, 1.0])  # pixel edges
+            if amodal is None:  # rendered pixels of a box the projection misses: only at the rim, by rounding
+                amodal = visible - 0.5
+            amodal = np.minimum(
+                np.maximum(amodal + 0.5, 0.0), [w, h, w, h]
+            )  # pixel-centre → edge coordinates
+            amodal = np.concatenate(
+                [np.minimum(amodal[:2], visible[:2]), np.maximum(amodal[2:], visible[2:])]
+            )
+            area = (amodal[2] - amodal[0]) * (amodal[3] - amodal[1])
+            fraction = float((visible[2] - visible[0]) * (visible[3] - visible[1]) / area)
+            if fraction < min_fraction:
+                continue
+            truncated = bool(amodal[0] <= 0 or amodal[1] <= 0 or amodal[2] >= w or amodal[3] >= h)
+            out.append(ObjectLabel(int(k + 1), obj.name, obj.label, tuple(visible.tolist()), tuple(amodal.tolist()),
+                                   int(counts[k + 1]), min(fraction, 1.0), truncated))  # fmt: skip
+        return out

@@ -1,0 +1,119 @@
+"""Writes a data set: images, mask PNGs, COCO JSON, Ultralytics YOLO labels and data.yaml, per-frame metadata.
+
+Layout under the output folder (`<split>`: train, val, test; `<stem>`: frame number and camera):
+  images/<split>/<stem>.png              RGB
+  labels/<split>/<stem>.txt              YOLO: `class cx cy w h` per object, normalized to 0–1 (visible box)
+  masks/instance/<split>/<stem>.png      uint16: object index + 1 (0: none); ids as in the COCO file
+  masks/semantic/<split>/<stem>.png      uint8: class id (classes.json)
+  annotations/<split>.json               COCO: bbox = visible box, segmentation = uncompressed RLE,
+                                         plus amodal_bbox, visible_fraction, truncated, object name
+  meta/<stem>.json                       everything needed to re-render the frame (look, poses, qpos, time)
+  data.yaml, classes.json, dataset.json  YOLO data file, class table (ids, LaRS groups), the run's settings
+All files are written with sorted keys and fixed precision, so the same seed gives the same bytes.
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+from PIL import Image
+
+from usvsim.datasets.labels import CLASSES, DETECTABLE, GROUPS, ObjectLabel
+
+FORMATS = ("yolo", "coco", "masks")
+SPLITS = ("train", "val", "test")
+
+
+def dump_json(path: Path, data) -> None:
+    path.parent.mkdir(parents=True, exist_ok=True)
+    path.write_text(json.dumps(data, sort_keys=True, separators=(",", ":")) + "\n")
+
+
+def write_png(path: Path, array: np.ndarray) -> None:
+    path.parent.mkdir(parents=True, exist_ok=True)
+    Image.fromarray(array).save(path, format="PNG", compress_level=1)
+
+
+def rle(mask: np.ndarray) -> dict:
+    """COCO uncompressed RLE of a boolean (H, W) mask: run lengths in column-major order, starting with 0s."""
+    flat = mask.T.ravel()
+    change = np.flatnonzero(flat[1:] != flat[:-1]) + 1
+    edges = np.concatenate([[0], change, [flat.size]])
+    counts = np.diff(edges).tolist()
+    if flat[0]:
+        counts = [0, *counts]
+    return {"size": [int(mask.shape[0]), int(mask.shape[1])], "counts": counts}
+
+
+def _round(box) -> list[float]:
+    return [round(float(v), 3) for v in box]
+
+
+class DatasetWriter:
+    def __init__(self, out: Path, formats: tuple[str, ...]):
+        self.out, self.formats = Path(out), formats
+        self.coco: dict[str, dict] = {s: {"images": [], "annotations": []} for s in SPLITS}
+        self.next_ann = 1
+
+    def frame(
+        self, split: str, stem: str, image_id: int, rgb, instance, semantic, labels: list[ObjectLabel], meta
+    ):
+        """Writes one frame's files (safe to call from worker threads: no shared state but `coco`, see add_coco)."""
+        write_png(self.out / "images" / split / f"{stem}.png", rgb)
+        if "masks" in self.formats:
+            write_png(self.out / "masks" / "instance" / split / f"{stem}.png", instance)
+            write_png(self.out / "masks" / "semantic" / split / f"{stem}.png", semantic)
+        if "yolo" in self.formats:
+            h, w = rgb.shape[:2]
+            lines = []
+            for lab in labels:
+                x0, y0, x1, y1 = lab.visible_box
+                lines.append(f"{DETECTABLE.index(lab.category)} {(x0 + x1) / 2 / w:.6f} {(y0 + y1) / 2 / h:.6f} "
+                             f"{(x1 - x0) / w:.6f} {(y1 - y0) / h:.6f}")  # fmt: skip
+            path = self.out / "labels" / split / f"{stem}.txt"
+            path.parent.mkdir(parents=True, exist_ok=True)
+            path.write_text("".join(line + "\n" for line in lines))
+        dump_json(self.out / "meta" / f"{stem}.json", meta)
+
+    def add_coco(
+        self, split: str, stem: str, image_id: int, shape, instance, labels: list[ObjectLabel]
+    ) -> None:
+        """COCO records of one frame (call in frame order: annotation ids count up)."""
+        if "coco" not in self.formats:
+            return
+        coco = self.coco[split]
+        coco["images"].append(
+            {"id": image_id, "file_name": f"{split}/{stem}.png", "height": shape[0], "width": shape[1]}
+        )
+        for lab in labels:
+            x0, y0, x1, y1 = lab.visible_box
+            ax0, ay0, ax1, ay1 = lab.amodal_box
+            coco["annotations"].append({
+                "id": self.next_ann, "image_id": image_id, "category_id": CLASSES.index(lab.category),
+                "bbox": _round([x0, y0, x1 - x0, y1 - y0]), "area": lab.visible_pixels, "iscrowd": 0,
+                "segmentation": rle(instance == lab.instance), "amodal_bbox": _round([ax0, ay0, ax1 - ax0, ay1 - ay0]),
+                "visible_fraction": round(lab.visible_fraction, 4), "truncated": lab.truncated, "object": lab.name,
+                "instance": lab.instance})  # fmt: skip
+            self.next_ann += 1
+
+    def finish(self, settings: dict) -> None:
+        """The per-split COCO files, YOLO data.yaml, classes.json and dataset.json."""
+        categories = [{"id": CLASSES.index(c), "name": c, "supercategory": GROUPS[c]} for c in DETECTABLE]
+        if "coco" in self.formats:
+            for split, coco in self.coco.items():
+                info = {"description": "usvsim synthetic data set", "version": "1"}
+                dump_json(
+                    self.out / "annotations" / f"{split}.json",
+                    {**coco, "categories": categories, "info": info},
+                )
+        if "yolo" in self.formats:
+            names = "".join(f"  {i}: {c}\n" for i, c in enumerate(DETECTABLE))
+            (self.out / "data.yaml").write_text(f"path: {self.out.resolve()}\ntrain: images/train\nval: images/val\n"
+                                                f"test: images/test\nnames:\n{names}")  # fmt: skip
+        dump_json(
+            self.out / "classes.json",
+            [{"id": i, "name": c, "group": GROUPS[c]} for i, c in enumerate(CLASSES)],
+        )
+        dump_json(self.out / "dataset.json", settings)

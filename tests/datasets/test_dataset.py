@@ -1,0 +1,123 @@
+"""`usvsim dataset`: COCO read back by pycocotools (masks, boxes, a loadRes/COCOeval round trip), YOLO layout,
+masks, amodal boxes containing visible ones, byte-identical output for one seed, randomization errors."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+import yaml
+from PIL import Image
+from typer.testing import CliRunner
+
+from usvsim.cli.app import app
+from usvsim.core.errors import UsvsimError
+from usvsim.datasets.generate import DatasetSpec, generate
+from usvsim.datasets.labels import CLASSES, DETECTABLE
+from usvsim.datasets.randomization import load_randomization
+
+FRAMES = 4
+
+
+def _make(path, seed):
+    spec = DatasetSpec("buoy_field", FRAMES, path, seed=seed, randomize="foggy_wavy", resolution=(320, 240),
+                       splits=(0.5, 0.5, 0.0), min_visible_pixels=4)  # fmt: skip
+    return generate(spec)
+
+
+@pytest.fixture(scope="module")
+def sets(tmp_path_factory):
+    base = tmp_path_factory.mktemp("ds")
+    return _make(base / "a", 7), _make(base / "b", 7), _make(base / "c", 8)
+
+
+def _coco(root):
+    from pycocotools.coco import COCO
+
+    return {
+        s: COCO(str(root / "annotations" / f"{s}.json"))
+        for s in ("train", "val")
+        if (root / "images" / s).exists()
+    }
+
+
+def test_coco_masks_boxes_and_eval_round_trip(sets):
+    from pycocotools import mask as mask_utils
+    from pycocotools.cocoeval import COCOeval
+
+    root = sets[0]
+    checked = 0
+    for coco in _coco(root).values():
+        for ann in coco.loadAnns(coco.getAnnIds()):
+            rle = coco.annToRLE(ann)
+            assert (
+                np.abs(mask_utils.toBbox(rle) - np.array(ann["bbox"])).max() <= 1.0
+            )  # mask bbox == visible box
+            assert int(mask_utils.area(rle)) == ann["area"]
+            x, y, w, h = ann["bbox"]
+            ax, ay, aw, ah = ann["amodal_bbox"]
+            assert ax <= x + 1e-6 and ay <= y + 1e-6 and x + w <= ax + aw + 1e-6 and y + h <= ay + ah + 1e-6
+            info = coco.loadImgs(ann["image_id"])[0]
+            inst = np.array(Image.open(root / "masks" / "instance" / info["file_name"]))
+            assert np.array_equal(inst == ann["instance"], coco.annToMask(ann).astype(bool))
+            checked += 1
+        dets = [{"image_id": a["image_id"], "category_id": a["category_id"], "bbox": a["bbox"], "score": 1.0}
+                for a in coco.loadAnns(coco.getAnnIds())]  # fmt: skip
+        ev = COCOeval(coco, coco.loadRes(dets), "bbox")
+        ev.evaluate(), ev.accumulate(), ev.summarize()
+        assert ev.stats[1] == pytest.approx(1.0)  # AP50 of the ground truth against itself
+    assert checked >= 4 * FRAMES // 2
+
+
+def test_yolo_layout_and_semantic_masks(sets):
+    root = sets[0]
+    data = yaml.safe_load((root / "data.yaml").read_text())
+    assert (
+        data["train"] == "images/train" and data["val"] == "images/val" and data["names"][0] == DETECTABLE[0]
+    )
+    for label in (root / "labels").rglob("*.txt"):
+        image = root / "images" / label.parent.name / f"{label.stem}.png"
+        assert image.exists()
+        for line in label.read_text().splitlines():
+            cls, *box = line.split()
+            assert 0 <= int(cls) < len(DETECTABLE) and all(0.0 <= float(v) <= 1.0 for v in box)
+    sem = np.array(Image.open(next((root / "masks" / "semantic").rglob("*.png"))))
+    assert {CLASSES.index("sky"), CLASSES.index("water")} <= set(np.unique(sem).tolist())
+    meta = json.loads(next((root / "meta").glob("*.json")).read_text())
+    assert (
+        meta["look"]["fog"]["visibility_m"] is not None
+        and len(meta["qpos"]) > 7
+        and meta["scene"]["buoy_offset_m"]
+    )
+
+
+def test_same_seed_same_bytes_other_seed_differs(sets):
+    a, b, c = sets
+    files = sorted(
+        p.relative_to(a) for p in a.rglob("*") if p.is_file() and p.name not in ("data.yaml", "dataset.json")
+    )
+    assert len(files) > 4 * FRAMES
+    for rel in files:
+        assert (a / rel).read_bytes() == (b / rel).read_bytes(), rel
+    ma, mc = (json.loads((root / "meta" / "000000.json").read_text()) for root in (a, c))
+    for path in load_randomization("foggy_wavy").look:
+        section, key = path.split(".")
+        if not isinstance(ma["look"][section][key], list):  # constants (the fog colour) stay
+            assert ma["look"][section][key] != mc["look"][section][key], path
+    for key in ("vessel_yaw_deg", "camera_height_m", "camera_pitch_deg", "buoy_offset_m"):
+        assert ma["scene"][key] != mc["scene"][key]
+
+
+def test_bad_randomization_and_cli_errors(tmp_path):
+    bad = tmp_path / "r.yaml"
+    bad.write_text("version: 1\nscene: {buoy_offset: {uniform: [0, 1]}}\n")
+    with pytest.raises(UsvsimError, match="scene"):
+        load_randomization(bad)
+    bad.write_text("version: 1\nlook: {sun.azimut_deg: {uniform: [0, 1]}}\n")
+    with pytest.raises(UsvsimError, match="azimut_deg"):
+        generate(DatasetSpec("buoy_field", 1, tmp_path / "x", randomize=str(bad)))
+    result = CliRunner().invoke(
+        app, ["dataset", "buoy_field", "--out", str(tmp_path / "y"), "--randomize", "nope"]
+    )
+    assert result.exit_code == 2 and "no such file or preset" in result.output
