@@ -12,8 +12,8 @@ from rich.console import Console
 from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
 from rich.table import Table
 
-from usvsim.cli.errors import console, fail
 from usvsim.cli.dataset import dataset_command
+from usvsim.cli.errors import console, fail
 from usvsim.cli.geo_map import map_command
 from usvsim.cli.task import task as task_command
 from usvsim.core.errors import UsvsimError

@@ -111,7 +111,7 @@ def apply_scene(sim: Simulation, values: dict, vessel: str) -> None:
     dx, dy = values["vessel_offset_m"]
     _move(sim, sim.vessels[vessel].index, dx, dy, math.radians(values["vessel_yaw_deg"]))
     mujoco.mj_forward(sim.model, sim.data)
-    sim._update_kinematics()  # until [api]'s vessel.teleport lands: the one place that places bodies
+    sim.world._update_kinematics()  # until [api]'s vessel.teleport lands: the one place that places bodies
 
 
 def jittered_pose(cam: Camera, sim: Simulation, values: dict):
@@ -141,15 +141,15 @@ class DatasetGenerator:
             ) from None
         self.sim = Simulation(scenario, seed=spec.seed)
         self.shared: dict = {}
-        self.cameras = [(v, Camera(_camera_config(cfg), v, self.sim, self.shared)) for v, cfg in camera_cfgs]
-        objects = catalogue(self.sim)
+        self.cameras = [(v, Camera(_camera_config(cfg), v, self.sim.world, self.shared)) for v, cfg in camera_cfgs]
+        objects = catalogue(self.sim.world)
         self.buoys = [o.name for o in objects if o.category == "buoy"]
         self.labellers, self.looks = [], []
         for vessel, cam in self.cameras:
             mine = [o for o in objects if o.name != vessel]
             self.labellers.append(Labeller(self.sim.model, mine, cam.intrinsics, cam.cfg.near_m,
                                            camera_planes(cam.intrinsics, cam.cfg.near_m)))  # fmt: skip
-            self.looks.append(LookAdapter(self.sim, cam.renderer, cam.intrinsics))
+            self.looks.append(LookAdapter(self.sim.world, cam.renderer, cam.intrinsics))
         self.writer = DatasetWriter(spec.out, spec.formats)
 
     def run(self, progress: Callable[[int], None] | None = None) -> Path:
