@@ -29,7 +29,7 @@ def test_builtin_harbor_loads_with_description():
          "objects[0].colour", "unknown key"),
         ({"outputs": {"recording": {"ground_truth_rate_hz": 30}}}, "outputs.recording.ground_truth_rate_hz",
          "multiple of the physics step"),
-        ({"world": {"physics_rate_hz": 3}}, "world.physics_rate_hz", "nanosecond"),
+        ({"world": {"physics_rate_hz": 300}}, "world.physics_rate_hz", "nanosecond"),
     ],
 )
 def test_errors_name_the_key_path(scenario_of, data, path, words):

@@ -177,13 +177,18 @@ def _run_viewer(sim, duration: float) -> None:
 
 @app.command()
 def validate(file: Annotated[str, typer.Argument(help="scenario YAML file or built-in name")]) -> None:
-    """Check a scenario: schema, files, meshes, rates; builds the world without running it."""
+    """Check a scenario: schema, files, meshes, rates; builds the world without running it and warns about
+    set-ups that cannot work (a hull too heavy to float, bodies overlapping, hulls far from the water)."""
     from usvsim.simulation import Simulation
+    from usvsim.world.checks import setup_warnings
 
     try:
         sim = Simulation.from_scenario(file)
     except UsvsimError as exc:
         _fail(exc)
+    for warning in setup_warnings(sim):
+        console.print(f"usvsim: warning: {warning}", highlight=False, soft_wrap=True)
+    sim.close()
     sc = sim.scenario
     typer.echo(f"OK: {file}: scenario '{sc.name}', {len(sc.vessels)} vessel(s), {len(sc.objects)} object(s)")
 

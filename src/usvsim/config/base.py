@@ -1,4 +1,8 @@
-"""Base class of every scenario section and shared field types: strict, frozen, unknown keys rejected."""
+"""Base class of every scenario section and shared field types: strict, frozen, unknown keys rejected.
+
+No float anywhere in a scenario may be NaN or infinite (`allow_inf_nan=False` reaches every nested
+float, tuple and dict value). The physical limits below are documented in docs/limits.md.
+"""
 
 from __future__ import annotations
 
@@ -10,17 +14,30 @@ from pydantic import BaseModel, BeforeValidator, ConfigDict, Field
 class Section(BaseModel):
     """A scenario section. Unknown keys are errors; values are immutable once loaded."""
 
-    model_config = ConfigDict(extra="forbid", frozen=True, strict=True)
+    model_config = ConfigDict(extra="forbid", frozen=True, strict=True, allow_inf_nan=False)
 
 
 def _list_to_tuple(value):
     return tuple(value) if isinstance(value, list) else value
 
 
-Vec2 = Annotated[tuple[float, float], BeforeValidator(_list_to_tuple)]
-Vec3 = Annotated[tuple[float, float, float], BeforeValidator(_list_to_tuple)]
+MAX_COORDINATE_M = 100_000.0  # positions and offsets: 100 km around the world origin
+MAX_SIZE_M = 10_000.0  # one object's extent
+MIN_SIZE_M = 0.001  # 1 mm: smaller parts are below MuJoCo's geometric tolerances
+MAX_ANGLE_DEG = 3600.0  # ten turns; angles are wrapped anyway
+
+Coordinate = Annotated[float, Field(ge=-MAX_COORDINATE_M, le=MAX_COORDINATE_M)]
+Vec2 = Annotated[tuple[Coordinate, Coordinate], BeforeValidator(_list_to_tuple)]
+Vec3 = Annotated[tuple[Coordinate, Coordinate, Coordinate], BeforeValidator(_list_to_tuple)]
 PositiveFloat = Annotated[float, Field(gt=0)]
 NonNegativeFloat = Annotated[float, Field(ge=0)]
+Size = Annotated[float, Field(ge=MIN_SIZE_M, le=MAX_SIZE_M)]
+Size3 = Annotated[tuple[Size, Size, Size], BeforeValidator(_list_to_tuple)]
+AngleDeg = Annotated[float, Field(ge=-MAX_ANGLE_DEG, le=MAX_ANGLE_DEG)]
+MassKg = Annotated[float, Field(ge=1e-3, le=1e9)]  # 1 g to a million tonnes
+Inertia = Annotated[float, Field(ge=1e-6, le=1e13)]  # kg m^2
+Inertia3 = Annotated[tuple[Inertia, Inertia, Inertia], BeforeValidator(_list_to_tuple)]
+Scale = Annotated[float, Field(ge=1e-3, le=1e3)]
 
 
 class LatLon(Section):
@@ -33,16 +50,16 @@ class LatLon(Section):
 class GeoPose(LatLon):
     """`latlon` plus an optional compass `heading_deg` (clockwise from north), which replaces `yaw_deg`."""
 
-    heading_deg: float | None = Field(None, description="compass heading, degrees clockwise from north")
+    heading_deg: AngleDeg | None = Field(None, description="compass heading, degrees clockwise from north")
 
 
 class PoseDeg(Section):
     """Position (m) and roll/pitch/yaw (degrees, REP 103) of a frame in a parent frame the subclass names."""
 
     position: Vec3 = (0.0, 0.0, 0.0)
-    roll_deg: float = 0.0
-    pitch_deg: float = 0.0
-    yaw_deg: float = 0.0
+    roll_deg: AngleDeg = 0.0
+    pitch_deg: AngleDeg = 0.0
+    yaw_deg: AngleDeg = 0.0
 
 
 def tuple_of(item):

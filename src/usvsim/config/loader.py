@@ -8,6 +8,7 @@ from pathlib import Path
 import yaml
 from pydantic import ValidationError
 
+from usvsim.config import safe_yaml
 from usvsim.config.scenario import Scenario
 from usvsim.core.clock import period_ns, steps_per_period
 from usvsim.core.errors import ScenarioError
@@ -31,11 +32,12 @@ def resolve(name_or_path: str | Path) -> tuple[str, Path | None]:
     if path.suffix in (".yaml", ".yml") or path.exists():
         if not path.is_file():
             raise ScenarioError(str(path), "", "no such scenario file")
-        return path.read_text(), path.parent.resolve()
+        return safe_yaml.read_text(path, str(path)), path.parent.resolve()
     entry = resources.files(BUILTIN_PACKAGE) / f"{name_or_path}.yaml"
-    if not entry.is_file():
+    if len(str(name_or_path)) > 100 or not entry.is_file():
         known = ", ".join(builtin_scenarios())
-        raise ScenarioError(str(name_or_path), "", f"not a file and not a built-in scenario (built-ins: {known})")
+        name = safe_yaml.excerpt(str(name_or_path))
+        raise ScenarioError(name, "", f"not a file and not a built-in scenario (built-ins: {known})")
     return entry.read_text(), Path(str(resources.files(BUILTIN_PACKAGE)))  # built-ins' files sit beside them
 
 
@@ -43,13 +45,7 @@ def load_scenario(name_or_path: str | Path) -> Scenario:
     """Parse and validate a scenario; raises ScenarioError naming the file and the key path."""
     text, base_dir = resolve(name_or_path)
     source = str(name_or_path)
-    try:
-        data = yaml.safe_load(text)
-    except yaml.YAMLError as exc:
-        mark = getattr(exc, "problem_mark", None)
-        where = f"line {mark.line + 1}" if mark else ""
-        raise ScenarioError(source, where, f"not valid YAML: {getattr(exc, 'problem', exc)}") from None
-    return parse_scenario(data, source, base_dir)
+    return parse_scenario(safe_yaml.parse(text, source), source, base_dir)
 
 
 def parse_scenario(data, source: str = "<scenario>", base_dir: Path | None = None) -> Scenario:
@@ -84,9 +80,9 @@ def _first_error(exc: ValidationError, source: str, data) -> ScenarioError:
     if err["type"] == "extra_forbidden":
         msg = "unknown key (check spelling; see the scenario reference in the README)"
     elif err["type"] == "union_tag_invalid":
-        msg = f"unknown type {err['input'].get('type')!r}; expected one of {err['ctx']['expected_tags']}"
-    elif err["type"].endswith("_type") or err["type"] in ("literal_error",):
-        msg = f"{msg} (got {err['input']!r})"
+        msg = f"unknown type {safe_yaml.excerpt(err['input'].get('type'))}; expected one of {err['ctx']['expected_tags']}"
+    elif err["type"].endswith("_type") or err["type"] in ("literal_error", "finite_number"):
+        msg = f"{msg} (got {safe_yaml.excerpt(err['input'])})"
     more = len(exc.errors()) - 1
     if more:
         msg += f" (+{more} more error{'s' if more > 1 else ''})"

@@ -8,10 +8,11 @@ from __future__ import annotations
 
 from typing import Annotated, Literal
 
-from pydantic import Field
+from pydantic import Field, model_validator
 
-from usvsim.config.base import GeoPose, LatLon, PositiveFloat, Section, Vec3
+from usvsim.config.base import MAX_SIZE_M, AngleDeg, GeoPose, LatLon, MassKg, Scale, Section, Size, Size3, Vec3
 
+MAX_PILES_PER_ROW = 500
 Name = Annotated[str, Field(pattern=r"^[A-Za-z][A-Za-z0-9_]*$")]
 
 COLORS = {
@@ -31,7 +32,7 @@ Color = Literal["red", "green", "yellow", "orange", "white", "black", "grey", "w
 class Mooring(Section):
     """A slack mooring line from the buoy's bottom to an anchor on the seabed straight below."""
 
-    water_depth_m: PositiveFloat = 5.0
+    water_depth_m: Size = 5.0
     scope: float = Field(1.2, ge=1.0, description="line length / water depth")
 
 
@@ -41,8 +42,8 @@ class Buoy(LatLon):
     type: Literal["buoy"] = "buoy"
     name: Name
     position: Vec3
-    radius_m: PositiveFloat = 0.3
-    mass_kg: PositiveFloat = 20.0
+    radius_m: Annotated[float, Field(ge=0.05, le=50.0)] = 0.3
+    mass_kg: MassKg = 20.0
     color: Color = "red"
     mooring: Mooring | None = Mooring()
 
@@ -53,8 +54,8 @@ class Box(GeoPose):
     type: Literal["dock", "wall", "box"]
     name: Name
     position: Vec3
-    size: Vec3
-    yaw_deg: float = 0.0
+    size: Size3
+    yaw_deg: AngleDeg = 0.0
     color: Color = "concrete"
 
 
@@ -64,14 +65,22 @@ class Pier(GeoPose):
     type: Literal["pier"] = "pier"
     name: Name
     position: Vec3
-    length_m: PositiveFloat
-    width_m: PositiveFloat
-    deck_thickness_m: PositiveFloat = 0.3
-    pile_radius_m: PositiveFloat = 0.15
-    pile_spacing_m: PositiveFloat = 4.0
-    water_depth_m: PositiveFloat = 5.0
-    yaw_deg: float = 0.0
+    length_m: Size
+    width_m: Size
+    deck_thickness_m: Size = 0.3
+    pile_radius_m: Size = 0.15
+    pile_spacing_m: Size = 4.0
+    water_depth_m: Size = 5.0
+    yaw_deg: AngleDeg = 0.0
     color: Color = "wood"
+
+    @model_validator(mode="after")
+    def _piles(self):
+        if 2 * self.pile_radius_m > min(self.width_m, self.pile_spacing_m):
+            raise ValueError("pile_radius_m must be at most half of width_m and of pile_spacing_m")
+        if self.length_m / self.pile_spacing_m > MAX_PILES_PER_ROW:
+            raise ValueError(f"more than {MAX_PILES_PER_ROW} piles per row; increase pile_spacing_m")
+        return self
 
 
 class Berth(GeoPose):
@@ -85,12 +94,12 @@ class Berth(GeoPose):
     type: Literal["berth"] = "berth"
     name: Name
     position: Vec3
-    inner_length_m: PositiveFloat = 7.0
-    inner_width_m: PositiveFloat = 4.0
-    wall_thickness_m: PositiveFloat = 0.6
-    height_m: PositiveFloat = 2.0
-    freeboard_m: float = 0.6
-    yaw_deg: float = 0.0
+    inner_length_m: Size = 7.0
+    inner_width_m: Size = 4.0
+    wall_thickness_m: Size = 0.6
+    height_m: Size = 2.0
+    freeboard_m: Annotated[float, Field(ge=-MAX_SIZE_M, le=MAX_SIZE_M)] = 0.6
+    yaw_deg: AngleDeg = 0.0
     color: Color = "concrete"
 
 
@@ -101,8 +110,8 @@ class MeshObstacle(GeoPose):
     name: Name
     file: str
     position: Vec3 = (0.0, 0.0, 0.0)
-    yaw_deg: float = 0.0
-    scale: PositiveFloat = 1.0
+    yaw_deg: AngleDeg = 0.0
+    scale: Scale = 1.0
     color: Color = "grey"
 
 

@@ -19,15 +19,24 @@ class GeodeticOrigin(Section):
 
     latitude_deg: float = Field(59.42083, ge=-90, le=90)
     longitude_deg: float = Field(10.43278, ge=-180, le=180)
-    altitude_m: float = 0.0
+    altitude_m: float = Field(0.0, ge=-11_000, le=10_000)
+
+
+class DivergenceLimits(Section):
+    """A floating body beyond any of these has diverged numerically: the run stops with an error naming it."""
+
+    max_speed_mps: float = Field(100.0, gt=0, le=10_000)
+    max_angular_speed_radps: float = Field(100.0, gt=0, le=100_000)
+    max_acceleration_mps2: float = Field(10_000.0, gt=0, le=1e7)
 
 
 class World(Section):
-    physics_rate_hz: PositiveFloat = 100.0
-    gravity_mps2: PositiveFloat = 9.81
-    water_density_kgpm3: PositiveFloat = 1025.0
-    air_density_kgpm3: PositiveFloat = 1.225
+    physics_rate_hz: float = Field(100.0, ge=20, le=10_000, description="MuJoCo step rate; must divide 1e9 ns")
+    gravity_mps2: float = Field(9.81, ge=0.1, le=100)
+    water_density_kgpm3: float = Field(1025.0, ge=500, le=2000)
+    air_density_kgpm3: float = Field(1.225, gt=0, le=10)
     origin: GeodeticOrigin = GeodeticOrigin()
+    divergence: DivergenceLimits = DivergenceLimits()
 
 
 class Recording(Section):
@@ -54,8 +63,8 @@ class Outputs(Section):
 
 class Scenario(Section):
     version: Literal[1]
-    name: str = "scenario"
-    description: str = ""
+    name: str = Field("scenario", max_length=200)
+    description: str = Field("", max_length=20_000)
     world: World = World()
     environment: Environment = Environment()
     vessels: tuple_of(Vessel) = Field(default=(), max_length=256)

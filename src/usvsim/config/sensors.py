@@ -15,6 +15,9 @@ from pydantic import Field, model_validator
 from usvsim.config.base import NonNegativeFloat, PoseDeg, PositiveFloat, Section, Vec2, tuple_of
 
 Name = Annotated[str, Field(pattern=r"^[A-Za-z][A-Za-z0-9_]*$")]
+TOPIC_PATTERN = r"^/?[A-Za-z_][A-Za-z0-9_]*(/[A-Za-z_][A-Za-z0-9_]*)*$"  # ROS 2 topic name rules
+FRAME_PATTERN = r"^[A-Za-z_][A-Za-z0-9_]*(/[A-Za-z_][A-Za-z0-9_]*)*$"
+MAX_LIDAR_RAYS = 1 << 22  # rays per revolution (channels x columns), ~4 M: 16x an OS1-128 at 2048 columns
 Probability = Annotated[float, Field(ge=0.0, lt=1.0)]
 
 
@@ -29,8 +32,8 @@ class SensorBase(Section):
     rate_hz: PositiveFloat = 10.0
     latency_s: NonNegativeFloat = Field(0.0, description="publish this long after sampling (stamp = sample time)")
     mount: Mount = Mount()
-    topic: str | None = None
-    frame_id: str | None = None
+    topic: Annotated[str, Field(pattern=TOPIC_PATTERN, max_length=256)] | None = None
+    frame_id: Annotated[str, Field(pattern=FRAME_PATTERN, max_length=256)] | None = None
 
 
 # -- navigation ------------------------------------------------------------------------------------
@@ -150,6 +153,13 @@ class Lidar(SensorBase):
     reflectivity: dict[str, Annotated[float, Field(ge=0, le=1)]] = Field(
         default_factory=dict, description="per body name ('world' = static objects); default from colour"
     )
+
+    @model_validator(mode="after")
+    def _bounded_rays(self):
+        rows = self.channels or len(self.elevations_deg or ()) or 128
+        if rows * (self.columns or 2048) > MAX_LIDAR_RAYS:
+            raise ValueError(f"channels x columns must be at most {MAX_LIDAR_RAYS} rays per revolution")
+        return self
 
 
 # -- cameras ---------------------------------------------------------------------------------------

@@ -10,7 +10,19 @@ from typing import Annotated, Literal
 
 from pydantic import Field, model_validator
 
-from usvsim.config.base import GeoPose, NonNegativeFloat, PoseDeg, PositiveFloat, Section, Vec3, tuple_of
+from usvsim.config.base import (
+    AngleDeg,
+    GeoPose,
+    Inertia3,
+    MassKg,
+    NonNegativeFloat,
+    PoseDeg,
+    PositiveFloat,
+    Scale,
+    Section,
+    Vec3,
+    tuple_of,
+)
 from usvsim.config.control import Controller
 from usvsim.config.hydro_models import FossenHydrodynamics, KernerHydrodynamics, VoxelBuoyancy, WindLoad
 from usvsim.config.sensors import Sensors
@@ -23,9 +35,9 @@ class Pose(PoseDeg, GeoPose):
 class MassProperties(Section):
     """Rigid-body mass properties. Omitted values come from the library model or the hull mesh."""
 
-    mass_kg: PositiveFloat | None = None
+    mass_kg: MassKg | None = None
     com: Vec3 | None = Field(None, description="centre of mass in base_link (FLU), m")
-    inertia: Vec3 | None = Field(None, description="principal moments about the CoM along FLU axes, kg m^2")
+    inertia: Inertia3 | None = Field(None, description="principal moments about the CoM along FLU axes, kg m^2")
 
 
 class StateSpaceDrag(Section):
@@ -81,8 +93,8 @@ class ThrustMap(Section):
 class Azimuth(Section):
     """A steerable thruster: angle limits, first-order servo and its rate limit (REP 103: + is CCW from above)."""
 
-    min_deg: float = -90.0
-    max_deg: float = 90.0
+    min_deg: AngleDeg = -90.0
+    max_deg: AngleDeg = 90.0
     time_constant_s: PositiveFloat = 0.3
     max_rate_deg_s: PositiveFloat = 90.0
 
@@ -98,7 +110,7 @@ class Thruster(Section):
 
     name: str = Field(pattern=r"^[A-Za-z][A-Za-z0-9_]*$")
     position: Vec3 = Field(description="force application point in base_link (FLU), m")
-    mount_yaw_deg: float = Field(0.0, description="thrust direction at zero azimuth, CCW from +x (90 = tunnel)")
+    mount_yaw_deg: AngleDeg = Field(0.0, description="thrust direction at zero azimuth, CCW from +x (90 = tunnel)")
     thrust: ThrustMap = ThrustMap()
     time_constant_s: PositiveFloat = 0.2
     max_rate_n_s: PositiveFloat | None = None
@@ -122,7 +134,7 @@ class Vessel(Section):
     model: str
     hull_mesh: str | None = Field(None, description="physics hull mesh file for model 'custom'")
     visual_mesh: str | None = None
-    mesh_scale: PositiveFloat = 1.0
+    mesh_scale: Scale = 1.0
     pose: Pose = Pose()
     mass: MassProperties = MassProperties()
     buoyancy: Buoyancy = TriangleBuoyancy()

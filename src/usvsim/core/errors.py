@@ -3,6 +3,9 @@
 from __future__ import annotations
 
 
+MAX_MESSAGE_CHARS = 600  # an error names what is wrong; it never echoes the user's input at length
+
+
 class UsvsimError(Exception):
     """Base class for errors a user can fix (bad scenario, missing file, bad command)."""
 
@@ -11,6 +14,7 @@ class ScenarioError(UsvsimError):
     """A scenario file is invalid. Names the file, the key path and what is wrong."""
 
     def __init__(self, source: str, key_path: str, message: str):
+        source, key_path, message = source[:200], key_path[:200], message[:MAX_MESSAGE_CHARS]
         self.source = source
         self.key_path = key_path
         self.message = message

@@ -12,21 +12,32 @@ from usvsim.core.errors import MeshError
 from usvsim.vessels.parts import Mesh
 
 
+MAX_MESH_FACES = 200_000  # hulls and obstacles; a hull's cost per step is proportional to its faces
+MAX_MESH_BYTES = 256 << 20
+
+
 def load_mesh(path: Path, scale: float = 1.0, key: str = "hull_mesh", require_closed: bool = True) -> Mesh:
     """Load a mesh file as one triangle mesh (all geometry merged); errors name the file and the problem."""
     if not path.is_file():
         raise MeshError(f"{key}: mesh file not found: {path}")
+    if path.stat().st_size > MAX_MESH_BYTES:
+        raise MeshError(f"{key}: {path} is larger than {MAX_MESH_BYTES >> 20} MiB; decimate the mesh")
     try:
-        loaded = trimesh.load(path, force="mesh", process=True)
+        loaded = trimesh.load(path, force="mesh", process=False)
     except Exception as exc:  # trimesh raises many types for unreadable files
-        raise MeshError(f"{key}: cannot read mesh {path}: {exc}") from None
+        raise MeshError(f"{key}: cannot read mesh {path}: {str(exc)[:200]}") from None
     if not isinstance(loaded, trimesh.Trimesh) or len(loaded.faces) == 0:
         raise MeshError(f"{key}: {path} contains no triangles")
+    if len(loaded.faces) > MAX_MESH_FACES:
+        raise MeshError(f"{key}: {path} has {len(loaded.faces)} triangles, more than {MAX_MESH_FACES}; decimate it")
+    if not np.isfinite(loaded.vertices).all():
+        raise MeshError(f"{key}: {path} has non-finite vertex coordinates")
+    loaded.process()
     loaded.apply_scale(scale)
     if require_closed:
         if not loaded.is_watertight:
             raise MeshError(
-                f"{key}: hull mesh {path} is not watertight (it has open edges); buoyancy needs a closed hull"
+                f"{key}: mesh {path} is not watertight (it has open edges); hulls (buoyancy) and obstacles (convex decomposition) must be closed solids"
             )
         if not loaded.is_winding_consistent:
             raise MeshError(f"{key}: hull mesh {path} has inconsistent face winding")

@@ -71,7 +71,7 @@ def pier_parts(obj: Pier) -> list[Part]:
 
 
 def mesh_parts(obj: MeshObstacle, base_dir: Path, key: str) -> list[Part]:
-    mesh = load_mesh(base_dir / obj.file, obj.scale, key=key, require_closed=False)
+    mesh = load_mesh(base_dir / obj.file, obj.scale, key=key)  # closed: CoACD decomposes solids
     quat = tuple(quat_from_rpy(0, 0, math.radians(obj.yaw_deg)))
     rgba = COLORS[obj.color]
     return [

@@ -38,6 +38,7 @@ from usvsim.vessel import Body, Thruster, Vessel
 from usvsim.vessels import buoy
 from usvsim.vessels.library import vessel_model
 from usvsim.world.builder import FloatingBody, build_model
+from usvsim.world.divergence import DivergenceGuard
 from usvsim.world.obstacles import static_parts
 from usvsim.world.state import BodyState
 
@@ -74,6 +75,7 @@ class World:
         self._overlap = Overlap()
         self._init_physics(floating)
         self._init_handles(floating)
+        self._guard = DivergenceGuard(world.divergence, list(self.bodies), self.clock.dt)
         self.odom_origin = {
             name: (v.position, v.quat) for name, v in self.vessels.items()
         }  # ground truth's odom
@@ -156,6 +158,7 @@ class World:
             self._raise_divergence()
         self.clock.tick()
         self._update_kinematics()
+        self._guard.check(self.state.vcom_world, self.state.omega_body, self.clock.seconds)
 
     def reset(self) -> None:
         """Back to the scenario's initial state at t = 0 (bodies, thrusters, clock)."""
@@ -164,6 +167,7 @@ class World:
         self.look = self.scenario.rendering
         self.thrusters.reset()
         self.marine.reset()
+        self._guard.reset()
         self._update_kinematics()
         self.hydrostatics = self._hydrostatics()
 

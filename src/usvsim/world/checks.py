@@ -1,0 +1,64 @@
+"""Set-ups that build but cannot work: warnings that `usvsim validate` prints (docs/limits.md).
+
+- a floating body heavier than the water its closed hull can displace (it sinks whatever happens);
+- a floating body whose hull is entirely above or below the still water level by more than 1 m;
+- bodies that overlap at t = 0 (MuJoCo contacts deeper than 1 cm: they are pushed apart violently).
+
+Frames: world ENU, metres; heights relative to the still water level.
+"""
+
+from __future__ import annotations
+
+import mujoco
+import numpy as np
+
+CLEARANCE_M = 1.0  # how far above or below the water a whole hull may start before a warning
+OVERLAP_M = 0.01  # contact penetration at t = 0 that counts as an overlap
+
+
+def hull_volume_m3(vertices: np.ndarray, faces: np.ndarray) -> float:
+    """Enclosed volume of a closed triangle mesh (divergence theorem; outward winding)."""
+    a, b, c = (vertices[faces[:, k]] for k in range(3))
+    return abs(float(np.einsum("ij,ij->i", a, np.cross(b, c)).sum()) / 6.0)
+
+
+def setup_warnings(sim) -> list[str]:
+    """Warnings for the simulation's initial state (bodies, hulls, water level, contacts)."""
+    return [*_displacement(sim), *_far_from_water(sim), *_overlaps(sim)]
+
+
+def _displacement(sim) -> list[str]:
+    out = []
+    for body in sim.bodies.values():
+        hull = body.model.hull
+        capacity = sim.rho * hull_volume_m3(hull.vertices, hull.faces)
+        if body.model.mass_kg > capacity:
+            out.append(f"'{body.name}' ({body.model.mass_kg:.6g} kg) is heavier than the water its closed hull can "
+                       f"displace ({capacity:.6g} kg): it will sink")  # fmt: skip
+    return out
+
+
+def _far_from_water(sim) -> list[str]:
+    s, level = sim.state, sim.scenario.environment.water_level_m
+    verts = sim.hulls.world_vertices(s.pos, s.rot)
+    out = []
+    for i, name in enumerate(sim.bodies):
+        z = verts[sim.hulls.vert_offsets[i] : sim.hulls.vert_offsets[i + 1], 2] - level
+        if z.min() > CLEARANCE_M:
+            out.append(f"'{name}' starts {z.min():.3g} m above the water (its lowest hull point): it will fall")
+        elif z.max() < -CLEARANCE_M:
+            out.append(f"'{name}' starts {-z.max():.3g} m below the water (its highest hull point): it will shoot up")
+    return out
+
+
+def _overlaps(sim) -> list[str]:
+    data = mujoco.MjData(sim.model)
+    data.qpos[:] = sim.data.qpos
+    mujoco.mj_forward(sim.model, data)
+    names = ["the static world", *(f"'{n}'" for n in sim.bodies)]
+    pairs = set()
+    for contact in data.contact[: data.ncon]:
+        if contact.dist < -OVERLAP_M:
+            b1, b2 = (int(sim.model.geom_bodyid[g]) for g in contact.geom)
+            pairs.add(tuple(sorted((b1, b2))))
+    return [f"{names[a]} and {names[b]} overlap at the start: they will be pushed apart" for a, b in sorted(pairs)]
