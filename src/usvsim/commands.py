@@ -28,6 +28,8 @@ from collections import deque
 from collections.abc import Callable
 from typing import TYPE_CHECKING, Any
 
+import numpy as np
+
 from usvsim.core import queues
 from usvsim.messages.ros import typestore
 
@@ -147,17 +149,28 @@ class CommandInbox:
                 self._controllers[vessel].reference = self._held_references.pop(vessel)
 
 
+MAX_SPEED_MPS = 50.0  # cmd_vel linear x, y (m/s, FLU): beyond any surface vessel
+MAX_YAW_RATE_RADPS = 10.0  # cmd_vel angular z (rad/s)
+MAX_ANGLE_RAD = 2 * math.pi  # azimuth command
+
+
 def _value(kind: str, msg: Any):
     """The command's value from a decoded message, or None when it is out of range or not finite."""
     if kind == "reset":
         return True
     if kind in ("thrust", "angle"):
-        x = float(msg.data)
-        if not math.isfinite(x) or (kind == "thrust" and abs(x) > 1.0):
-            return None
-        return x
-    nu = (float(msg.linear.x), float(msg.linear.y), float(msg.angular.z))
-    return nu if all(math.isfinite(v) for v in nu) else None
+        x = _number(msg.data)
+        return x if abs(x) <= (1.0 if kind == "thrust" else MAX_ANGLE_RAD) else None
+    nu = (_number(msg.linear.x), _number(msg.linear.y), _number(msg.angular.z))
+    return nu if max(abs(nu[0]), abs(nu[1])) <= MAX_SPEED_MPS and abs(nu[2]) <= MAX_YAW_RATE_RADPS else None
+
+
+def _number(value) -> float:
+    """A real number, strictly: a JSON string "0.5" or a bool is a TypeError; NaN/inf compare as out of range."""
+    if isinstance(value, bool) or not isinstance(value, int | float | np.floating | np.integer):
+        raise TypeError(f"expected a number, got {type(value).__name__}")
+    x = float(value)
+    return x if math.isfinite(x) else math.inf
 
 
 def _default_velocity_loop(world: World, vessel: str):

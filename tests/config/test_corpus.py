@@ -50,7 +50,7 @@ def _outcome(path) -> tuple[str, str]:
         signal.signal(signal.SIGALRM, previous)
     try:
         assert all(math.isfinite(x) for x in _floats(sim.scenario.model_dump())), f"{path.name}: non-finite accepted"
-        warnings = setup_warnings(sim)
+        warnings = setup_warnings(sim.world)
         sim.run(0.2)  # a valid scenario also runs
     finally:
         sim.close()

@@ -116,11 +116,14 @@ class FoxgloveBridge:
         self._water_channel = SceneUpdateChannel(WATER_TOPIC, context=self._context)
         self._inbox = _ClientCommands(self) if client_publish else None
         capabilities = [Capability.Time] + ([Capability.ClientPublish] if client_publish else [])
-        self._server = foxglove.start_server(
-            name="usvsim", host=host, port=port, capabilities=capabilities, server_listener=_Listener(self),
-            supported_encodings=["cdr", "json"] if client_publish else None, context=self._context,
-            message_backlog_size=backlog,
-        )  # fmt: skip
+        try:
+            self._server = foxglove.start_server(
+                name="usvsim", host=host, port=port, capabilities=capabilities, server_listener=_Listener(self),
+                supported_encodings=["cdr", "json"] if client_publish else None, context=self._context,
+                message_backlog_size=backlog,
+            )  # fmt: skip
+        except RuntimeError as exc:  # the SDK reports bind failures (port taken, bad address) this way
+            raise OSError(f"cannot start the Foxglove server on {host}:{port}: {str(exc)[:160]}") from None
         _quiet_send_errors()
         self._latch_static_transforms()
         self._unsubscribe = sim.subscribe(self._on_envelope)

@@ -83,6 +83,7 @@ class RosTcpBridge:
             end.setblocking(False)
         self._wake_pending = False
         self._closed = threading.Event()
+        self._unreachable_warned = False
         self._topic_list_event = threading.Event()
         self._topics: dict[str, tuple[str, int, bool]] = {}  # wire name → (msgtype, depth, latch); I/O thread
         self._latched: dict[str, bytes] = {}  # wire name → last topic frame of a transient-local topic
@@ -143,9 +144,14 @@ class RosTcpBridge:
     def _connect(self) -> socket.socket | None:
         try:
             sock = socket.create_connection(self.address, timeout=self.timing.connect_timeout_s)
-        except OSError:
+        except OSError as exc:
             self.stats["connect_failures"] += 1
+            if not self._unreachable_warned:  # once, until a connection succeeds
+                self._unreachable_warned = True
+                log.warning("ROS-TCP: cannot reach the endpoint at %s:%d (%s); retrying every %g s",
+                            *self.address, exc.strerror or exc, self.timing.reconnect_delay_s)  # fmt: skip
             return None
+        self._unreachable_warned = False
         sock.setsockopt(socket.IPPROTO_TCP, socket.TCP_NODELAY, 1)
         sock.settimeout(self.timing.write_timeout_s)  # bounds sendall; reads happen only after select
         self.stats["connects"] += 1

@@ -98,8 +98,8 @@ def parse_json(payload: bytes, drop_last: bool = False) -> dict[str, Any]:
     try:
         text = payload.decode("utf-8")
         value = json.loads(text[:-1] if drop_last else text)
-    except (UnicodeDecodeError, ValueError) as exc:
-        raise ProtocolError(f"bad command JSON: {exc}") from None
+    except (UnicodeDecodeError, ValueError, RecursionError) as exc:
+        raise ProtocolError(f"bad command JSON: {str(exc)[:80]}") from None
     if not isinstance(value, dict):
         raise ProtocolError("command JSON is not an object")
     return value
@@ -111,7 +111,7 @@ def parse_handshake(params: dict[str, Any]) -> tuple[str, str]:
     if isinstance(meta, str):
         try:
             meta = json.loads(meta)
-        except ValueError:
+        except (ValueError, RecursionError):
             meta = {}
     protocol = meta.get("protocol", "") if isinstance(meta, dict) else ""
     return str(params.get("version", "")), str(protocol)

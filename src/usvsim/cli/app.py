@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import sys
 import time
+from contextlib import ExitStack
 from pathlib import Path
 from typing import Annotated
 
@@ -15,13 +16,13 @@ from rich.table import Table
 from usvsim.cli.dataset import dataset_command
 from usvsim.cli.errors import console, fail
 from usvsim.cli.geo_map import map_command
+from usvsim.cli.recover import recover
 from usvsim.cli.task import task as task_command
 from usvsim.core.errors import UsvsimError
 
 app = typer.Typer(
     add_completion=False, no_args_is_help=True, help="usvsim: unmanned surface vehicle simulator."
 )
-_fail = fail  # the name command modules used before cli/errors.py
 
 EXPERIMENTS = {
     "sphere": ("usvsim.experiments.sphere", "sphere lowered through flat water: volume vs the analytic cap"),
@@ -75,51 +76,66 @@ def run(
     ] = False,
     foxglove_host: Annotated[str, typer.Option(help="address the Foxglove server binds")] = "127.0.0.1",
     foxglove_port: Annotated[int, typer.Option(help="Foxglove server port", min=0, max=65535)] = 8765,
+    force: Annotated[bool, typer.Option("--force", help="overwrite an existing recording")] = False,
 ) -> None:
     """Run a scenario headless or in the viewer, optionally recording it and bridging it to ROS 2 / Foxglove."""
-    from usvsim.cli.bridges import BridgeOptions, close_all, open_bridges
-    from usvsim.io.mcap_recorder import McapRecorder
-    from usvsim.simulation import Simulation
+    from usvsim.cli.bridges import BridgeOptions
 
     options = BridgeOptions(ros2, domain_id, ros2_interface, ros_tcp, ros_tcp_profile, ros_tcp_vessel, foxglove,
                             foxglove_host, foxglove_port)  # fmt: skip
-    try:
-        sim = Simulation.from_scenario(scenario, seed=seed)
-        bridges = open_bridges(sim, options)
-    except (UsvsimError, OSError) as exc:
-        _fail(exc)
-    path = record or (
-        Path(sim.scenario.outputs.recording.path) if sim.scenario.outputs.recording.path else None
-    )
-    recorder = McapRecorder(path) if path else None
-    if recorder:
-        sim.subscribe(recorder.write)
-    interrupted = False
-    start = time.perf_counter()
-    try:
-        if view:
-            _run_viewer(sim, duration)
-        else:
-            _run_with_progress(sim, duration, realtime)
-    except KeyboardInterrupt:
-        interrupted = True
-    except UsvsimError as exc:
-        _fail(exc)
-    finally:
-        close_all(bridges)
-        if recorder:
-            recorder.close()
-        sim.close()
+    if not 0 <= duration <= 1e7:
+        fail(UsvsimError(f"--duration must be a finite number of seconds in [0, 1e7], got {duration}"))
+    with ExitStack() as stack:  # closes bridges, then the recorder, then the simulation, on every path
+        sim, recorder, bridges = _open_run(stack, scenario, seed, record, force, options)
+        interrupted = False
+        start = time.perf_counter()
+        try:
+            if view:
+                _run_viewer(sim, duration)
+            else:
+                _run_with_progress(sim, duration, realtime)
+        except KeyboardInterrupt:
+            interrupted = True
+        except (UsvsimError, OSError) as exc:
+            fail(exc)
+        stack.close()
     wall = time.perf_counter() - start
     rtf = sim.time / wall if wall > 0 else float("inf")
     status = "stopped (Ctrl-C)" if interrupted else "done"
-    console.print(f"{status}: simulated {sim.time:.2f} s in {wall:.2f} s wall ({rtf:.1f}x real time)")
+    typer.echo(f"{status}: simulated {sim.time:.2f} s in {wall:.2f} s wall ({rtf:.1f}x real time)")
     if recorder:
-        console.print(f"recorded {recorder.message_count} messages to {path}")
+        typer.echo(f"recorded {recorder.message_count} messages to {recorder.path}")
     for bridge in bridges:
-        console.print(f"{type(bridge).__name__}: {_stats_line(bridge.stats)}", highlight=False)
+        typer.echo(f"{type(bridge).__name__}: {_stats_line(bridge.stats)}")
     if interrupted:
         raise typer.Exit(130)
+
+
+def _open_run(stack: ExitStack, scenario: str, seed: int, record: Path | None, force: bool, options):
+    """Simulation, recorder (or None) and bridges, each registered on `stack` to be closed; one-line errors."""
+    from usvsim.cli.bridges import close_all, open_bridges
+    from usvsim.cli.outputs import check_output
+    from usvsim.io.mcap_recorder import McapRecorder
+    from usvsim.simulation import Simulation
+
+    recorder = None
+    try:
+        if record:
+            check_output(record, force)  # before the (slow) build
+        sim = Simulation.from_scenario(scenario, seed=seed)
+        stack.callback(sim.close)
+        configured = sim.scenario.outputs.recording.path
+        path = record or (Path(configured) if configured else None)
+        if path:
+            check_output(path, force)
+            recorder = McapRecorder(path)
+            stack.callback(recorder.close)
+            sim.subscribe(recorder.write)
+        bridges = open_bridges(sim, options)
+        stack.callback(close_all, bridges)
+    except (UsvsimError, OSError) as exc:
+        fail(exc)
+    return sim, recorder, bridges
 
 
 def _stats_line(stats: dict) -> str:
@@ -153,13 +169,20 @@ def _progress_loop(sim, duration: float, realtime: bool, on_step) -> None:
         TextColumn("{task.fields[rtf]}"),
         TimeElapsedColumn(),
     )
+    dt = sim.clock.dt
+    total = round(duration / dt)  # whole physics steps: the run ends exactly at `duration` (to the step)
+    chunk = max(1, round(0.5 / dt))
+    behind_warned = False
     with Progress(*columns, console=console, transient=False, disable=not console.is_terminal) as progress:
         task = progress.add_task(sim.scenario.name, total=duration, rtf="")
-        chunk = 0.5
-        while sim.time < duration - 1e-9:
-            sim.run(min(chunk, duration - sim.time), realtime=realtime, on_step=on_step)
+        while sim.clock.steps < total:
+            sim.run(min(chunk, total - sim.clock.steps) * dt, realtime=realtime, on_step=on_step)
             wall = time.perf_counter() - start
             progress.update(task, completed=sim.time, rtf=f"{sim.time / wall:.1f}x RT" if wall > 0 else "")
+            if realtime and not behind_warned and wall > 2.0 and sim.time < 0.9 * wall:
+                behind_warned = True
+                console.print(f"usvsim: warning: --realtime is falling behind: {sim.time:.1f} s simulated in "
+                              f"{wall:.1f} s wall ({sim.time / wall:.2f}x real time)", highlight=False)  # fmt: skip
 
 
 def _run_viewer(sim, duration: float) -> None:
@@ -185,12 +208,15 @@ def validate(file: Annotated[str, typer.Argument(help="scenario YAML file or bui
     try:
         sim = Simulation.from_scenario(file)
     except UsvsimError as exc:
-        _fail(exc)
-    for warning in setup_warnings(sim):
+        fail(exc)
+    for warning in setup_warnings(sim.world):
         console.print(f"usvsim: warning: {warning}", highlight=False, soft_wrap=True)
     sim.close()
     sc = sim.scenario
     typer.echo(f"OK: {file}: scenario '{sc.name}', {len(sc.vessels)} vessel(s), {len(sc.objects)} object(s)")
+
+
+app.command()(recover)
 
 
 @app.command()
@@ -209,12 +235,12 @@ def experiment(
     name: Annotated[str, typer.Argument(help=f"one of: {', '.join(EXPERIMENTS)}")],
     out: Annotated[Path, typer.Option(help="output directory")] = Path("out/experiments"),
 ) -> None:
-    """Run a validation experiment; writes NAME.json and NAME.png under --out."""
+    """Run a validation experiment; writes NAME.json and NAME.png under --out (dashes in NAME become underscores)."""
     import importlib
     import json
 
     if name not in EXPERIMENTS:
-        _fail(UsvsimError(f"unknown experiment {name!r}; choose one of: {', '.join(EXPERIMENTS)}"))
+        fail(UsvsimError(f"unknown experiment {name!r}; choose one of: {', '.join(EXPERIMENTS)}"))
     module = importlib.import_module(EXPERIMENTS[name][0])
     out.mkdir(parents=True, exist_ok=True)
     result = module.run(out)

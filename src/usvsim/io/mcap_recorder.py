@@ -10,8 +10,13 @@ Layout (what rosbag2_storage_mcap writes and reads, ros2-interop.md §5):
   the summary and footer.
 
 The file is complete only after `close()`: call it in a `finally` (or use the recorder as a context
-manager). `close()` holds back Ctrl-C while it writes the summary and re-raises it afterwards. A
-process killed hard leaves a file without summary; `mcap recover` can repair it.
+manager). `close()` holds back Ctrl-C while it writes the summary and re-raises it afterwards.
+
+Crash safety: chunks are at most `chunk_size` bytes (1 MiB) and the chunk in progress is written out and
+flushed to the OS at least every `flush_interval_s` of simulated time (0.5 s), so a process killed hard
+(`kill -9`, power aside) loses at most that much; `usvsim recover FILE` (io/mcap_recover.py) rewrites
+every complete chunk of such a file into a standard one. A failed write (disk full, I/O error) raises
+a UsvsimError once and leaves the file recoverable up to the last flushed chunk.
 """
 
 from __future__ import annotations
@@ -27,6 +32,7 @@ from typing import Literal, Self
 import yaml
 from mcap.writer import CompressionType, Writer
 
+from usvsim.core.errors import UsvsimError
 from usvsim.messages.envelope import Envelope, QosProfile
 from usvsim.messages.ros import message_definition, typestore
 
@@ -78,7 +84,8 @@ class McapRecorder:
         path: str | Path,
         *,
         compression: Literal["zstd", "lz4", "none"] = "zstd",
-        chunk_size: int = 4 * 1024 * 1024,
+        chunk_size: int = 1024 * 1024,
+        flush_interval_s: float = 0.5,
         ros_distro: str = "jazzy",
     ) -> None:
         from usvsim import __version__
@@ -91,7 +98,8 @@ class McapRecorder:
         self._schemas: dict[str, int] = {}
         self._start_ns: int | None = None
         self._end_ns = 0
-        self._closed = False
+        self._flush_interval_ns, self._flushed_ns = int(flush_interval_s * 1e9), 0
+        self._closed = self._failed = False
         self._file = self.path.open("wb")
         try:
             self._writer = Writer(self._file, chunk_size=chunk_size, compression=_COMPRESSION[compression])
@@ -111,27 +119,41 @@ class McapRecorder:
             raise ValueError(
                 f"topic {envelope.topic} was recorded as {topic.msgtype}, got {envelope.msgtype}"
             )
-        data, stamp = envelope.cdr, envelope.publish_ns  # serialize (once) before touching any state
+        self._append(topic, envelope.publish_ns, envelope.cdr)  # serialized (once) before touching any state
+
+    def _append(self, topic: _Topic, stamp: int, data: bytes) -> None:
         topic.count += 1
-        self._writer.add_message(topic.channel_id, stamp, data, stamp, topic.count)
+        try:
+            self._writer.add_message(topic.channel_id, stamp, data, stamp, topic.count)
+            if stamp - self._flushed_ns >= self._flush_interval_ns:
+                self._writer.flush()  # the chunk in progress goes to the OS: a hard kill loses at most this
+                self._flushed_ns = stamp
+        except OSError as exc:
+            self._fail(exc)
         if self._start_ns is None or stamp < self._start_ns:
             self._start_ns = stamp
         self._end_ns = max(self._end_ns, stamp)
 
+    def _fail(self, exc: OSError) -> None:
+        self._closed = self._failed = True
+        with suppress(OSError):
+            self._file.close()
+        raise UsvsimError(f"recording to {self.path} stopped: {exc.strerror or exc}; it is readable up to the "
+                          f"last flushed chunk after 'usvsim recover {self.path}'") from None  # fmt: skip
+
     def _register(self, envelope: Envelope) -> _Topic:
         msgtype = envelope.msgtype
-        store = typestore()
+        qos, type_hash = qos_yaml(envelope.qos), typestore().hash_rihs01(msgtype)
+        return self._register_raw(envelope.topic, msgtype, message_definition(msgtype).encode(), qos, type_hash)
+
+    def _register_raw(self, name: str, msgtype: str, msgdef: bytes, qos: str, type_hash: str) -> _Topic:
         if msgtype not in self._schemas:
-            msgdef = message_definition(msgtype).encode()
             self._schemas[msgtype] = self._writer.register_schema(msgtype, "ros2msg", msgdef)
-        topic = _Topic(0, msgtype, qos_yaml(envelope.qos), store.hash_rihs01(msgtype))
+        topic = _Topic(0, msgtype, qos, type_hash)
         topic.channel_id = self._writer.register_channel(
-            envelope.topic,
-            "cdr",
-            self._schemas[msgtype],
-            {"offered_qos_profiles": topic.qos_yaml, "topic_type_hash": topic.type_hash},
+            name, "cdr", self._schemas[msgtype], {"offered_qos_profiles": qos, "topic_type_hash": type_hash}
         )
-        self._topics[envelope.topic] = topic
+        self._topics[name] = topic
         return topic
 
     # -- state -------------------------------------------------------------------------------------
@@ -154,7 +176,7 @@ class McapRecorder:
         if self._closed:
             return
         self._closed = True
-        with _sigint_deferred():
+        with _sigint_deferred(), _as_usvsim_error(self.path):
             try:
                 self._writer.add_metadata(
                     "rosbag2", {"serialized_metadata": self.bag_info_yaml(), "ROS_DISTRO": self.ros_distro}
@@ -213,6 +235,15 @@ class McapRecorder:
         if not getattr(self, "_closed", True):
             with suppress(Exception):
                 self.close()
+
+
+@contextmanager
+def _as_usvsim_error(path: Path) -> Iterator[None]:
+    try:
+        yield
+    except OSError as exc:
+        raise UsvsimError(f"finishing the recording {path} failed: {exc.strerror or exc}; "
+                          f"'usvsim recover {path}' reads what was flushed") from None  # fmt: skip
 
 
 @contextmanager

@@ -123,6 +123,8 @@ def run_viewer(sim, vessel: str | None = None, script: Iterable[ScriptEvent] = (
     `points` / `inset`: an (n, 3) world-point array / (h, w, 3) image, or callables of `sim` returning one.
     Returns {"frames", "wall_s", "sim_s", "fps"}; writes the last frame to `screenshot` if given."""
     driver = ManualDriver(sim, vessel, script, time_scale, gamepad=read_gamepad if gamepad else None)
+    if max_seconds is not None:
+        driver.stop_at_step = round(max_seconds / sim.clock.dt)
     view = View(sim, driver.vessel_name, camera, points, inset)
     window = ViewerWindow(driver, view, width, height, f"usvsim - {sim.scenario.name}")
     frames, start, last = 0, time.perf_counter(), time.perf_counter()

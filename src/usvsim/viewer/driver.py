@@ -39,6 +39,7 @@ class ManualDriver:
             physics_budget_s  # wall time per frame for physics; beyond it the sim slows down
         )
         self.gamepad = gamepad
+        self.stop_at_step: int | None = None  # the viewer stops stepping here (--duration)
         self.pressed: set[str] = set()
         self.axes = DriveAxes()
         self.paused = self.quit = False
@@ -92,6 +93,8 @@ class ManualDriver:
                 steps, self._budget_s = self.max_steps_per_frame, 0.0
             else:
                 self._budget_s -= steps * dt
+        if self.stop_at_step is not None:  # never past the requested duration
+            steps = max(0, min(steps, self.stop_at_step - self.sim.clock.steps))
         deadline = time.perf_counter() + self.physics_budget_s
         for done in range(steps):
             if done and not self.paused and time.perf_counter() > deadline:  # stay interactive: drop the rest

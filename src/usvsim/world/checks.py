@@ -22,9 +22,9 @@ def hull_volume_m3(vertices: np.ndarray, faces: np.ndarray) -> float:
     return abs(float(np.einsum("ij,ij->i", a, np.cross(b, c)).sum()) / 6.0)
 
 
-def setup_warnings(sim) -> list[str]:
-    """Warnings for the simulation's initial state (bodies, hulls, water level, contacts)."""
-    return [*_displacement(sim), *_far_from_water(sim), *_overlaps(sim)]
+def setup_warnings(world) -> list[str]:
+    """Warnings for a `World`'s initial state (bodies, hulls, water level, contacts)."""
+    return [*_displacement(world), *_far_from_water(world), *_overlaps(world)]
 
 
 def _displacement(sim) -> list[str]:
