@@ -7,14 +7,13 @@ import math
 import signal
 
 import pytest
+from scenario_corpus import write_corpus
 from typer.testing import CliRunner
 
 from usvsim.cli.app import app
 from usvsim.core.errors import UsvsimError
 from usvsim.simulation import Simulation
 from usvsim.world.checks import setup_warnings
-
-from scenario_corpus import write_corpus
 
 HANG_GUARD_S = 120  # far above the ~0.1 s a file takes: only a hang trips it, never a busy machine
 

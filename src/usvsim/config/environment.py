@@ -217,5 +217,5 @@ class Environment(Section):
     wind: WindConfig = WindConfig()
     current: CurrentConfig = CurrentConfig()
     water_level_m: float = Field(0.0, ge=-1000, le=1000)
-    water_depth_m: Annotated[float, Field(gt=0, le=11_000)] | None = None  # None: deep water; FFT seas are always deep-water
+    water_depth_m: Annotated[float, Field(gt=0, le=11_000)] | None = None  # None: deep water (FFT: always)
     ramp_time_s: NonNegativeFloat = 2.0

@@ -10,7 +10,18 @@ from typing import Annotated, Literal
 
 from pydantic import Field, model_validator
 
-from usvsim.config.base import MAX_SIZE_M, AngleDeg, GeoPose, LatLon, MassKg, Scale, Section, Size, Size3, Vec3
+from usvsim.config.base import (
+    MAX_SIZE_M,
+    AngleDeg,
+    GeoPose,
+    LatLon,
+    MassKg,
+    Scale,
+    Section,
+    Size,
+    Size3,
+    Vec3,
+)
 
 MAX_PILES_PER_ROW = 500
 Name = Annotated[str, Field(pattern=r"^[A-Za-z][A-Za-z0-9_]*$")]

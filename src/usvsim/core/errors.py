@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-
 MAX_MESSAGE_CHARS = 600  # an error names what is wrong; it never echoes the user's input at length
 
 

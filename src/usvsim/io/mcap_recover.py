@@ -43,7 +43,7 @@ def recover(source: Path, target: Path) -> Recovered:
                 elif isinstance(record, Message) and record.channel_id in topics:
                     out._append(topics[record.channel_id], record.log_time, record.data)
                 complete = complete or isinstance(record, Footer)
-        except Exception:  # noqa: BLE001 - truncated or corrupt from here on: keep what came before
+        except Exception:
             pass
         return Recovered(target, out.message_count, out._end_ns, complete)
 

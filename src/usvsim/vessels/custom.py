@@ -11,7 +11,6 @@ from usvsim.config.vessel import StateSpaceDrag
 from usvsim.core.errors import MeshError
 from usvsim.vessels.parts import Mesh
 
-
 MAX_MESH_FACES = 200_000  # hulls and obstacles; a hull's cost per step is proportional to its faces
 MAX_MESH_BYTES = 256 << 20
 
