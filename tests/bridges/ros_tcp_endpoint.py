@@ -36,8 +36,9 @@ class TestEndpoint:
 
     __test__ = False  # not a pytest class
 
-    def __init__(self, port: int = 0, version: str = "v0.7.0", protocol: str = "ROS2"):
+    def __init__(self, port: int = 0, version: str = "v0.7.0", protocol: str = "ROS2", refuse=()):
         self.version, self.protocol = version, protocol
+        self.refuse = set(refuse)  # topics whose __publish fails (their message package is missing here)
         self.publishers: dict[str, dict] = {}  # topic → __publish arguments
         self.subscribers: dict[str, str] = {}  # topic → message_name
         self.registrations: list[str] = []  # every __publish topic in order (re-registrations included)
@@ -146,6 +147,9 @@ class TestEndpoint:
 
     # -- system commands (keyword arguments exactly as the JSON gives them) ------------------------
     def _sys_publish(self, topic: str, message_name: str, queue_size: int = 10, latch: bool = False) -> None:
+        if topic in self.refuse:
+            self.send(command("__error", {"text": f"Failed to resolve message name {message_name}"}))
+            return
         self.publishers[topic] = {"message_name": message_name, "queue_size": queue_size, "latch": latch}
         self.registrations.append(topic)
 

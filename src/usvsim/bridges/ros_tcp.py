@@ -29,6 +29,7 @@ from __future__ import annotations
 
 import contextlib
 import logging
+import re
 import select
 import socket
 import threading
@@ -58,7 +59,10 @@ if TYPE_CHECKING:
 log = logging.getLogger(__name__)
 STAT_KEYS = ("connects", "connect_failures", "disconnects", "protocol_errors", "messages_out", "bytes_out",
              "keepalives_out", "registrations", "dropped", "dropped_disconnected", "frames_in", "keepalives_in",
-             "commands_in", "commands_refused", "unknown_topics", "endpoint_logs", "handshakes")  # fmt: skip
+             "commands_in", "commands_refused", "unknown_topics", "endpoint_logs", "handshakes",
+             "dropped_refused")  # fmt: skip
+# The endpoint's reply to a frame on a topic it could not register (its message package is missing there).
+REFUSED = re.compile(r"Not registered to publish topic '([^']{1,256})'")
 BATCH_BYTES = 1 << 18  # small frames are joined into sends of about this size
 LOG_LEVELS = {"__log": logging.INFO, "__warn": logging.WARNING, "__error": logging.ERROR}
 
@@ -84,6 +88,7 @@ class RosTcpBridge:
         self._wake_pending = False
         self._closed = threading.Event()
         self._unreachable_warned = False
+        self._refused: set[str] = set()  # wire names the endpoint refused: no longer sent (I/O thread)
         self._topic_list_event = threading.Event()
         self._topics: dict[str, tuple[str, int, bool]] = {}  # wire name → (msgtype, depth, latch); I/O thread
         self._latched: dict[str, bytes] = {}  # wire name → last topic frame of a transient-local topic
@@ -122,7 +127,7 @@ class RosTcpBridge:
         self._unsubscribe()
         self._closed.set()
         self._wake()
-        self._thread.join(timeout=self.timing.write_timeout_s + 1.0)
+        self._thread.join(timeout=self.timing.write_timeout_s + self.timing.drain_s + 1.0)
         self._wake_r.close()
         self._wake_w.close()
 
@@ -167,6 +172,7 @@ class RosTcpBridge:
             log.info("ROS-TCP: connected to %s:%d", *self.address)
             while not self._closed.is_set():
                 self._cycle()
+            self._finish()
         except ProtocolError as exc:
             self.stats["protocol_errors"] += 1
             log.warning("ROS-TCP: broken frame from the endpoint (%s); reconnecting", exc)
@@ -176,6 +182,17 @@ class RosTcpBridge:
             self.connected.clear()
             self.stats["disconnects"] += 1
             sock.close()
+
+    def _finish(self) -> None:
+        """Closing: send what is queued, half-close, and read until the endpoint's EOF (or `drain_s`), so
+        that the endpoint reads the last step's frames before the connection goes away."""
+        self._flush()
+        self._sock.shutdown(socket.SHUT_WR)
+        deadline = time.monotonic() + self.timing.drain_s
+        while (left := deadline - time.monotonic()) > 0:
+            ready, _, _ = select.select([self._sock], [], [], left)
+            if ready and not self._sock.recv(1 << 16):
+                return
 
     def _begin(self) -> None:
         """Keepalive, command subscriptions, publisher registrations and latched messages, in that order."""
@@ -251,6 +268,9 @@ class RosTcpBridge:
             out += self._control.popleft()
         for env in self._take():
             wire = self._note(env)
+            if wire in self._refused:
+                self.stats["dropped_refused"] += 1
+                continue
             if wire not in self._registered:
                 out += self._registration(wire)
             out += self._latched.get(wire) or client_topic_frame(wire, env.cdr)
@@ -298,7 +318,14 @@ class RosTcpBridge:
                 log.warning("ROS-TCP: endpoint %s %r; this client speaks v0.7.x ROS2", version, protocol)
         elif command in LOG_LEVELS:
             self.stats["endpoint_logs"] += 1
-            log.log(LOG_LEVELS[command], "ROS-TCP endpoint: %s", params.get("text", params))
+            text = str(params.get("text", ""))
+            refused = REFUSED.search(text) if command == "__error" else None
+            if refused is None:
+                log.log(LOG_LEVELS[command], "ROS-TCP endpoint: %s", text[:300])
+            elif refused.group(1) not in self._refused:
+                self._refused.add(refused.group(1))
+                log.warning("ROS-TCP: the endpoint refused %s (is its message package installed there?); "
+                            "no longer sending it", refused.group(1))  # fmt: skip
         elif command == "__topic_list":
             self.topic_list = params
             self._topic_list_event.set()

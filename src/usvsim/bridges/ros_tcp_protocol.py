@@ -35,6 +35,7 @@ class Timing:
     reconnect_delay_s: float = 1.0
     connect_timeout_s: float = 2.0
     write_timeout_s: float = 5.0  # a send stalled this long (endpoint not reading) drops the connection
+    drain_s: float = 1.0  # at close: after the last frames and a half-close, wait this long for the endpoint's EOF
 
 
 class ProtocolError(Exception):
