@@ -36,6 +36,7 @@ import foxglove
 from foxglove.channels import SceneUpdateChannel
 from foxglove.websocket import Capability
 
+from usvsim.bridges import foxglove_logs
 from usvsim.bridges.foxglove_scene import SceneBuilder, scene_period_ns
 from usvsim.messages.ros import message_definition
 
@@ -77,6 +78,7 @@ def _quiet_send_errors() -> None:
     sdk = logging.getLogger(SDK_SEND_LOGGER)
     if not any(isinstance(f, _OncePerClient) for f in sdk.filters):
         sdk.addFilter(_OncePerClient())
+    foxglove_logs.install()  # invalid client frames: short excerpts, a few lines per client and minute
 
 
 class _RosChannel:
