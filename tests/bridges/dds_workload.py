@@ -72,7 +72,13 @@ def main(seconds: float) -> dict:
         noisy_steps = []
         for _ in range(2):
             noisy, refused = peer("noisy"), bridge.stats["commands_refused"]
-            noisy_steps += step_while(sim, lambda r=refused: bridge.stats["commands_refused"] == r, 8.0)
+            rejected = sim.commands.stats["rejected"]
+
+            def waiting(r=refused, j=rejected) -> bool:  # until garbage and out-of-range commands both arrived
+                return bridge.stats["commands_refused"] == r or sim.commands.stats["rejected"] == j
+
+            # bounded, but long enough for rclpy to start on a machine at load ~10
+            noisy_steps += step_while(sim, waiting, 60.0)
             noisy_steps += step_while(sim, lambda: True, 0.5)  # killed mid-stream, while sending
             noisy.kill()
             noisy.wait()

@@ -20,6 +20,7 @@ from pathlib import Path
 import pytest
 
 pytest.importorskip("cyclonedds")
+pytestmark = pytest.mark.slow  # a whole ROS 2 exchange in a network namespace: about a minute
 HERE = Path(__file__).parent
 NETNS = "ip link set lo up && ip link set lo multicast on && ip route add 224.0.0.0/4 dev lo && exec \"$@\""
 RATES_HZ = {  # harbor_sensors.yaml (sensors) and its outputs.recording (clock 100 Hz, ground truth 50 Hz)
@@ -47,7 +48,7 @@ def exchange() -> dict:
     if reason:
         pytest.skip(reason)
     cmd = ["unshare", "-n", "sh", "-c", NETNS, "sh", sys.executable, str(HERE / "dds_workload.py"), "2.0"]
-    done = subprocess.run(cmd, capture_output=True, text=True, timeout=150)
+    done = subprocess.run(cmd, capture_output=True, text=True, timeout=400)
     lines = [ln for ln in done.stdout.splitlines() if ln.startswith("RESULT ")]
     assert done.returncode == 0 and lines, done.stderr[-3000:]
     return json.loads(lines[-1][len("RESULT ") :])

@@ -9,6 +9,7 @@ import signal
 import subprocess
 import sys
 
+import pytest
 from readers import read_with_mcap_ros2, read_with_rosbags
 from typer.testing import CliRunner
 
@@ -66,6 +67,7 @@ def _limit_file_size():
     resource.setrlimit(resource.RLIMIT_FSIZE, (100_000, 100_000))
 
 
+@pytest.mark.slow
 def test_full_disk_is_one_line_and_the_file_recovers(tmp_path):
     path = tmp_path / "full.mcap"
     cmd = [sys.executable, "-m", "usvsim.cli", "run", "harbor", "--duration", "60", "--record", str(path)]
