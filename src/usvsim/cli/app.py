@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import os
 import sys
 import time
 from contextlib import ExitStack
@@ -77,6 +78,7 @@ def run(
     foxglove_host: Annotated[str, typer.Option(help="address the Foxglove server binds")] = "127.0.0.1",
     foxglove_port: Annotated[int, typer.Option(help="Foxglove server port", min=0, max=65535)] = 8765,
     force: Annotated[bool, typer.Option("--force", help="overwrite an existing recording")] = False,
+    screenshot: Annotated[Path | None, typer.Option(help="with --view: save the last frame as PNG")] = None,
 ) -> None:
     """Run a scenario headless or in the viewer, optionally recording it and bridging it to ROS 2 / Foxglove."""
     from usvsim.cli.bridges import BridgeOptions
@@ -85,13 +87,15 @@ def run(
                             foxglove_host, foxglove_port)  # fmt: skip
     if not 0 <= duration <= 1e7:
         fail(UsvsimError(f"--duration must be a finite number of seconds in [0, 1e7], got {duration}"))
+    if view:  # camera sensors then render in hidden GLFW windows beside the viewer's (an EGL context beside
+        os.environ["MUJOCO_GL"] = "glfw"  # a GLX window fails with X BadAccess in glXMakeCurrent)
     with ExitStack() as stack:  # closes bridges, then the recorder, then the simulation, on every path
         sim, recorder, bridges = _open_run(stack, scenario, seed, record, force, options)
         interrupted = False
         start = time.perf_counter()
         try:
             if view:
-                _run_viewer(sim, duration)
+                _run_viewer(sim, duration, screenshot)
             else:
                 _run_with_progress(sim, duration, realtime)
         except KeyboardInterrupt:
@@ -185,7 +189,7 @@ def _progress_loop(sim, duration: float, realtime: bool, on_step) -> None:
                               f"{wall:.1f} s wall ({sim.time / wall:.2f}x real time)", highlight=False)  # fmt: skip
 
 
-def _run_viewer(sim, duration: float) -> None:
+def _run_viewer(sim, duration: float, screenshot: Path | None = None) -> None:
     import warnings
 
     from usvsim.viewer import run_viewer
@@ -193,7 +197,7 @@ def _run_viewer(sim, duration: float) -> None:
     try:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")  # GLFW repeats its own error as a warning
-            run_viewer(sim, max_seconds=duration)
+            run_viewer(sim, max_seconds=duration, screenshot=screenshot)
     except RuntimeError as exc:  # no display, no OpenGL
         raise UsvsimError(f"cannot open the viewer window: {exc}") from None
 

@@ -15,6 +15,9 @@ def main(argv=None) -> None:
     parser.add_argument("--time-scale", type=float, default=1.0)
     parser.add_argument("--seed", type=int, default=0)
     args = parser.parse_args(argv)
+    import os
+
+    os.environ["MUJOCO_GL"] = "glfw"  # camera sensors beside the window: the same window system (GLX)
 
     from usvsim.simulation import Simulation
     from usvsim.viewer import run_viewer

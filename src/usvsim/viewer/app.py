@@ -101,6 +101,7 @@ class ViewerWindow:
             self.driver.was_reset = False
             self.view.camera.reset_tracking()
         self.view.rates.update(wall_dt, max(self.driver.sim.time - t0, 0.0))
+        glfw.make_context_current(self.window)  # camera sensors made their own contexts current while stepping
         width, height = glfw.get_framebuffer_size(self.window)
         self.viewport = mujoco.MjrRect(0, 0, width, height)
         self.view.draw(self.renderer, self.viewport, wall_dt, self.driver.paused, self.driver.axes)
