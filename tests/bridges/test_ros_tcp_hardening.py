@@ -14,8 +14,8 @@ def test_deep_json_frame_is_a_protocol_error_and_the_bridge_reconnects():
     try:
         assert wait_for(lambda: bridge.connected.is_set(), 10.0)
         endpoint.send(frame("__log", b'{"text": ' + b"[" * 200_000 + b"]" * 200_000 + b"}"))
-        assert wait_for(lambda: bridge.stats["protocol_errors"] == 1, 10.0)
-        assert wait_for(lambda: endpoint.connections == 2 and bridge.connected.is_set(), 5.0)
+        assert wait_for(lambda: bridge.stats["protocol_errors"] == 1, 30.0), bridge.stats
+        assert wait_for(lambda: endpoint.connections == 2 and bridge.connected.is_set(), 10.0)  # ~0.1 s unloaded
         sim.run(0.05)
         assert wait_for(lambda: "/clock" in endpoint.topics_received(), 5.0)
     finally:
