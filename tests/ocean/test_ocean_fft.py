@@ -48,12 +48,18 @@ def test_drawn_surface_is_the_physics_surface():
 
 
 def test_spatial_variance_matches_the_spectrum():
-    """Deterministic amplitudes: Parseval gives the discretised m0; §4.7: 4√m0 = 2.0024 m for γ = 3.3."""
+    """§4.7: 4√m0 = 2.0024 m for γ = 3.3. Bins hold S integrated over their cells (Parseval at the vertices),
+    amplified by bilinear interpolation's mean loss, so the variance over all positions is m0."""
     field = FFTWaveField(JONSWAP, cascade_sizes(100.0), np.random.default_rng(3), 256, time_tolerance=0)
     tiles = field.tiles(11.0)
-    hs = 4 * math.sqrt(sum(float(tiles[b, 0].var()) for b in range(3)))
-    assert hs == pytest.approx(2.0024, rel=0.01)
-    assert 4 * math.sqrt(field.components().variance) == pytest.approx(hs, rel=1e-4)
+    at_vertices = sum(float(tiles[b, 0].var()) for b in range(3))
+    assert 2 * field.components().variance == pytest.approx(2 * at_vertices, rel=1e-4)
+    rng = np.random.default_rng(0)
+    x, y = rng.uniform(0, 2000, 200_000), rng.uniform(0, 2000, 200_000)
+    assert 4 * math.sqrt(field.elevation(x, y, 11.0).var()) == pytest.approx(2.0024, rel=0.01)
+    h = (field.sizes / field.n)[:, None, None]
+    gain = (2 + np.cos(field._kx * h)) / 3 * (2 + np.cos(field._ky * h)) / 3
+    assert 4 * math.sqrt(np.sum(0.5 * np.abs(field._amp) ** 2 * gain)) == pytest.approx(2.0024, rel=2e-3)
 
 
 def test_every_bin_obeys_deep_water_dispersion(single):
@@ -65,7 +71,8 @@ def test_choppy_fft_sharpens_crests():
     k = 2 * math.pi / 25.0
 
     def one_bin(kx, ky, band):
-        return np.where((np.abs(kx - k) < 1e-9) & (ky == 0), 0.5 / (2 * math.pi / 200.0) ** 2, 0.0)
+        dk = 2 * math.pi / 200.0  # a spectral line: the density 0.5/dk² over one bin's cell
+        return np.where((np.abs(kx - k) < dk / 2) & (np.abs(ky) < dk / 2), 0.5 / dk**2, 0.0)
 
     field = FFTWaveField(one_bin, [200.0], np.random.default_rng(0), 256, choppiness=0.9)
     x = np.linspace(0.0, 200.0, 8001)[:-1]
