@@ -141,7 +141,9 @@ class DatasetGenerator:
             ) from None
         self.sim = Simulation(scenario, seed=spec.seed)
         self.shared: dict = {}
-        self.cameras = [(v, Camera(_camera_config(cfg), v, self.sim.world, self.shared)) for v, cfg in camera_cfgs]
+        self.cameras = [
+            (v, Camera(_camera_config(cfg), v, self.sim.world, self.shared)) for v, cfg in camera_cfgs
+        ]
         objects = catalogue(self.sim.world)
         self.buoys = [o.name for o in objects if o.category == "buoy"]
         self.labellers, self.looks = [], []

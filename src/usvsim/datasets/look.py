@@ -16,12 +16,13 @@ import math
 
 import mujoco
 import numpy as np
-from scipy.ndimage import gaussian_filter
 
 from usvsim.config.rendering import Rendering, sun_angles_deg, sun_direction_enu
+from usvsim.datasets.look_kernels import finish_look, gaussian_blur, to_uint8_noisy
 
 SHADER_DRAWS_LOOK = False
 KOSCHMIEDER = 3.912  # extinction coefficient x visibility at 2 % contrast
+SKY_FOG_M = 1000.0  # the sky counts as this far away in fog
 
 
 def sun_color(elevation_deg: float) -> np.ndarray:
@@ -40,8 +41,8 @@ class LookAdapter:
         m = sim.model
         self.sun = mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_LIGHT, "sun")
         self.base_diffuse = m.light_diffuse[self.sun].copy()
-        self.vignette: np.ndarray | None = None
         self.ray_scale: np.ndarray | None = None
+        self.radius2: np.ndarray | None = None
 
     def before(self, look: Rendering) -> None:
         self.sim.look = look
@@ -56,42 +57,28 @@ class LookAdapter:
         m.light_diffuse[self.sun] = np.clip(self.base_diffuse * color * daylight, 0.0, 1.0)
 
     def after(
-        self, look: Rendering, rgb: np.ndarray, depth: np.ndarray | None, rng: np.random.Generator
+        self, look: Rendering, rgb: np.ndarray, depth: np.ndarray, rng: np.random.Generator
     ) -> np.ndarray:
-        """The camera effects and the fogged sky on an (H, W, 3) uint8 image; returns a new image."""
+        """Fog, exposure, vignetting, blur and noise on an (H, W, 3) uint8 image; returns a new image."""
         if SHADER_DRAWS_LOOK:
             return rgb
-        img = rgb.astype(np.float32) / 255.0
-        if look.fog.visibility_m is not None and depth is not None:
-            img = self._fog(img, depth, look)
-        cam = look.camera
-        gain = 2.0 ** (cam.exposure_ev / 2.2)  # on gamma-encoded values: 2^ev in linear light
-        if cam.vignetting > 0:
-            img *= gain * self._vignette(img.shape[:2], cam.vignetting)[..., None]
-        elif gain != 1.0:
-            img *= gain
-        if cam.blur_sigma_px > 0:
-            img = gaussian_filter(img, sigma=(cam.blur_sigma_px, cam.blur_sigma_px, 0), mode="nearest")
-        if cam.noise_stddev > 0:
-            img *= 1.0 + cam.noise_stddev * rng.standard_normal(img.shape, dtype=np.float32)
-        return (np.clip(img, 0.0, 1.0) * 255.0 + 0.5).astype(np.uint8)
-
-    def _fog(self, img: np.ndarray, depth: np.ndarray, look: Rendering) -> np.ndarray:
-        """Koschmieder: what is seen at distance d keeps exp(-3.912 d / V) of its contrast, the rest is fog
-        colour; the sky (no depth) is a kilometre of fog away."""
+        h, w = depth.shape
         if self.ray_scale is None or self.ray_scale.shape != depth.shape:
-            xy = self.cam.rays()  # the published (distorted) pixels' rays
-            self.ray_scale = np.sqrt(1.0 + (xy**2).sum(axis=2)).astype(np.float32)  # distance / optical z
-        d = np.where(np.isnan(depth), 1000.0, depth * self.ray_scale)
-        keep = np.exp(-KOSCHMIEDER / look.fog.visibility_m * d).astype(np.float32)[..., None]
-        return img * keep + (1.0 - keep) * np.asarray(look.fog.color, np.float32)
-
-    def _vignette(self, shape, strength: float) -> np.ndarray:
-        """Brightness factor, 1 at the centre and 1 - strength at the corners (cos⁴-like falloff)."""
-        if self.vignette is None or self.vignette.shape != shape:
-            v, u = np.mgrid[0 : shape[0], 0 : shape[1]].astype(np.float32)
-            r2 = ((u - (shape[1] - 1) / 2) ** 2 + (v - (shape[0] - 1) / 2) ** 2) / (
-                (shape[1] / 2) ** 2 + (shape[0] / 2) ** 2
-            )
-            self.vignette = r2
-        return 1.0 - strength * self.vignette
+            xy = self.cam.rays()  # the published (distorted) pixels' rays: distance = depth · ray_scale
+            self.ray_scale = np.sqrt(1.0 + (xy**2).sum(axis=2)).astype(np.float32)
+            v, u = np.mgrid[0:h, 0:w].astype(np.float32)
+            self.radius2 = ((u - (w - 1) / 2) ** 2 + (v - (h - 1) / 2) ** 2) / ((w / 2) ** 2 + (h / 2) ** 2)
+        cam, fog = look.camera, look.fog.visibility_m
+        img = np.empty((h, w, 3), np.float32)  # exposure on gamma-encoded values: 2^ev in linear light
+        finish_look(rgb, depth, self.ray_scale, KOSCHMIEDER / fog if fog else 0.0, np.asarray(look.fog.color, np.float32),
+                    SKY_FOG_M, 2.0 ** (cam.exposure_ev / 2.2), (cam.vignetting * self.radius2).astype(np.float32), img)  # fmt: skip
+        if cam.blur_sigma_px > 0:
+            img = gaussian_blur(img, cam.blur_sigma_px)
+        noise = (
+            rng.standard_normal((h, w, 3), dtype=np.float32)
+            if cam.noise_stddev > 0
+            else np.empty((0, 0, 3), np.float32)
+        )
+        out = np.empty((h, w, 3), np.uint8)
+        to_uint8_noisy(img, noise, np.float32(cam.noise_stddev), out)
+        return out

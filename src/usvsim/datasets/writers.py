@@ -36,15 +36,15 @@ def write_png(path: Path, array: np.ndarray) -> None:
     Image.fromarray(array).save(path, format="PNG", compress_level=1)
 
 
-def rle(mask: np.ndarray) -> dict:
-    """COCO uncompressed RLE of a boolean (H, W) mask: run lengths in column-major order, starting with 0s."""
-    flat = mask.T.ravel()
+def rle(flat: np.ndarray, shape) -> dict:
+    """COCO uncompressed RLE of a boolean mask of `shape` (H, W) given in column-major order (`mask.T.ravel()`):
+    run lengths, starting with 0s."""
     change = np.flatnonzero(flat[1:] != flat[:-1]) + 1
     edges = np.concatenate([[0], change, [flat.size]])
     counts = np.diff(edges).tolist()
     if flat[0]:
         counts = [0, *counts]
-    return {"size": [int(mask.shape[0]), int(mask.shape[1])], "counts": counts}
+    return {"size": [int(shape[0]), int(shape[1])], "counts": counts}
 
 
 def _round(box) -> list[float]:
@@ -83,7 +83,7 @@ class DatasetWriter:
         """COCO records of one frame (call in frame order: annotation ids count up)."""
         if "coco" not in self.formats:
             return
-        coco = self.coco[split]
+        coco, column_major = self.coco[split], instance.T.ravel()
         coco["images"].append(
             {"id": image_id, "file_name": f"{split}/{stem}.png", "height": shape[0], "width": shape[1]}
         )
@@ -93,7 +93,7 @@ class DatasetWriter:
             coco["annotations"].append({
                 "id": self.next_ann, "image_id": image_id, "category_id": CLASSES.index(lab.category),
                 "bbox": _round([x0, y0, x1 - x0, y1 - y0]), "area": lab.visible_pixels, "iscrowd": 0,
-                "segmentation": rle(instance == lab.instance), "amodal_bbox": _round([ax0, ay0, ax1 - ax0, ay1 - ay0]),
+                "segmentation": rle(column_major == lab.instance, shape), "amodal_bbox": _round([ax0, ay0, ax1 - ax0, ay1 - ay0]),
                 "visible_fraction": round(lab.visible_fraction, 4), "truncated": lab.truncated, "object": lab.name,
                 "instance": lab.instance})  # fmt: skip
             self.next_ann += 1

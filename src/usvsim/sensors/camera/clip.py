@@ -73,6 +73,19 @@ def _project(poly: np.ndarray, cam: Intrinsics) -> np.ndarray:
 def image_box(corners_optical: np.ndarray, cam: Intrinsics, planes: list) -> np.ndarray | None:
     """(u_min, v_min, u_max, v_max) of the box with 8 `corners_optical` (optical frame, m) inside the image,
     None when no part of it is; `planes`: `frustum_planes(...)` of the camera."""
+    inside = all((corners_optical @ normal >= offset).all() for normal, offset in planes)
+    if inside and not cam.distorted:  # the common case: the corners' bounds, clamped to the image
+        uv = _project(corners_optical, cam)
+        w, h = cam.width - 0.5, cam.height - 0.5
+        box = np.array(
+            [
+                max(uv[:, 0].min(), -0.5),
+                max(uv[:, 1].min(), -0.5),
+                min(uv[:, 0].max(), w),
+                min(uv[:, 1].max(), h),
+            ]
+        )
+        return box if box[2] > box[0] and box[3] > box[1] else None
     outline = []
     for face in FACES:
         poly = corners_optical[face]
