@@ -72,7 +72,11 @@ def main() -> None:
            "load_average_1min": os.getloadavg()[0], "cpus": os.cpu_count()}  # fmt: skip
     RESULTS.mkdir(exist_ok=True)
     (RESULTS / "datasets.json").write_text(json.dumps(out, indent=2) + "\n")
-    print(json.dumps({k: out[k] for k in ("median", "labelled_over_camera_only", "load_average_1min")}, indent=2))
+    print(
+        json.dumps(
+            {k: out[k] for k in ("median", "labelled_over_camera_only", "load_average_1min")}, indent=2
+        )
+    )
 
 
 if __name__ == "__main__":

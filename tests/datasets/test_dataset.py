@@ -121,3 +121,17 @@ def test_bad_randomization_and_cli_errors(tmp_path):
         app, ["dataset", "buoy_field", "--out", str(tmp_path / "y"), "--randomize", "nope"]
     )
     assert result.exit_code == 2 and "no such file or preset" in result.output
+
+
+def test_docs_blocks_run(tmp_path, monkeypatch):
+    import re
+    from pathlib import Path
+
+    text = (Path(__file__).resolve().parents[2] / "docs" / "datasets.md").read_text()
+    (randomization,) = re.findall(r"```yaml\n(.*?)```", text, flags=re.DOTALL)
+    (tmp_path / "r.yaml").write_text(randomization)
+    assert load_randomization(tmp_path / "r.yaml").frames_per_episode == 5
+    (code,) = re.findall(r"```python\n(.*?)```", text, flags=re.DOTALL)
+    monkeypatch.chdir(tmp_path)
+    exec(compile(code, "docs/datasets.md", "exec"), {})
+    assert len(list((tmp_path / "demo_set" / "meta").glob("*.json"))) == 2
