@@ -1,0 +1,116 @@
+"""The reference stack in one loop: LiDAR odometry → occupancy mapping → planning → LOS guidance →
+reactive avoidance → goal logic. It sees only sensor data (clouds in the LiDAR frame with per-point
+times) and answers with a base_link velocity command (surge m/s, yaw rate rad/s, like `cmd_vel`).
+
+Per cloud: the odometry gives map ← base_link; the deskewed cloud goes to the map frame; points whose
+height lies in the `slice_m` band above the water (map z) are beams for the 2D grid. The path is replanned
+when the goal changes, every `replan_s`, or when the map closes the current path. Avoidance: LiDAR points of
+the band inside a corridor ahead of the bow (the boat's half width + margin) cap the surge to stop in time,
+and make a replan (from the map, which also holds moving obstacles as they are seen).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from usvsim.autonomy.grid import OccupancyGrid
+from usvsim.autonomy.guidance import LosGuidance
+from usvsim.autonomy.planner import GridPlanner
+
+
+@dataclass
+class NavigatorConfig:
+    slice_m: tuple[float, float] = (0.1, 2.5)  # map z band of the 2D map, m above the mean water
+    goal_tolerance_m: float = 1.0
+    replan_s: float = 2.0
+    half_width_m: float = 1.3  # WAM-V beam / 2
+    corridor_margin_m: float = 0.7
+    stop_distance_m: float = 3.0
+    guidance: LosGuidance = field(default_factory=LosGuidance)
+    planner: GridPlanner = field(default_factory=GridPlanner)
+
+
+class Navigator:
+    """Drives through `goals` (k, 2) map ENU m; `update` per cloud returns (surge, yaw rate)."""
+
+    def __init__(self, grid: OccupancyGrid, odometry, goals, config: NavigatorConfig | None = None):
+        self.grid, self.odometry, self.config = grid, odometry, config or NavigatorConfig()
+        self.goals = [np.asarray(g, float) for g in goals]
+        self.reached: list[float] = []  # time (s) each goal was reached
+        self.path: np.ndarray | None = None
+        self.pose = np.eye(4)
+        self._planned_at = -math.inf
+        self._prev: tuple[float, np.ndarray] | None = None
+        self._band = np.zeros((0, 3))
+
+    @property
+    def done(self) -> bool:
+        return len(self.reached) == len(self.goals)
+
+    @property
+    def goal(self) -> np.ndarray | None:
+        return None if self.done else self.goals[len(self.reached)]
+
+    def update(self, t: float, xyz: np.ndarray, times_s: np.ndarray, prior=None) -> tuple[float, float]:
+        """One cloud (LiDAR frame, m; per-point times s after its stamp t): the new velocity command.
+        `prior`: base_link motion since the last cloud (4x4) from a velocity sensor, or None."""
+        self.pose, deskewed = self.odometry.update(xyz, times_s, prior)
+        self.map_cloud(deskewed)
+        return self.decide(t)
+
+    def map_cloud(self, deskewed: np.ndarray) -> None:
+        """The cloud's band points into the grid, as beams from the LiDAR (pose: `self.pose`)."""
+        lidar = self.pose @ self.odometry.base_from_lidar
+        self._band = self._map_band(lidar, deskewed)
+        self.grid.integrate(lidar[:2, 3], self._band[:, :2])
+
+    def decide(self, t: float) -> tuple[float, float]:
+        """Goal logic, planning, guidance and avoidance at the current pose: (surge m/s, yaw rate rad/s)."""
+        nu = self._velocity(t)
+        p, yaw = self.pose[:2, 3], math.atan2(self.pose[1, 0], self.pose[0, 0])
+        if not self.done and np.hypot(*(self.goal - p)) < self.config.goal_tolerance_m:
+            self.reached.append(t)
+            self.path = None
+        if self.done:
+            return 0.0, 0.0
+        ahead = self._obstacle_ahead(self._band, p, yaw)
+        if self.path is None or t - self._planned_at >= self.config.replan_s or ahead < self.config.stop_distance_m:
+            self._replan(t, p)
+        if self.path is None:
+            return 0.0, 0.3  # no way yet: turn on the spot to see more
+        u, r = self.config.guidance.command(p, yaw, nu, 0.1)
+        u = min(u, max(0.0, 0.5 * (ahead - self.config.stop_distance_m)))  # stop before what is in the way
+        return u, r
+
+    def _map_band(self, map_from_lidar: np.ndarray, xyz: np.ndarray) -> np.ndarray:
+        pts = xyz @ map_from_lidar[:3, :3].T + map_from_lidar[:3, 3]
+        lo, hi = self.config.slice_m
+        return pts[(pts[:, 2] > lo) & (pts[:, 2] < hi)]
+
+    def _velocity(self, t: float) -> np.ndarray:
+        """Body velocity (u, v) m/s from the last two poses."""
+        p = self.pose[:2, 3].copy()
+        nu = np.zeros(2)
+        if self._prev is not None and t > self._prev[0]:
+            v_map = (p - self._prev[1]) / (t - self._prev[0])
+            nu = self.pose[:2, :2].T @ v_map
+        self._prev = (t, p)
+        return nu
+
+    def _obstacle_ahead(self, band: np.ndarray, p: np.ndarray, yaw: float) -> float:
+        """Distance (m) along the bow to the nearest band point inside the corridor, inf if none."""
+        c, s = math.cos(yaw), math.sin(yaw)
+        d = band[:, :2] - p
+        x, y = d[:, 0] * c + d[:, 1] * s, -d[:, 0] * s + d[:, 1] * c
+        inside = (x > 0.0) & (np.abs(y) < self.config.half_width_m + self.config.corridor_margin_m)
+        return float(x[inside].min()) if inside.any() else math.inf
+
+    def _replan(self, t: float, p: np.ndarray) -> None:
+        self._planned_at = t
+        path = self.config.planner.plan(self.grid, p, self.goal)
+        if path is not None and len(path) >= 2:
+            self.path = path
+            self.config.guidance.follow(path)
