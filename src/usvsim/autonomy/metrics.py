@@ -2,7 +2,7 @@
 
 - map IoU: occupied-class intersection over union of the map (p > 0.65) and the true occupancy, over the
   cells a LiDAR could judge: within `range_m` of the true track, restricted to the truth's free cells and
-  its surface layer (occupied cells within `surface_cells` of a free cell; the inside of a quay is never seen).
+  its surface layer (occupied cells within `surface_cells` of a free cell: the inside of a quay is never seen).
 - ATE: RMS of the horizontal position error after the rigid 2D alignment of the estimated to the true
   track (Horn/Umeyama, as in the TUM benchmark), and per 100 m travelled; `drift_m` is the final error
   without alignment.
@@ -22,7 +22,7 @@ from usvsim.autonomy.grid import OccupancyGrid
 
 
 def map_iou(grid: OccupancyGrid, truth: np.ndarray, track_xy: np.ndarray, range_m: float = 30.0,
-            surface_cells: int = 2) -> float:  # fmt: skip
+            surface_cells: int = 1) -> float:  # fmt: skip
     xs, ys = grid.centres()
     gx, gy = np.meshgrid(xs, ys)
     near = np.zeros(grid.shape, bool)

@@ -17,6 +17,7 @@ from rich.table import Table
 from usvsim.cli.dataset import dataset_command
 from usvsim.cli.errors import console, fail
 from usvsim.cli.geo_map import map_command
+from usvsim.cli.navigate import demo_app
 from usvsim.cli.recover import recover
 from usvsim.cli.task import task as task_command
 from usvsim.core.errors import UsvsimError
@@ -259,6 +260,7 @@ def experiment(
 app.command("map")(map_command)
 app.command("task")(task_command)
 app.command("dataset")(dataset_command)
+app.add_typer(demo_app, name="demo")
 
 
 def main() -> None:

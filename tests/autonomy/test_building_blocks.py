@@ -1,0 +1,96 @@
+"""The stack's parts against closed forms: ray tracing, map_server files, A* with clearance, fillets, LOS, ATE."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+import yaml
+from PIL import Image
+
+from usvsim.autonomy import metrics
+from usvsim.autonomy.grid import OccupancyGrid
+from usvsim.autonomy.guidance import LosGuidance
+from usvsim.autonomy.planner import GridPlanner, fillet
+from usvsim.autonomy.sensing import cloud_arrays
+from usvsim.sensors.messages import POINT_DTYPE, point_cloud2_msg
+
+
+def _wall_grid(gap=True):
+    """20 m x 20 m at 0.25 m; a wall along x = 10 m (from y = 0 to 20) with a 4 m gap at y = 8..12."""
+    grid = OccupancyGrid.around(0.0, 0.0, 20.0, 20.0, 0.25)
+    ys = np.arange(0.125, 20.0, 0.25)
+    if gap:
+        ys = ys[(ys < 8.0) | (ys > 12.0)]
+    hits = np.column_stack([np.full(len(ys), 10.1), ys])
+    for _ in range(3):
+        grid.integrate((2.0, 10.0), hits)
+    return grid
+
+
+def test_rays_free_along_the_beam_occupied_at_the_hit(tmp_path):
+    grid = _wall_grid()
+    occ, known = grid.occupied(), grid.known()
+    i, j = grid.cells(np.array([[6.0, 6.0]]))[0]  # on the beam from (2, 10) to (10.1, 1.9)
+    assert occ[:, 40].sum() == 64  # column of x = 10.0-10.25 m: 80 cells minus the 16 of the gap
+    assert not occ[:, :40].any() and not known[:, 41:].any()  # nothing behind the wall is observed
+    assert grid.probability()[i, j] < 0.2  # free between the sensor and the wall
+    png, yml = grid.save_map(tmp_path / "map")
+    meta = yaml.safe_load(yml.read_text())
+    assert meta["image"] == "map.png" and meta["resolution"] == 0.25 and meta["origin"] == [0.0, 0.0, 0.0]
+    img = np.asarray(Image.open(png))[::-1]  # image row 0 is the top (+y)
+    assert img.shape == grid.shape and (img[occ] == 0).all() and set(np.unique(img)) <= {0, 205, 254}
+
+
+def test_astar_goes_through_the_gap_keeping_clearance():
+    grid, planner = _wall_grid(), GridPlanner(clearance_m=1.0, comfort_m=0.5, turn_radius_m=0.0)
+    path = planner.plan(grid, (4.0, 2.0), (16.0, 2.0))
+    assert path is not None and np.allclose(path[0], (4, 2)) and np.allclose(path[-1], (16, 2))
+    dense = np.concatenate([a + np.linspace(0, 1, 50)[:, None] * (b - a) for a, b in zip(path[:-1], path[1:])])
+    crossing = dense[np.argmin(np.abs(dense[:, 0] - 10.1))]
+    assert 9.0 <= crossing[1] <= 11.0  # through the 4 m gap, >= 1 m from its ends
+    wall = np.array([[10.1, y] for y in np.arange(0.0, 20.0, 0.05) if not 8.0 < y < 12.0])
+    gaps = np.min(np.linalg.norm(dense[:, None] - wall[None], axis=2), axis=1)
+    assert gaps.min() >= 1.0 - 0.25  # the clearance, within a cell
+    assert planner.plan(_wall_grid(gap=False), (4.0, 2.0), (16.0, 2.0)) is None
+
+
+def test_fillet_is_a_tangent_arc_of_the_radius():
+    radius = 3.0
+    pts = fillet(np.array([[0.0, 0.0], [20.0, 0.0], [20.0, 20.0]]), radius, step_m=0.1)
+    arc = pts[1:-1]
+    centre = np.array([20.0 - radius, radius])
+    assert np.allclose(np.linalg.norm(arc - centre, axis=1), radius)
+    assert np.allclose(arc[0], (20.0 - radius, 0.0)) and np.allclose(arc[-1], (20.0, radius))
+
+
+def test_los_course_is_path_angle_minus_atan_of_cross_track_over_lookahead():
+    los = LosGuidance(speed_mps=1.5, lookahead_m=4.0, course_gain_1ps=1.0, max_yaw_rate_radps=10.0)
+    los.follow(np.array([[0.0, 0.0], [100.0, 100.0]]))
+    p = np.array([10.0, 12.0])  # left of the 45° path
+    e = (-10.0 + 12.0) / math.sqrt(2.0)
+    assert los.cross_track(p) == pytest.approx(e)
+    u, r = los.command(p, math.radians(45.0), np.zeros(2), 0.1)
+    assert r == pytest.approx(-math.atan(e / 4.0))  # χ_d - ψ with ψ on the path angle, gain 1
+    los.follow(np.array([[0.0, 0.0], [10.0, 0.0], [10.0, 10.0]]))
+    los.command(np.array([10.5, 1.0]), 0.0, np.zeros(2), 0.1)
+    assert los.leg == 1  # past the end of the first leg: on the second
+
+
+def test_ate_alignment_removes_a_rigid_motion_and_iou_of_identical_maps_is_one():
+    t = np.linspace(0.0, 10.0, 101)
+    truth = np.column_stack([t, 3 * np.cos(t), 2 * np.sin(t), t])
+    c, s = math.cos(0.3), math.sin(0.3)
+    est = truth[:, 1:3] @ np.array([[c, s], [-s, c]]) + (5.0, -1.0)
+    out = metrics.ate(t, est, truth)
+    assert out["ate_rmse_m"] < 1e-9 and out["raw_rmse_m"] > 1.0
+    grid = _wall_grid()
+    assert metrics.map_iou(grid, grid.occupied(), np.array([[2.0, 10.0]])) == pytest.approx(1.0)
+
+
+def test_cloud_arrays_reads_our_pointcloud2_by_field_name():
+    pts = np.zeros(3, POINT_DTYPE)
+    pts["x"], pts["y"], pts["z"], pts["time"] = (1, 2, np.nan), (3, 4, 5), (6, 7, 8), (0.0, 0.05, 0.09)
+    xyz, times = cloud_arrays(point_cloud2_msg(0, "lidar", pts, 1, 3))
+    assert np.allclose(xyz, [[1, 3, 6], [2, 4, 7]]) and np.allclose(times, [0.0, 0.05])
