@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import json
 import os
+import signal
 import subprocess
 import sys
 import time
@@ -42,7 +43,7 @@ def main(scenario: str, goal: str, record: str, limit_s: float) -> None:
         node.kill()
         out, err = node.communicate()
     time.sleep(1.0)
-    sim.terminate()  # Ctrl-C-like: the recorder closes its file
+    sim.send_signal(signal.SIGINT)  # Ctrl-C: the run stops between steps and the recorder closes its file
     sim.wait(timeout=60)
     lines = [ln for ln in out.splitlines() if ln.startswith("RESULT ")]
     report = json.loads(lines[-1][7:]) if lines else {"error": err[-2000:]}

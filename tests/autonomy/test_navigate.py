@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from scipy.ndimage import binary_dilation
 
 from usvsim.autonomy.odometry import kiss_icp_available
 from usvsim.autonomy.run import build_navigator, navigate
@@ -34,5 +35,6 @@ def test_drives_around_a_block_to_the_goal(odometry):
     assert np.hypot(truth[-1, 1] - 12.0, truth[-1, 2] - 1.0) < 1.5  # declared within 1 m of its estimate
     occupied = nav.grid.occupied()
     real = true_occupancy(sim, nav.grid, "wamv", nav.config.slice_m)
-    assert occupied.sum() > 100 and (occupied & ~real).sum() < 0.1 * occupied.sum()  # where the walls are
+    stray = (occupied & ~binary_dilation(real)).sum()  # more than a cell (0.25 m) from any wall
+    assert occupied.sum() > 100 and stray < 0.05 * occupied.sum(), (stray, occupied.sum())
     sim.close()

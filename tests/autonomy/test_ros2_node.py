@@ -20,7 +20,7 @@ import yaml
 
 pytest.importorskip("cyclonedds")
 HERE = Path(__file__).parent
-NETNS = "ip link set lo up && ip link set lo multicast on && ip route add 224.0.0.0/4 dev lo && exec \"$@\""
+NETNS = 'ip link set lo up && ip link set lo multicast on && ip route add 224.0.0.0/4 dev lo && exec "$@"'
 SCENARIO = {
     "version": 1, "name": "ros2_drive", "world": {"physics_rate_hz": 100},
     "vessels": [{"name": "wamv", "model": "wamv", "pose": {"position": [0.0, 0.0, 0.0]}, "command_timeout_s": 1.0,

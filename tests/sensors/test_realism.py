@@ -31,7 +31,9 @@ def test_no_message_is_logged_before_it_could_exist(tmp_path):
         sim.run(0.5, on_step=lambda s: [rec.write(e) for e in suite.on_step(s)])
     seen = {}
     with path.open("rb") as f:  # an independent reader: mcap + mcap-ros2
-        for _, channel, message, decoded in make_reader(f, decoder_factories=[DecoderFactory()]).iter_decoded_messages():
+        for _, channel, message, decoded in make_reader(
+            f, decoder_factories=[DecoderFactory()]
+        ).iter_decoded_messages():
             stamp = time_to_ns(decoded.header.stamp)
             seen.setdefault(channel.topic, []).append((message.log_time, stamp, decoded))
     clouds, imus = seen["/wamv/lidar/points"], seen["/wamv/imu/data"]
@@ -65,7 +67,9 @@ def test_gnss_gauss_markov_error_has_its_stddev_and_correlation_time(rig):
     enu = np.array([pymap3d.geodetic2enu(f.latitude, f.longitude, f.altitude, o.latitude_deg, o.longitude_deg,
                                          o.altitude_m) for f in fixes])  # fmt: skip
     err = enu - suite["wamv/gps"].pose_world(sim)[0]  # the WAM-V drifts < 1 cm here
-    assert np.allclose(err.std(axis=0), [1.5, 1.5, 3.0], rtol=0.35)  # 40 correlation times: ~16 % sampling error
+    assert np.allclose(
+        err.std(axis=0), [1.5, 1.5, 3.0], rtol=0.35
+    )  # 40 correlation times: ~16 % sampling error
     lag = round(tau * rate)
     e = err[:, :2] - err[:, :2].mean(axis=0)
     rho = (e[lag:] * e[:-lag]).sum() / (e * e).sum()

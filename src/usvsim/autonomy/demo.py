@@ -14,7 +14,9 @@ from usvsim.core.errors import UsvsimError
 
 # the five goals of harbor_navigate (map = world ENU, m): past the east pier, by the berth, off the moored
 # boat at the south quay, the south-west corner, between the west pier and the west quay
-DEFAULT_GOALS = {"harbor_navigate": [(25.0, 10.0), (36.0, -8.0), (-5.0, -14.0), (-35.0, -15.0), (-33.0, 12.0)]}
+DEFAULT_GOALS = {
+    "harbor_navigate": [(25.0, 10.0), (36.0, -8.0), (-5.0, -14.0), (-35.0, -15.0), (-33.0, 12.0)]
+}
 
 
 def parse_goals(text: str) -> list[tuple[float, float]]:
@@ -24,7 +26,9 @@ def parse_goals(text: str) -> list[tuple[float, float]]:
     except ValueError:
         goals = []
     if not goals or any(len(g) != 2 for g in goals):
-        raise UsvsimError(f"--goals {text!r}: give 'x,y;x,y;...' in metres (map = world ENU), e.g. '10,0;20,5'")
+        raise UsvsimError(
+            f"--goals {text!r}: give 'x,y;x,y;...' in metres (map = world ENU), e.g. '10,0;20,5'"
+        )
     return goals
 
 

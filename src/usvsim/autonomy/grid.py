@@ -24,7 +24,9 @@ OCC_THRESH, FREE_THRESH = 0.65, 0.196  # map_server's defaults
 
 
 @numba.njit(cache=True, nogil=True)
-def trace_rays(logodds, sensor_ij, hits_ij, free_only, l_free, l_occ, l_min, l_max):  # pragma: no cover - numba
+def trace_rays(
+    logodds, sensor_ij, hits_ij, free_only, l_free, l_occ, l_min, l_max
+):  # pragma: no cover - numba
     """Bresenham from the sensor cell to each end cell: free along the way, occupied at the end
     (unless free_only[k], a beam with no return cut at the mapping range). Cells off the grid are skipped."""
     rows, cols = logodds.shape

@@ -64,7 +64,10 @@ class LosGuidance:
         error = wrap(chi_d - (yaw + beta))
         r = float(np.clip(self.course_gain_1ps * error, -self.max_yaw_rate_radps, self.max_yaw_rate_radps))
         remaining = float(np.hypot(*(self.path[-1] - p)))
-        u = min(self.speed_mps * max(math.cos(error), 0.0) ** 2, math.sqrt(2.0 * self.decel_mps2 * remaining) + 0.2)
+        u = min(
+            self.speed_mps * max(math.cos(error), 0.0) ** 2,
+            math.sqrt(2.0 * self.decel_mps2 * remaining) + 0.2,
+        )
         return u, r
 
     def cross_track(self, p: np.ndarray) -> float:

@@ -1,8 +1,8 @@
 """Metrics of a navigation run against the ground truth (frames: map = world ENU, metres, seconds).
 
-- map IoU: occupied-class intersection over union of the map (p > 0.65) and the true occupancy, over the
-  cells a LiDAR could judge: within `range_m` of the true track, restricted to the truth's free cells and
-  its surface layer (occupied cells within `surface_cells` of a free cell: the inside of a quay is never seen).
+- map IoU: occupied-class intersection over union of the map (p > 0.65) and the true occupancy within
+  `range_m` of the true track, over the faces the LiDAR observed (`map_iou`), strict (same cell) and with a
+  one-cell (0.25 m) tolerance.
 - ATE: RMS of the horizontal position error after the rigid 2D alignment of the estimated to the true
   track (Horn/Umeyama, as in the TUM benchmark), and per 100 m travelled; `drift_m` is the final error
   without alignment.
@@ -22,23 +22,30 @@ from usvsim.autonomy.grid import OccupancyGrid
 
 
 def map_iou(grid: OccupancyGrid, truth: np.ndarray, track_xy: np.ndarray, range_m: float = 30.0,
-            surface_cells: int = 1) -> float:  # fmt: skip
+            tolerance_cells: int = 1) -> float:  # fmt: skip
+    """IoU = TP / (TP + FP + FN) of the occupied cells within `range_m` of the track: a mapped cell is a true
+    positive when a truly occupied cell lies within `tolerance_cells` (0 = the same cell), a false positive
+    otherwise; an observed face (a truly occupied cell next to a free one, within 2 cells of an observed cell) is
+    a false negative when no mapped cell lies within the tolerance. The inside of a quay or a shed's far side
+    is never observed, so it is not judged."""
     xs, ys = grid.centres()
     gx, gy = np.meshgrid(xs, ys)
     near = np.zeros(grid.shape, bool)
     for x, y in track_xy[:: max(1, len(track_xy) // 200)]:
         near |= (gx - x) ** 2 + (gy - y) ** 2 < range_m**2
-    surface = truth & binary_dilation(~truth, iterations=surface_cells)
-    judged = near & (~truth | surface)
-    mapped = grid.occupied() & judged
-    true = truth & judged
-    union = (mapped | true).sum()
-    return float((mapped & true).sum() / union) if union else math.nan
+    grow = (lambda a: binary_dilation(a, iterations=tolerance_cells)) if tolerance_cells else (lambda a: a)
+    mapped = grid.occupied() & near
+    face = truth & binary_dilation(~truth) & binary_dilation(grid.known() & ~truth, iterations=2) & near
+    tp = int((mapped & grow(truth)).sum())
+    fp, fn = int(mapped.sum()) - tp, int((face & ~grow(mapped)).sum())
+    return tp / (tp + fp + fn) if tp + fp + fn else math.nan
 
 
 def ate(t_est: np.ndarray, est_xy: np.ndarray, truth: np.ndarray) -> dict:
     """`truth` rows (t, x, y, yaw) at every step; estimates at times t_est. Aligned RMSE and drift."""
-    true_xy = np.column_stack([np.interp(t_est, truth[:, 0], truth[:, 1]), np.interp(t_est, truth[:, 0], truth[:, 2])])
+    true_xy = np.column_stack(
+        [np.interp(t_est, truth[:, 0], truth[:, 1]), np.interp(t_est, truth[:, 0], truth[:, 2])]
+    )
     mu_e, mu_t = est_xy.mean(axis=0), true_xy.mean(axis=0)
     u, _, vt = np.linalg.svd((true_xy - mu_t).T @ (est_xy - mu_e))
     d = np.diag([1.0, np.sign(np.linalg.det(u @ vt))])
@@ -51,7 +58,9 @@ def ate(t_est: np.ndarray, est_xy: np.ndarray, truth: np.ndarray) -> dict:
             "raw_rmse_m": float(np.sqrt(np.mean(raw**2))), "drift_m": float(raw[-1])}  # fmt: skip
 
 
-def min_clearance(grid: OccupancyGrid, truth: np.ndarray, poses: np.ndarray, length_m: float, beam_m: float) -> float:
+def min_clearance(
+    grid: OccupancyGrid, truth: np.ndarray, poses: np.ndarray, length_m: float, beam_m: float
+) -> float:
     """Smallest distance (m) from the hull box at each true pose (x, y, yaw) to a true occupied cell."""
     dist = distance_transform_edt(~truth) * grid.resolution_m
     u, v = np.meshgrid(np.linspace(-0.5, 0.5, 9) * length_m, np.linspace(-0.5, 0.5, 5) * beam_m)

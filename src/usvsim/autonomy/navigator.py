@@ -2,8 +2,8 @@
 reactive avoidance → goal logic. It sees only sensor data (clouds in the LiDAR frame with per-point
 times) and answers with a base_link velocity command (surge m/s, yaw rate rad/s, like `cmd_vel`).
 
-Per cloud: the odometry gives map ← base_link; the deskewed cloud goes to the map frame; points whose
-height lies in the `slice_m` band above the water (map z) are beams for the 2D grid. The path is replanned
+Per cloud: the odometry gives map ← base_link; the deskewed cloud goes to the map frame; of the points whose
+height lies in the `slice_m` band above the water (map z), the nearest per bearing are beams for the 2D grid. The path is replanned
 when the goal changes, every `replan_s`, or when the map closes the current path. Avoidance: LiDAR points of
 the band inside a corridor ahead of the bow (the boat's half width + margin) cap the surge to stop in time,
 and make a replan (from the map, which also holds moving obstacles as they are seen).
@@ -24,13 +24,25 @@ from usvsim.autonomy.planner import GridPlanner
 @dataclass
 class NavigatorConfig:
     slice_m: tuple[float, float] = (0.1, 2.5)  # map z band of the 2D map, m above the mean water
-    goal_tolerance_m: float = 1.0
+    goal_tolerance_m: float = 0.6  # on the estimate: the true distance stays within 1 m at the odometry error
     replan_s: float = 2.0
     half_width_m: float = 1.3  # WAM-V beam / 2
     corridor_margin_m: float = 0.7
     stop_distance_m: float = 3.0
     guidance: LosGuidance = field(default_factory=LosGuidance)
     planner: GridPlanner = field(default_factory=GridPlanner)
+
+
+def nearest_per_bearing(xy: np.ndarray, origin: np.ndarray, bins: int = 1024) -> np.ndarray:
+    """The nearest point in each of `bins` bearings around `origin` (like pointcloud_to_laserscan): a beam that
+    passes above a low deck and returns from a shed behind it must not clear the deck's cells."""
+    d = xy - origin
+    rng = np.hypot(d[:, 0], d[:, 1])
+    b = ((np.arctan2(d[:, 1], d[:, 0]) + math.pi) * (bins / (2 * math.pi))).astype(np.int64) % bins
+    order = np.lexsort((rng, b))
+    first = np.ones(len(order), bool)
+    first[1:] = b[order][1:] != b[order][:-1]
+    return xy[order[first]]
 
 
 class Navigator:
@@ -65,7 +77,7 @@ class Navigator:
         """The cloud's band points into the grid, as beams from the LiDAR (pose: `self.pose`)."""
         lidar = self.pose @ self.odometry.base_from_lidar
         self._band = self._map_band(lidar, deskewed)
-        self.grid.integrate(lidar[:2, 3], self._band[:, :2])
+        self.grid.integrate(lidar[:2, 3], nearest_per_bearing(self._band[:, :2], lidar[:2, 3]))
 
     def decide(self, t: float) -> tuple[float, float]:
         """Goal logic, planning, guidance and avoidance at the current pose: (surge m/s, yaw rate rad/s)."""
@@ -77,7 +89,11 @@ class Navigator:
         if self.done:
             return 0.0, 0.0
         ahead = self._obstacle_ahead(self._band, p, yaw)
-        if self.path is None or t - self._planned_at >= self.config.replan_s or ahead < self.config.stop_distance_m:
+        if (
+            self.path is None
+            or t - self._planned_at >= self.config.replan_s
+            or ahead < self.config.stop_distance_m
+        ):
             self._replan(t, p)
         if self.path is None:
             return 0.0, 0.3  # no way yet: turn on the spot to see more

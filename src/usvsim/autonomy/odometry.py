@@ -30,10 +30,13 @@ class KissIcpOdometry:
             from kiss_icp.config import KISSConfig
             from kiss_icp.kiss_icp import KissICP
         except ImportError:
-            raise UsvsimError("LiDAR odometry needs KISS-ICP: pip install 'usvsim[autonomy]' (or kiss-icp)") from None
+            raise UsvsimError(
+                "LiDAR odometry needs KISS-ICP: pip install 'usvsim[autonomy]' (or kiss-icp)"
+            ) from None
         config = KISSConfig()
         config.data.max_range, config.data.min_range, config.data.deskew = max_range_m, 1.0, True
         config.mapping.voxel_size = voxel_size_m
+        config.mapping.max_points_per_voxel = 5  # 20 by default; 5 is 3-4x cheaper here at the same accuracy
         config.registration.max_num_threads = 1  # the simulation uses the other core
         self.icp = KissICP(config)
         self.base_from_lidar = base_from_lidar

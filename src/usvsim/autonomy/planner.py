@@ -130,7 +130,9 @@ class GridPlanner:
         out, i = [pts[0]], 0
         while i < len(pts) - 1:
             j = i + 1  # walk forward while the straight leg stays clear (linear in the path length)
-            while j + 1 < len(pts) and _clear(grid, d, pts[i], pts[j + 1], self.clearance_m + 0.5 * self.comfort_m):
+            while j + 1 < len(pts) and _clear(
+                grid, d, pts[i], pts[j + 1], self.clearance_m + 0.5 * self.comfort_m
+            ):
                 j += 1
             out.append(pts[j])
             i = j

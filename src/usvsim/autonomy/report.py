@@ -13,7 +13,9 @@ from usvsim.autonomy.grid import OccupancyGrid
 HULL_LENGTH_M, HULL_BEAM_M = 4.9, 2.4  # WAM-V footprint for the clearance
 
 
-def summarize(nav, trace, grid: OccupancyGrid, truth_occ: np.ndarray, sim_time_s: float, wall_s: float) -> dict:
+def summarize(
+    nav, trace, grid: OccupancyGrid, truth_occ: np.ndarray, sim_time_s: float, wall_s: float
+) -> dict:
     rows, truth = trace.array(), np.array(trace.truth)
     odo = metrics.ate(rows[:, 0], rows[:, 4:6], truth)
     xte = rows[:, 7][np.isfinite(rows[:, 7]) & (rows[:, 8] > 1.0)]  # while cruising (commanded surge > 1 m/s)
@@ -23,7 +25,8 @@ def summarize(nav, trace, grid: OccupancyGrid, truth_occ: np.ndarray, sim_time_s
         "goal_times_s": [round(t, 2) for t in nav.reached],
         "final_goal_error_m": _goal_errors(nav, truth),
         "collisions": sorted(trace.contacts),
-        "map_iou": round(metrics.map_iou(grid, truth_occ, truth[:, 1:3]), 4),
+        "map_iou": round(metrics.map_iou(grid, truth_occ, truth[:, 1:3]), 4),  # one-cell tolerance
+        "map_iou_strict": round(metrics.map_iou(grid, truth_occ, truth[:, 1:3], tolerance_cells=0), 4),
         **{k: round(v, 4) for k, v in odo.items()},
         "cross_track_rms_m": round(float(np.sqrt(np.mean(xte**2))), 4) if len(xte) else None,
         "cross_track_max_m": round(float(np.abs(xte).max()), 4) if len(xte) else None,
@@ -76,7 +79,9 @@ def write(out: Path, nav, trace, grid: OccupancyGrid, truth_occ: np.ndarray, sum
     fig, (a1, a2) = plt.subplots(2, 1, figsize=(9, 5), dpi=110, sharex=True)
     a1.plot(rows[:, 0], rows[:, 7], lw=0.8)
     a1.set(ylabel="cross-track (m)", title="cross-track error of the true position on the followed path")
-    a2.plot(rows[:, 0], np.hypot(rows[:, 1] - rows[:, 4], rows[:, 2] - rows[:, 5]), lw=0.8, color="tab:orange")
+    a2.plot(
+        rows[:, 0], np.hypot(rows[:, 1] - rows[:, 4], rows[:, 2] - rows[:, 5]), lw=0.8, color="tab:orange"
+    )
     a2.set(xlabel="time (s)", ylabel="odometry error (m)")
     fig.tight_layout()
     fig.savefig(out / "trajectory.png")

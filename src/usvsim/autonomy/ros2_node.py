@@ -32,7 +32,9 @@ def _args(argv):
     p.add_argument("--lidar", default="lidar")
     p.add_argument("--lidar-xyz", default="0.701,0.0,1.031", help="LiDAR position in base_link, m")
     p.add_argument("--goals", required=True, help="'x,y;x,y' in the map frame (<vessel>/odom), m")
-    p.add_argument("--bounds", default="-60,-40,60,40", help="map extent xmin,ymin,xmax,ymax in m (--bounds=-60,...)")
+    p.add_argument(
+        "--bounds", default="-60,-40,60,40", help="map extent xmin,ymin,xmax,ymax in m (--bounds=-60,...)"
+    )
     p.add_argument("--odometry", choices=("kiss_icp", "sensor"), default="kiss_icp")
     p.add_argument("--exit-when-done", action="store_true")
     return p.parse_args(argv)

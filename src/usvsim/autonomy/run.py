@@ -53,11 +53,17 @@ def build_navigator(sim, vessel: str, lidar: str, goals, resolution_m: float = 0
     sim.step()  # /tf_static goes out before the first step
     base_from_lidar = tap.static[f"{vessel}/{lidar}"]
     use_icp = odometry == "kiss_icp" or (odometry == "auto" and kiss_icp_available())
-    odo = KissIcpOdometry(base_from_lidar) if use_icp else TrackedOdometry(base_from_lidar, lambda: tap.latest_odometry)
+    odo = (
+        KissIcpOdometry(base_from_lidar)
+        if use_icp
+        else TrackedOdometry(base_from_lidar, lambda: tap.latest_odometry)
+    )
     return Navigator(grid, odo, goals, NavigatorConfig()), tap
 
 
-def navigate(sim, nav: Navigator, tap: Tap, vessel: str, lidar: str, max_time_s: float, pose_offset_s: float = 0.0):
+def navigate(
+    sim, nav: Navigator, tap: Tap, vessel: str, lidar: str, max_time_s: float, pose_offset_s: float = 0.0
+):
     """Drive until every goal is reached or `max_time_s`; returns the Trace."""
     trace, topic, boat = Trace(), f"/{vessel}/{lidar}/points", sim.vessels[vessel]
     loop = sim.controllers[vessel]

@@ -14,7 +14,9 @@ import numpy as np
 from usvsim.autonomy.grid import OccupancyGrid
 
 
-def true_occupancy(sim, grid: OccupancyGrid, own_vessel: str, band_m: tuple[float, float], top_m: float = 30.0):
+def true_occupancy(
+    sim, grid: OccupancyGrid, own_vessel: str, band_m: tuple[float, float], top_m: float = 30.0
+):
     """Boolean (rows, cols) of the grid: scene geometry reaches into the band above the cell."""
     xs, ys = grid.centres()
     exclude = sim.vessels[own_vessel].index + 1  # MuJoCo body id
@@ -25,7 +27,9 @@ def true_occupancy(sim, grid: OccupancyGrid, own_vessel: str, band_m: tuple[floa
     for i, y in enumerate(ys):
         for j, x in enumerate(xs):
             for dx, dy in ((-q, -q), (q, -q), (-q, q), (q, q)):
-                d = mujoco.mj_ray(sim.model, sim.data, np.array([x + dx, y + dy, top_m]), down, None, 1, exclude, geom)
+                d = mujoco.mj_ray(
+                    sim.model, sim.data, np.array([x + dx, y + dy, top_m]), down, None, 1, exclude, geom
+                )
                 if d >= 0 and top_m - d >= band_m[0]:
                     out[i, j] = True
                     break

@@ -14,11 +14,17 @@ demo_app = typer.Typer(no_args_is_help=True, help="Demonstrations of what usvsim
 @demo_app.command("navigate")
 def navigate_command(
     scenario: Annotated[str, typer.Argument(help="scenario YAML file or built-in name")] = "harbor_navigate",
-    goals: Annotated[str | None, typer.Option(help="'x,y;x,y;...' world ENU m (default: the scenario's)")] = None,
-    out: Annotated[Path, typer.Option(help="output folder: map.png/.yaml, map_truth.png, trajectory.png, metrics.json")] = Path("navigate_out"),
+    goals: Annotated[
+        str | None, typer.Option(help="'x,y;x,y;...' world ENU m (default: the scenario's)")
+    ] = None,
+    out: Annotated[
+        Path, typer.Option(help="output folder: map.png/.yaml, map_truth.png, trajectory.png, metrics.json")
+    ] = Path("navigate_out"),
     max_time: Annotated[float, typer.Option(help="simulation seconds before giving up")] = 400.0,
     seed: Annotated[int, typer.Option(help="random seed")] = 0,
-    odometry: Annotated[str, typer.Option(help="auto | kiss_icp | sensor (the odometry sensor's pose)")] = "auto",
+    odometry: Annotated[
+        str, typer.Option(help="auto | kiss_icp | sensor (the odometry sensor's pose)")
+    ] = "auto",
 ) -> None:
     """Map as it goes (LiDAR odometry + occupancy grid), plan, drive to each goal; write pictures and metrics."""
     from usvsim.autonomy.demo import acceptance, parse_goals, run_demo
