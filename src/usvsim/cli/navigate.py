@@ -28,7 +28,7 @@ def navigate_command(
 ) -> None:
     """Map as it goes (LiDAR odometry + occupancy grid), plan, drive to each goal; write pictures and metrics."""
     from usvsim.autonomy.demo import acceptance, parse_goals, run_demo
-    from usvsim.cli.app import _fail
+    from usvsim.cli.errors import fail as _fail
     from usvsim.core.errors import UsvsimError
 
     try:
