@@ -20,6 +20,7 @@ import yaml
 
 pytest.importorskip("cyclonedds")
 HERE = Path(__file__).parent
+pytestmark = pytest.mark.slow  # a whole ROS 2 exchange in a network namespace: about a minute
 NETNS = 'ip link set lo up && ip link set lo multicast on && ip route add 224.0.0.0/4 dev lo && exec "$@"'
 SCENARIO = {
     "version": 1, "name": "ros2_drive", "world": {"physics_rate_hz": 100},
