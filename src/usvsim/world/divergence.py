@@ -8,8 +8,30 @@ CoM acceleration as the velocity change over one physics step (m/s^2).
 from __future__ import annotations
 
 import numpy as np
+from numba import njit
 
 from usvsim.core.errors import DivergenceError
+
+
+KEYS = ("max_speed_mps", "max_angular_speed_radps", "max_acceleration_mps2")
+WHAT = (("speed", "m/s"), ("angular speed", "rad/s"), ("acceleration", "m/s^2"))
+
+
+@njit(cache=True, nogil=True)
+def _worst(vcom, omega, previous, limits, dt):  # pragma: no cover - compiled
+    """(ratio to its limit, kind, body, value) of the worst quantity; NaN/inf give an infinite ratio."""
+    worst, kind, body, value = 0.0, 0, 0, 0.0
+    for i in range(vcom.shape[0]):
+        speed = np.sqrt(vcom[i, 0] ** 2 + vcom[i, 1] ** 2 + vcom[i, 2] ** 2)
+        turn = np.sqrt(omega[i, 0] ** 2 + omega[i, 1] ** 2 + omega[i, 2] ** 2)
+        dv = vcom[i] - previous[i]
+        accel = np.sqrt(dv[0] ** 2 + dv[1] ** 2 + dv[2] ** 2) / dt
+        for k, x in enumerate((speed, turn, accel)):
+            ratio = x / limits[k] if np.isfinite(x) else np.inf
+            if ratio > worst:
+                worst, kind, body, value = ratio, k, i, x
+        previous[i] = vcom[i]
+    return worst, kind, body, value
 
 
 class DivergenceGuard:
@@ -17,29 +39,21 @@ class DivergenceGuard:
 
     def __init__(self, limits, names: list[str], dt_s: float):
         self._names, self._dt = list(names), dt_s
-        self._limits = (limits.max_speed_mps, limits.max_angular_speed_radps, limits.max_acceleration_mps2)
+        self._limits = np.array([getattr(limits, key) for key in KEYS])
         self._previous: np.ndarray | None = None
 
     def reset(self) -> None:
         self._previous = None
 
     def check(self, vcom_world: np.ndarray, omega_body: np.ndarray, time_s: float) -> None:
-        if not len(self._names):
+        if not self._names:
             return
-        speed = np.linalg.norm(vcom_world, axis=1)
-        turn = np.linalg.norm(omega_body, axis=1)
-        previous = vcom_world if self._previous is None else self._previous
-        accel = np.linalg.norm(vcom_world - previous, axis=1) / self._dt
-        self._previous = vcom_world.copy()
-        values = np.stack([speed, turn, accel])
-        ratios = values / np.asarray(self._limits)[:, None]
-        ratios[~np.isfinite(ratios)] = np.inf
-        if ratios.max() <= 1.0:
+        if self._previous is None:
+            self._previous = vcom_world.copy()
+        worst, kind, body, value = _worst(vcom_world, omega_body, self._previous, self._limits, self._dt)
+        if worst <= 1.0:
             return
-        kind, body = np.unravel_index(int(np.argmax(ratios)), ratios.shape)
-        what = ("speed", "angular speed", "acceleration")[kind]
-        unit = ("m/s", "rad/s", "m/s^2")[kind]
-        key = ("max_speed_mps", "max_angular_speed_radps", "max_acceleration_mps2")[kind]
+        what, unit = WHAT[kind]
         raise DivergenceError(self._names[body], time_s,
-                              f"({what} {values[kind, body]:.4g} {unit} exceeds world.divergence.{key} = "
+                              f"({what} {value:.4g} {unit} exceeds world.divergence.{KEYS[kind]} = "
                               f"{self._limits[kind]:g}; a smaller physics step may help)")  # fmt: skip
