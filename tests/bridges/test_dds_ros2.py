@@ -85,4 +85,7 @@ def test_killed_subscribers_and_bad_commands_do_not_stall_the_simulation(exchang
     assert exchange["bridge"]["write_errors"] == 0
     assert steps["noisy_max"] < 2.0  # never stalled for long (generous: CI machines are shared)
     assert steps["noisy_median"] < 4 * steps["accept_median"] + 0.005
-    assert steps["after_sim_s"] > 0.5  # still stepping at (near) real time after the kills
+    # still stepping after the kills at >= half the rate of the undisturbed phase of the same run (real time at
+    # most): a ratio, so a busy machine that is slow throughout does not fail it
+    baseline_steps = min(1.0 / steps["accept_median"], steps["after_steps"] / steps["after_sim_s"])  # per 1 s
+    assert steps["after_steps"] >= 0.5 * baseline_steps

@@ -12,7 +12,6 @@ from numba import njit
 
 from usvsim.core.errors import DivergenceError
 
-
 KEYS = ("max_speed_mps", "max_angular_speed_radps", "max_acceleration_mps2")
 WHAT = (("speed", "m/s"), ("angular speed", "rad/s"), ("acceleration", "m/s^2"))
 
