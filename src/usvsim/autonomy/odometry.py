@@ -65,15 +65,12 @@ class TrackedOdometry:
         self.map_from_odom = np.eye(4)
 
     def _odom_from_base(self) -> np.ndarray:
-        from usvsim.core.transforms import matrix_from_quat
+        from usvsim.autonomy.sensing import odometry_pose
 
         msg = self.source()
         if msg is None:
             raise UsvsimError("--odometry sensor needs an `odometry` sensor on the vessel")
-        p, q = msg.pose.pose.position, msg.pose.pose.orientation
-        out = np.eye(4)
-        out[:3, :3], out[:3, 3] = matrix_from_quat(np.array([q.w, q.x, q.y, q.z])), (p.x, p.y, p.z)
-        return out
+        return odometry_pose(msg)
 
     def initialise(self, map_from_base: np.ndarray) -> None:
         self.map_from_odom = map_from_base @ np.linalg.inv(self._odom_from_base())

@@ -22,7 +22,7 @@ from usvsim.autonomy.grid import OccupancyGrid
 from usvsim.autonomy.navigator import Navigator, NavigatorConfig
 from usvsim.autonomy.odometry import KissIcpOdometry, TrackedOdometry
 from usvsim.autonomy.run import motion_prior
-from usvsim.autonomy.sensing import cloud_arrays
+from usvsim.autonomy.sensing import cloud_arrays, odometry_pose
 
 
 def _args(argv):
@@ -98,7 +98,7 @@ class AutonomyNode:
             return
         stamp = msg.header.stamp.sec + msg.header.stamp.nanosec * 1e-9
         if not self.started:
-            self.nav.odometry.initialise(_pose(odom))
+            self.nav.odometry.initialise(odometry_pose(odom))
             self.started = True
         dt = 0.1 if self.last_stamp is None else stamp - self.last_stamp
         self.last_stamp = stamp
@@ -140,15 +140,6 @@ class AutonomyNode:
         cells = np.where(g.known(), np.rint(g.probability() * 100), -1).astype(np.int8)
         msg.data = cells.ravel().tolist()  # row-major from the origin corner, as nav_msgs/OccupancyGrid wants
         return msg
-
-
-def _pose(odom) -> np.ndarray:
-    from usvsim.core.transforms import matrix_from_quat
-
-    p, q = odom.pose.pose.position, odom.pose.pose.orientation
-    out = np.eye(4)
-    out[:3, :3], out[:3, 3] = matrix_from_quat(np.array([q.w, q.x, q.y, q.z])), (p.x, p.y, p.z)
-    return out
 
 
 if __name__ == "__main__":

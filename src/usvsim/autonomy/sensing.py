@@ -32,6 +32,15 @@ def transform_matrix(tf) -> np.ndarray:
     return out
 
 
+def odometry_pose(msg) -> np.ndarray:
+    """4x4 parent ← child (e.g. odom ← base_link) of a nav_msgs/Odometry."""
+    p, q = msg.pose.pose.position, msg.pose.pose.orientation
+    out = np.eye(4)
+    out[:3, :3] = matrix_from_quat(np.array([q.w, q.x, q.y, q.z]))
+    out[:3, 3] = (p.x, p.y, p.z)
+    return out
+
+
 class Tap:
     """Subscribes to a simulation; keeps the newest message of each topic it is asked for, and the static TFs."""
 
