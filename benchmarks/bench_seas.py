@@ -80,11 +80,20 @@ def crossover(points=(1_000, 4_000, 16_000, 64_000, 256_000)) -> dict:
     for n in points:
         px, py = rng.uniform(0, 200, n), rng.uniform(0, 200, n)
         bufs = (np.empty(n), np.empty(n), np.empty(n), np.empty(n, np.int64))
-        args = (px, py, waves.geometry.tiles, wts, waves.inv_cells, waves.choppiness, waves.tol, waves.max_iter)
+        args = (
+            px,
+            py,
+            waves.geometry.tiles,
+            wts,
+            waves.inv_cells,
+            waves.choppiness,
+            waves.tol,
+            waves.max_iter,
+        )
         row = {}
         for name, kernel in zip(("serial", "parallel"), INVERT):
             kernel(*args, *bufs)
-            row[name] = float(np.median([_time(lambda k=kernel: k(*args, *bufs)) for _ in range(15)]) * 1e6)
+            row[name] = float(np.median([_time(lambda k=kernel, a=args, b=bufs: k(*a, *b)) for _ in range(15)]) * 1e6)
         row["parallel_over_serial"] = round(row["parallel"] / row["serial"], 2)
         out[n] = {k: round(v, 1) for k, v in row.items()} | {"load_average": load()}
     return out
@@ -104,7 +113,9 @@ def main() -> None:
     calm, wavy = harbor(0), harbor(4)
     for sim in (calm, wavy):
         sim.run(0.5)  # JIT and caches
-    h = compare({"calm": (calm, False), "sea_state_4": (wavy, False), "bare_mujoco": (calm, True)}, steps, repeats)
+    h = compare(
+        {"calm": (calm, False), "sea_state_4": (wavy, False), "bare_mujoco": (calm, True)}, steps, repeats
+    )
     h["sea_state_4_over_calm"] = round(h["sea_state_4"] / h["calm"], 2)
     h["calm_speed_over_bare_mujoco"] = round(h["bare_mujoco"] / h["calm"], 3)
     print("harbor", h, flush=True)

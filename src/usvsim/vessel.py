@@ -94,8 +94,9 @@ class Body:
 
     @property
     def displaced_volume(self) -> float:
-        """Displaced water volume at the last step (m^3)."""
-        return float(self._world.hydrostatics.volume[self.index])
+        """Displaced water volume at the last step (m^3), of the body's buoyancy model (triangles or voxels)."""
+        volume = self._world.marine.displaced_volume_m3
+        return float((self._world.hydrostatics.volume if volume is None else volume)[self.index])
 
     def waterline(self) -> np.ndarray:
         """Waterline segments (k, 2, 3), world ENU m, from the last step."""

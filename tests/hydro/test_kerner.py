@@ -38,7 +38,7 @@ def reference_forces(v, n, area, c1, c2, f, rho=1025.0, nu=1.0533e-6, length=2.0
 
 @pytest.mark.parametrize("c1,c2,f,expected", [(100, 100, 0.4, 179.0674), (10, 10, 0.5, 15.5415), (5, 100, 1.0, 52.7888)])
 def test_single_triangle_vectors(c1, c2, f, expected):
-    cfg = KernerHydrodynamics(pressure_linear_pa=c1, pressure_quadratic_pa=c2, pressure_falloff=f, suction_falloff=f,
+    cfg = KernerHydrodynamics(kinematic_viscosity_m2ps=1.0533e-6, pressure_linear_pa=c1, pressure_quadratic_pa=c2, pressure_falloff=f, suction_falloff=f,
                               slamming_scale=0.0, air_scale=0.0)
     parts = one_triangle(cfg, (2.0, 0.0, -0.5))
     visc, pres = reference_forces(np.array([2.0, 0.0, -0.5]), np.array([0.0, 0.0, -1.0]), 0.5, c1, c2, f)
@@ -208,7 +208,8 @@ def test_submerged_hull_drag_matches_per_face_reference_in_any_pose():
     hulls, verts, rng = _posed_sphere(-3.0, 6)
     com, v, omega = np.array([[2.0, -1.0, -3.0]]) + rng.normal(size=(1, 3)) * 0.1, rng.normal(size=(1, 3)), rng.normal(size=(1, 3))  # fmt: skip
     water = rng.normal(size=verts.shape) * 0.2
-    cfg = KernerHydrodynamics(pressure_falloff=0.4, suction_falloff=0.7, suction_linear_pa=60.0, form_factor_k=0.1)
+    cfg = KernerHydrodynamics(kinematic_viscosity_m2ps=1.0533e-6, pressure_falloff=0.4, suction_falloff=0.7,
+                              suction_linear_pa=60.0, form_factor_k=0.1)
     k = KernerForces(hulls, [cfg], [80.0], [2.0])
     parts = k.compute(verts, np.zeros(len(verts)), water, com, v, omega, Z3, Z3, 0.01).parts[0]
     faces = hulls.faces.astype(int)

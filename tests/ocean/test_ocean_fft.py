@@ -14,7 +14,9 @@ JONSWAP = directional_spectrum(lambda w: spectra.jonswap(w, 2.0, 8.0, 3.3), 0.4,
 
 @pytest.fixture(scope="module")
 def single():
-    return FFTWaveField(JONSWAP, [600.0], np.random.default_rng(5), resolution=64, choppiness=0.8, time_tolerance=0)
+    return FFTWaveField(
+        JONSWAP, [600.0], np.random.default_rng(5), resolution=64, choppiness=0.8, time_tolerance=0
+    )
 
 
 def test_tile_vertices_equal_the_direct_sum_of_the_bins(single):

@@ -23,7 +23,9 @@ def test_error_factor_is_the_lagrange_remainder():
     # |R| ≤ max|f''''|/4! · max_u |(u+1)u(u-1)(u-2)| = x⁴ · 0.5625/24 for cos and sin, so ≤ √2 times that
     assert np.all(error_factor(x) <= math.sqrt(2) * 0.5625 / 24 * x**4 * 1.01)
     assert np.all(error_factor(x) >= 0.5625 / 24 * x**4 * 0.9)
-    np.testing.assert_allclose(lagrange_weights(np.array([0.0, 1.0])), [[0, 1, 0, 0], [0, 0, 1, 0]], atol=1e-15)
+    np.testing.assert_allclose(
+        lagrange_weights(np.array([0.0, 1.0])), [[0, 1, 0, 0], [0, 0, 1, 0]], atol=1e-15
+    )
 
 
 def test_interpolated_field_is_within_its_bound_of_the_exact_one():
@@ -72,4 +74,6 @@ def test_ramp_scales_every_snapshot(tolerance):
     f = FFTWaveField(JONSWAP, SIZES, np.random.default_rng(2), 64, ramp_time_s=5.0, time_tolerance=tolerance)
     g = FFTWaveField(JONSWAP, SIZES, np.random.default_rng(2), 64, time_tolerance=tolerance)
     x = np.linspace(0, 50, 20)
-    np.testing.assert_allclose(f.elevation(x, x, 2.0), (1 - math.exp(-0.4)) * g.elevation(x, x, 2.0), atol=1e-12)
+    np.testing.assert_allclose(
+        f.elevation(x, x, 2.0), (1 - math.exp(-0.4)) * g.elevation(x, x, 2.0), atol=1e-12
+    )

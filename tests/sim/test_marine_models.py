@@ -108,3 +108,18 @@ def test_hydrostatics_beside_kerner_on_a_second_thread_gives_identical_motion(sc
     serial = trajectory()
     monkeypatch.setattr(world_module, "OVERLAP_MIN_FACES", 0)
     assert np.array_equal(trajectory(), serial)
+
+
+def test_voxel_cut_setting_reaches_the_kernel_and_volume_is_the_voxels(scenario_of):
+    """`cut: false` counts whole voxels below the surface (a different, staircase volume); the vessel's
+    displaced volume is the voxel model's, not the triangle integral."""
+    volumes = {}
+    for cut in (True, False):
+        sim = Simulation(scenario(scenario_of, None, {"type": "voxels", "voxel_size_m": 0.1, "cut": cut}, "otter"))
+        sim.run(1.0)  # dropped from z = 0 into the water
+        voxels = sim.marine._voxels
+        assert voxels.cut.tolist() == [cut]
+        volumes[cut] = sim.vessels["boat"].displaced_volume
+        assert volumes[cut] == pytest.approx(float(voxels._out[2][0]), rel=1e-12)
+        assert volumes[cut] != pytest.approx(float(sim.hydrostatics.volume[0]), rel=1e-6)
+    assert volumes[True] != pytest.approx(volumes[False], rel=1e-3)

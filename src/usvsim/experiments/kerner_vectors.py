@@ -34,7 +34,7 @@ def _kerner(hulls, cfg, mass=80.0, length=2.0):
 
 def _drag(c1, c2, f):
     hulls = HullSet([(TRI, FACE)])
-    cfg = KernerHydrodynamics(pressure_linear_pa=c1, pressure_quadratic_pa=c2, pressure_falloff=f,
+    cfg = KernerHydrodynamics(kinematic_viscosity_m2ps=1.0533e-6, pressure_linear_pa=c1, pressure_quadratic_pa=c2, pressure_falloff=f,
                               suction_falloff=f, slamming_scale=0.0, air_scale=0.0)  # fmt: skip
     z3 = np.zeros((1, 3))
     res = _kerner(hulls, cfg).compute(TRI, np.zeros(3), np.zeros((3, 3)), np.array([[0.3, 0.3, -1.0]]), V_POINT,

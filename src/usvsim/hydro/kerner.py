@@ -7,9 +7,9 @@ Usage per physics step (world ENU, SI):
     res.force, res.torque   # (nb,3) world, torque about each CoM; res.parts (nb,4,6) by kind
 
 State kept: the previous step's swept-volume rate A·v per face (for slamming) and whether it is
-valid (`reset()` after a teleport). Kinematic viscosity: 1.0533e-6 m²/s by default (asv_wave_sim's
-value, fresh water at about 18 °C); sea water at 15 °C is 1.19e-6 — C_F changes by under 1 %, so
-the choice is a scenario key, not a physics decision. (The seed used 1.0016, 10^6 too large.)
+valid (`reset()` after a teleport). Kinematic viscosity: 1.19e-6 m²/s by default (sea water at 15 °C,
+consistent with the default sea-water density); asv_wave_sim's 1.0533e-6 (fresh water near 18 °C) gives a
+C_F 2.4 % higher at Rn ~ 5e6. (The seed used 1.0016, 10^6 too large.)
 """
 
 from __future__ import annotations

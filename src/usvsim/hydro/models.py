@@ -46,6 +46,7 @@ class MarineModels:
         self.com_body = np.array([b.com for b in self.bodies], dtype=float).reshape(nb, 3)
         self.world_force, self.world_torque = np.zeros((nb, 3)), np.zeros((nb, 3))
         self.body_wrench, self._scratch = np.zeros((nb, 6)), np.zeros((nb, 6))
+        self.displaced_volume_m3: np.ndarray | None = None  # per body, of its active buoyancy model (last step)
         self._rebuild()
 
     # -- choosing models ----------------------------------------------------------------------
@@ -76,7 +77,8 @@ class MarineModels:
         if self._voxel_index:
             grids = [voxelize(self.bodies[i].hull.vertices, self.bodies[i].hull.faces, self.buoyancy[i].voxel_size_m)
                      for i in self._voxel_index]  # fmt: skip
-            self._voxels = VoxelSet(grids, [self.buoyancy[i].match_mesh_volume for i in self._voxel_index])
+            self._voxels = VoxelSet(grids, [self.buoyancy[i].match_mesh_volume for i in self._voxel_index],
+                                    [self.buoyancy[i].cut for i in self._voxel_index])  # fmt: skip
 
     def _build_fossen(self) -> FossenForces | None:
         armature = np.zeros(len(self._dof_adr) * 6)
@@ -125,6 +127,7 @@ class MarineModels:
             hydrostatics = hydrostatics()
         self.world_force[:] = hydrostatics.force
         self.world_torque[:] = hydrostatics.torque
+        self.displaced_volume_m3 = hydrostatics.volume.copy()
         if self._voxels is not None:
             self._add_voxels(state, ocean, t)
         if kerner is not None:
@@ -145,6 +148,7 @@ class MarineModels:
         res = self._voxels.compute(centers, eta, np.ascontiguousarray(state.com_world[idx]), self.rho, self.g)
         self.world_force[idx] = res.force
         self.world_torque[idx] = res.torque
+        self.displaced_volume_m3[idx] = res.volume
 
     def _kerner_result(self, state, verts, eta, ocean, t, dt, water_vel_com, wind_world):
         if self._kerner is None:
@@ -156,6 +160,7 @@ class MarineModels:
 
     def reset(self) -> None:
         """Forget model histories (after a simulation reset or a teleport)."""
+        self.displaced_volume_m3 = None
         if self._kerner is not None:
             self._kerner.reset()
         if self._fossen is not None:

@@ -32,7 +32,7 @@ def voxel_buoyancy(centers, fill, voxel_offsets, eta, com, size, scale, rho, g, 
     Inputs (world ENU, SI): centers (N,3) m voxel centres; fill (N,) inside fractions; voxel_offsets
     (nb+1,) uint64 (body b owns voxels offsets[b]:offsets[b+1]); eta (N,) water height at each
     centre m; com (nb,3) m; size (nb,) voxel edge m; scale (nb,) volume factor; rho kg/m³; g m/s²;
-    cut: partial voxels by slab volume (else all-or-nothing at h < 0).
+    cut (nb,) bool: body b counts partial voxels by slab volume (else all-or-nothing at h < 0).
     Outputs, overwritten: force (nb,3) N; torque (nb,3) N·m about the CoM; volume (nb,) m³ (scaled);
     cob (nb,3) m centre of buoyancy (= com when dry).
     """
@@ -43,7 +43,7 @@ def voxel_buoyancy(centers, fill, voxel_offsets, eta, com, size, scale, rho, g, 
         for i in range(voxel_offsets[b], voxel_offsets[b + 1]):
             z = centers[i, 2]
             h = z - eta[i]
-            if cut:
+            if cut[b]:
                 if h >= half:
                     continue
                 if h <= -half:
@@ -94,9 +94,11 @@ class VoxelSet:
     mesh volume (per body; a grid's own Σ φ s³ otherwise).
     """
 
-    def __init__(self, grids: Sequence[VoxelGrid], match_mesh_volume: bool | Sequence[bool] = True):
+    def __init__(self, grids: Sequence[VoxelGrid], match_mesh_volume: bool | Sequence[bool] = True,
+                 cut: bool | Sequence[bool] = True):  # fmt: skip
         nb = len(grids)
         match = [match_mesh_volume] * nb if isinstance(match_mesh_volume, bool) else list(match_mesh_volume)
+        self.cut = np.array([cut] * nb if isinstance(cut, bool) else list(cut), dtype=np.bool_)
         counts = np.array([len(g.centers) for g in grids])
         self.n_bodies = nb
         self.offsets = np.concatenate([[0], np.cumsum(counts)]).astype(np.uint64)
@@ -117,7 +119,9 @@ class VoxelSet:
         return self._world
 
     def compute(self, world_centers: np.ndarray, eta: np.ndarray, com_world: np.ndarray, rho: float,
-                g: float, cut: bool = True) -> VoxelResult:
+                g: float, cut: bool | None = None) -> VoxelResult:
+        """Buoyancy of every body; `cut` overrides the per-body setting given at construction."""
+        cuts = self.cut if cut is None else np.full(self.n_bodies, bool(cut))
         voxel_buoyancy(world_centers, self.fill, self.offsets, eta, com_world, self.size, self.scale, rho, g,
-                       cut, *self._out)  # fmt: skip
+                       cuts, *self._out)  # fmt: skip
         return self._result

@@ -111,7 +111,9 @@ class FFTWaveField(WaveField):
         self.inv_cells = self.n / self.sizes
         self.decay_k = self._decay_wavenumbers()
         self._spec = np.zeros((3, self.n, self.n), np.complex64)  # one band's spectra (scratch)
-        self.geometry = self._ring(time_tolerance, (0, 1), 2 if self.choppiness else 1, self._geometry_snapshot)
+        self.geometry = self._ring(
+            time_tolerance, (0, 1), 2 if self.choppiness else 1, self._geometry_snapshot
+        )
         self.velocity_ring = self._ring(time_tolerance, (1,), 1, partial(self._kinematic_snapshot, False))
         self.acceleration_ring = self._ring(time_tolerance, (2,), 2, partial(self._kinematic_snapshot, True))
 
@@ -128,7 +130,11 @@ class FFTWaveField(WaveField):
     @property
     def snapshot_intervals_s(self) -> dict[str, list[float]]:
         """Time between transforms of each band (s): inf = a band without energy, 0 = every queried time."""
-        rings = {"geometry": self.geometry, "velocity": self.velocity_ring, "acceleration": self.acceleration_ring}
+        rings = {
+            "geometry": self.geometry,
+            "velocity": self.velocity_ring,
+            "acceleration": self.acceleration_ring,
+        }
         return {name: ring.intervals for name, ring in rings.items()}
 
     def _band_limits(self) -> list[float]:
@@ -182,7 +188,9 @@ class FFTWaveField(WaveField):
 
     def _kinematic_snapshot(self, acceleration: bool, b: int, t: float, out: np.ndarray) -> None:
         spec = self._spec[: out.shape[0]]
-        kern.kinematic_spectra(self._amp[b], self._omega[b], self._khx[b], self._khy[b], t, acceleration, spec)
+        kern.kinematic_spectra(
+            self._amp[b], self._omega[b], self._khx[b], self._khy[b], t, acceleration, spec
+        )
         out[:] = scipy.fft.ifft2(spec, norm="forward", workers=1)
 
     def update(self, t: float) -> np.ndarray:

@@ -201,7 +201,9 @@ def _lerp(tiles, wts, b, slot, iy0, iy1, ix0, ix1, fx, fy):
     return (c00 * (1 - fx) + c10 * fx) * (1 - fy) + (c01 * (1 - fx) + c11 * fx) * fy
 
 
-def _sample_kinematics(x0, y0, zeff, geo, geo_wts, vel, vel_wts, acc, acc_wts, inv_cells, decay_k, v_out, a_out):
+def _sample_kinematics(
+    x0, y0, zeff, geo, geo_wts, vel, vel_wts, acc, acc_wts, inv_cells, decay_k, v_out, a_out
+):
     """Bilinear velocity (and acceleration when a_out has rows) at labels, each band attenuated by exp(κ_b z')."""
     mask = geo.shape[3] - 1
     with_acc = a_out.shape[0] > 0
