@@ -17,8 +17,9 @@ def test_viewer_runs_a_scenario_with_camera_sensors(tmp_path):
     shot = tmp_path / "view.png"
     env = {k: v for k, v in os.environ.items() if k not in ("MUJOCO_GL", "PYOPENGL_PLATFORM")}
     env.update(DISPLAY=display, NO_COLOR="1")
+    video = tmp_path / "view.mp4"
     cmd = [sys.executable, "-m", "usvsim.cli", "run", "harbor_sensors", "--view", "--duration", "0.3",
-           "--screenshot", str(shot)]  # fmt: skip
+           "--screenshot", str(shot), "--video", str(video)]  # fmt: skip
     try:
         result = subprocess.run(cmd, capture_output=True, text=True, timeout=300, env=env)
     finally:
@@ -31,3 +32,20 @@ def test_viewer_runs_a_scenario_with_camera_sensors(tmp_path):
     assert sky[2] > 150 and sky[2] > sky[0]  # a light blue sky at the top (not black, not noise)
     assert water[2] > water[0] and water.sum() < sky.sum()  # darker blue water below
     assert image[:60, 600:700].std(axis=(0, 1)).max() < 20  # smooth, not a garbage framebuffer
+    import cv2
+
+    reader = cv2.VideoCapture(str(video))
+    ok, first = reader.read()
+    assert ok and first.shape == (720, 1280, 3) and int(reader.get(cv2.CAP_PROP_FRAME_COUNT)) >= 2
+
+
+def test_screenshot_key_is_reported_once():
+    from usvsim.viewer.driver import ManualDriver
+
+    class Sim:  # the driver only needs vessels and the clock here
+        vessels = {"boat": type("V", (), {"position": (0.0, 0.0, 0.0), "rpy": (0.0, 0.0, 0.0)})()}
+        clock = type("C", (), {"dt": 0.01})()
+
+    driver = ManualDriver(Sim())
+    driver.key("p", "press")
+    assert driver.take_screenshot_request() and not driver.take_screenshot_request()

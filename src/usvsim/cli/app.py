@@ -80,6 +80,7 @@ def run(
     foxglove_port: Annotated[int, typer.Option(help="Foxglove server port", min=0, max=65535)] = 8765,
     force: Annotated[bool, typer.Option("--force", help="overwrite an existing recording")] = False,
     screenshot: Annotated[Path | None, typer.Option(help="with --view: save the last frame as PNG")] = None,
+    video: Annotated[Path | None, typer.Option(help="with --view: record every frame to a video (.mp4, .avi)")] = None,
 ) -> None:
     """Run a scenario headless or in the viewer, optionally recording it and bridging it to ROS 2 / Foxglove."""
     from usvsim.cli.bridges import BridgeOptions
@@ -96,7 +97,7 @@ def run(
         start = time.perf_counter()
         try:
             if view:
-                _run_viewer(sim, duration, screenshot)
+                _run_viewer(sim, duration, screenshot, video)
             else:
                 _run_with_progress(sim, duration, realtime)
         except KeyboardInterrupt:
@@ -190,7 +191,7 @@ def _progress_loop(sim, duration: float, realtime: bool, on_step) -> None:
                               f"{wall:.1f} s wall ({sim.time / wall:.2f}x real time)", highlight=False)  # fmt: skip
 
 
-def _run_viewer(sim, duration: float, screenshot: Path | None = None) -> None:
+def _run_viewer(sim, duration: float, screenshot: Path | None = None, video: Path | None = None) -> None:
     import warnings
 
     from usvsim.viewer import run_viewer
@@ -198,7 +199,7 @@ def _run_viewer(sim, duration: float, screenshot: Path | None = None) -> None:
     try:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")  # GLFW repeats its own error as a warning
-            run_viewer(sim, max_seconds=duration, screenshot=screenshot)
+            run_viewer(sim, max_seconds=duration, screenshot=screenshot, video=video)
     except RuntimeError as exc:  # no display, no OpenGL
         raise UsvsimError(f"cannot open the viewer window: {exc}") from None
 

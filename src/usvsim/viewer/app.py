@@ -17,6 +17,7 @@ import mujoco
 
 from usvsim.control.manual import DriveAxes, gamepad_axes
 from usvsim.viewer.camera import FollowCamera
+from usvsim.viewer.capture import Capture
 from usvsim.viewer.driver import ManualDriver, ScriptEvent
 from usvsim.viewer.frame import FrameRenderer
 from usvsim.viewer.offscreen import save_png
@@ -118,16 +119,18 @@ class ViewerWindow:
 def run_viewer(sim, vessel: str | None = None, script: Iterable[ScriptEvent] = (), max_seconds: float | None = None,
                screenshot: str | Path | None = None, width: int = 1280, height: int = 720, time_scale: float = 1.0,
                max_fps: float = 60.0, points: Layer = None, inset: Layer = None, gamepad: bool = True,
-               camera: FollowCamera | None = None) -> dict:  # fmt: skip
+               camera: FollowCamera | None = None, video: str | Path | None = None) -> dict:  # fmt: skip
     """Open the interactive viewer on `sim` and run until the window closes, Esc, or `max_seconds` of
     simulation time. `script`: (sim_time_s, key, action) events replayed like real key presses.
     `points` / `inset`: an (n, 3) world-point array / (h, w, 3) image, or callables of `sim` returning one.
-    Returns {"frames", "wall_s", "sim_s", "fps"}; writes the last frame to `screenshot` if given."""
+    Returns {"frames", "wall_s", "sim_s", "fps"}; writes the last frame to `screenshot` if given, every frame
+    to `video` (MP4/AVI) if given; the P key saves a screenshot in the working directory."""
     driver = ManualDriver(sim, vessel, script, time_scale, gamepad=read_gamepad if gamepad else None)
     if max_seconds is not None:
         driver.stop_at_step = round(max_seconds / sim.clock.dt)
     view = View(sim, driver.vessel_name, camera, points, inset)
     window = ViewerWindow(driver, view, width, height, f"usvsim - {sim.scenario.name}")
+    capture = Capture(sim.scenario.name, video=Path(video) if video else None)
     frames, start, last = 0, time.perf_counter(), time.perf_counter()
     sim_start = sim.time
     try:
@@ -137,6 +140,7 @@ def run_viewer(sim, vessel: str | None = None, script: Iterable[ScriptEvent] = (
             last, frames = now, frames + 1
             done = (driver.quit or glfw.window_should_close(window.window)
                     or (max_seconds is not None and sim.time >= max_seconds - 1e-9))  # fmt: skip
+            capture.frame(window, sim.time, driver.take_screenshot_request())
             if done and screenshot is not None:
                 window.screenshot(screenshot)  # the back buffer, before it is swapped away
             glfw.swap_buffers(window.window)
@@ -147,6 +151,7 @@ def run_viewer(sim, vessel: str | None = None, script: Iterable[ScriptEvent] = (
             if spare > 0:
                 time.sleep(spare)
     finally:
+        capture.close()
         window.close()
     wall = time.perf_counter() - start
     return {

@@ -16,7 +16,7 @@ from collections.abc import Callable, Iterable
 from usvsim.control.manual import KEYS, DriveAxes, keyboard_axes, manual_commands, should_reset
 
 DRIVE_KEYS = frozenset(KEYS.values())
-PAUSE, STEP_KEYS, QUIT_KEYS, FOLLOW = "space", ("n", "right"), ("escape",), "c"
+PAUSE, STEP_KEYS, QUIT_KEYS, FOLLOW, SCREENSHOT = "space", ("n", "right"), ("escape",), "c", "p"
 ScriptEvent = tuple[float, str, str]
 
 
@@ -44,6 +44,7 @@ class ManualDriver:
         self.axes = DriveAxes()
         self.paused = self.quit = False
         self.follow_toggled = self.was_reset = False  # flags the app reads and clears
+        self._screenshot = False
         self._pending_steps = 0
         self._budget_s = 0.0
         self._reset_held = False
@@ -66,6 +67,13 @@ class ManualDriver:
                 self.quit = True
             elif name == FOLLOW:
                 self.follow_toggled = True
+            elif name == SCREENSHOT:
+                self._screenshot = True
+
+    def take_screenshot_request(self) -> bool:
+        """True once after the screenshot key was pressed."""
+        requested, self._screenshot = self._screenshot, False
+        return requested
 
     def _replay_script(self) -> None:
         t = self.sim.time + 1e-9

@@ -7,7 +7,7 @@ from dataclasses import dataclass
 
 KNOTS_PER_MPS = 3600.0 / 1852.0
 HELP = (
-    "W/S throttle  A/D steer  R reset  Space pause  N/Right step  C follow  drag orbit  scroll zoom  Esc quit"
+    "W/S throttle  A/D steer  R reset  Space pause  N/Right step  C follow  P shot  drag orbit  scroll zoom  Esc quit"
 )
 
 

@@ -1,0 +1,53 @@
+"""What the viewer saves besides the window: screenshots on the P key and an optional video of every frame.
+
+Screenshots go to `shots_dir` as `usvsim_<scenario>_<sim time>s.png`. The video (`--video FILE`, MP4 or
+AVI) holds one frame per drawn frame at a nominal `fps`; OpenCV writes it (imported only when asked for).
+"""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+from usvsim.core.errors import UsvsimError
+
+
+class Capture:
+    def __init__(self, scenario_name: str, shots_dir: Path = Path("."), video: Path | None = None,
+                 fps: float = 30.0):  # fmt: skip
+        self.name, self.shots_dir, self.video_path, self.fps = scenario_name, Path(shots_dir), video, fps
+        self._writer = None
+        self.saved: list[Path] = []
+
+    def frame(self, window, sim_time_s: float, screenshot_requested: bool) -> None:
+        """Call after drawing, before swapping buffers."""
+        if screenshot_requested:
+            path = self.shots_dir / f"usvsim_{self.name}_{sim_time_s:09.3f}s.png"
+            window.screenshot(path)
+            self.saved.append(path)
+            print(f"usvsim: saved {path}", file=sys.stderr)
+        if self.video_path is not None:
+            self._write_video(window)
+
+    def _write_video(self, window) -> None:
+        rgb = window.renderer.read_rgb(window.viewport)
+        if self._writer is None:
+            self._writer = _open_writer(self.video_path, rgb.shape[1], rgb.shape[0], self.fps)
+        self._writer.write(rgb[..., ::-1].copy())  # OpenCV wants BGR
+
+    def close(self) -> None:
+        if self._writer is not None:
+            self._writer.release()
+            self._writer = None
+
+
+def _open_writer(path: Path, width: int, height: int, fps: float):
+    try:
+        import cv2
+    except ImportError:
+        raise UsvsimError("--video needs OpenCV: pip install opencv-python-headless") from None
+    fourcc = cv2.VideoWriter_fourcc(*("mp4v" if path.suffix.lower() == ".mp4" else "MJPG"))
+    writer = cv2.VideoWriter(str(path), fourcc, fps, (width, height))
+    if not writer.isOpened():
+        raise UsvsimError(f"cannot write the video {path} (use .mp4 or .avi in an existing directory)")
+    return writer
