@@ -19,6 +19,7 @@ from usvsim.cli.errors import console, fail
 from usvsim.cli.geo_map import map_command
 from usvsim.cli.navigate import demo_app
 from usvsim.cli.recover import recover
+from usvsim.cli.sweep import sweep as sweep_command
 from usvsim.cli.task import task as task_command
 from usvsim.core.errors import UsvsimError
 
@@ -262,6 +263,7 @@ app.command("map")(map_command)
 app.command("task")(task_command)
 app.command("dataset")(dataset_command)
 app.add_typer(demo_app, name="demo")
+app.command("sweep")(sweep_command)
 
 
 def main() -> None:

@@ -16,25 +16,27 @@ from usvsim.tasks.timing import TaskTiming
 CONTROL_RATE_HZ = 10.0
 
 
-def reference_controller(sim, max_speed_mps: float = 2.0):
-    config = cfg.StationKeeping(rate_hz=CONTROL_RATE_HZ, hold=cfg.Hold(max_speed_mps=max_speed_mps))
-    return build_controller(config, sim.vessels["wamv"].model)
+def reference_controller(world, hold: dict | None = None):
+    """The station-keeping controller of the WAM-V at 10 Hz; `hold` overrides `config.control.Hold` keys."""
+    config = cfg.StationKeeping(rate_hz=CONTROL_RATE_HZ, hold=cfg.Hold(**({"max_speed_mps": 2.0} | (hold or {}))))
+    return build_controller(config, world.vessels["wamv"].model)
 
 
 def run_trial(name: str, difficulty: int = 0, seed: int = 0, timing: TaskTiming | None = None,
-              sea_state: int | None = None) -> dict:  # fmt: skip
-    """One trial of a task with its reference solution; returns the trial's report (JSON-ready)."""
+              sea_state: int | None = None, mass_kg: float | None = None, hold: dict | None = None) -> dict:  # fmt: skip
+    """One trial of a task with its reference solution; returns the trial's report (JSON-ready).
+    `mass_kg` overrides the WAM-V's mass; `hold` the controller's hold gains (`config.control.Hold` keys)."""
     task = TASKS[name](difficulty, seed, timing, sea_state)
-    sim = Simulation(task.scenario(), seed=seed)
+    sim = Simulation(task.scenario({"mass": {"mass_kg": mass_kg}} if mass_kg else None), seed=seed)
     try:
-        return _drive(task, sim)
+        return _drive(task, sim, reference_controller(sim, hold))
     finally:
         sim.close()
 
 
-def _drive(task, sim) -> dict:
+def _drive(task, sim, controller) -> dict:
     task.bind(sim)
-    vessel, controller = sim.vessels["wamv"], reference_controller(sim)
+    vessel = sim.vessels["wamv"]
     every = steps_per_period(CONTROL_RATE_HZ, sim.clock.step_ns)
     dt, wall = every * sim.clock.dt, time.perf_counter()
     while not task.finished:

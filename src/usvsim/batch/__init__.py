@@ -1,0 +1,5 @@
+"""Many task runs at once: scenarios × seeds × parameter grids on local processes or Ray (`run`, `expand`)."""
+
+from usvsim.batch.runner import RunSpec, expand, run
+
+__all__ = ["RunSpec", "expand", "run"]

@@ -1,0 +1,52 @@
+"""`usvsim sweep SPEC.yaml`: what to run. Every list is one axis of the grid; runs are the product.
+
+```yaml
+task: station_keeping          # or a list of tasks
+difficulty: [0, 1]
+seeds: [0, 1, 2, 3]            # or {start: 0, count: 8}
+time_limit_s: 30
+grid:
+  mass_kg: [180, 250]          # WAM-V mass override
+  sea_state: [null, 3]         # WMO code instead of the level's VRX sea
+  hold: {position_gain_1ps: [0.25, 0.4]}   # reference controller gains (config.control.Hold keys)
+backend: process               # or ray
+workers: 2
+```
+"""
+
+from __future__ import annotations
+
+from typing import Annotated, Literal
+
+from pydantic import Field
+
+from usvsim.config.base import PositiveFloat, Section
+
+
+class SeedRange(Section):
+    start: int = 0
+    count: Annotated[int, Field(ge=1)]
+
+
+GridValue = float | int | None
+
+
+class Grid(Section):
+    mass_kg: list[PositiveFloat | None] = [None]
+    sea_state: list[Annotated[int, Field(ge=0, le=9)] | None] = [None]
+    hold: dict[str, list[PositiveFloat]] = Field(default_factory=dict, description="Hold key → values")
+
+
+class SweepSpec(Section):
+    task: str | list[str] = "station_keeping"
+    difficulty: int | list[int] = 0
+    seeds: list[int] | SeedRange = [0]
+    time_limit_s: PositiveFloat = 60.0
+    grid: Grid = Grid()
+    backend: Literal["process", "ray"] = "process"
+    workers: Annotated[int, Field(ge=1)] | None = None
+    address: str | None = Field(None, description="Ray cluster address; default a local instance")
+
+    def seed_list(self) -> list[int]:
+        s = self.seeds
+        return list(range(s.start, s.start + s.count)) if isinstance(s, SeedRange) else list(s)

@@ -1,0 +1,56 @@
+"""`usvsim sweep SPEC.yaml`: task runs over seeds and parameter grids, locally or on Ray; writes JSON lines."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+from typing import Annotated
+
+import typer
+from rich.console import Console
+from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
+
+from usvsim.core.errors import UsvsimError
+
+
+def sweep(
+    spec: Annotated[Path, typer.Argument(help="sweep YAML (see usvsim.batch.spec)")],
+    out: Annotated[Path, typer.Option(help="results, one JSON object per run")] = Path("out/sweep.jsonl"),
+    backend: Annotated[str | None, typer.Option(help="process or ray (default: the file's)")] = None,
+    workers: Annotated[int | None, typer.Option(help="parallel workers (default: the file's, else CPUs)", min=1)] = None,
+) -> None:
+    """Run a sweep: tasks × difficulties × grid × seeds with the reference solution; prints mean scores."""
+    import yaml
+    from pydantic import ValidationError
+
+    from usvsim.batch import expand, run
+    from usvsim.batch.spec import SweepSpec
+
+    console = Console(stderr=True)
+    try:
+        try:
+            config = SweepSpec.model_validate(yaml.safe_load(spec.read_text()))
+        except (OSError, yaml.YAMLError, ValidationError) as exc:
+            raise UsvsimError(f"{spec}: {_first_error(exc)}") from None
+        runs = expand(config)
+        columns = (TextColumn("sweep"), BarColumn(), MofNCompleteColumn(), TimeElapsedColumn())
+        with Progress(*columns, console=console) as bar:
+            job = bar.add_task("runs", total=len(runs))
+            results = run(runs, backend or config.backend, workers or config.workers, config.address,
+                          progress=lambda done, total: bar.update(job, completed=done))  # fmt: skip
+    except UsvsimError as exc:
+        console.print(f"[bold red]usvsim: error:[/] {exc}", highlight=False, soft_wrap=True)
+        raise typer.Exit(2) from None
+    out.parent.mkdir(parents=True, exist_ok=True)
+    out.write_text("".join(json.dumps(r, default=float) + "\n" for r in results))
+    scores = [r["score"] for r in results]
+    typer.echo(f"{len(results)} runs, mean score {sum(scores) / len(scores):.4g}; wrote {out}")
+
+
+def _first_error(exc: Exception) -> str:
+    from pydantic import ValidationError
+
+    if isinstance(exc, ValidationError):
+        e = exc.errors()[0]
+        return f"{'.'.join(str(p) for p in e['loc'])}: {e['msg']}"
+    return str(exc)
