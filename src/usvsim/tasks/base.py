@@ -60,6 +60,10 @@ class Task:
         self.index = sim.vessels[VESSEL].index
         self.body_id = mujoco.mj_name2id(sim.model, mujoco.mjtObj.mjOBJ_BODY, VESSEL)
         self.object_index = {name: b.index for name, b in sim.bodies.items()}
+        self._clock = sim.clock
+        step_s = sim.clock.step_ns / 1e9
+        self._start_step = round(self.timing.start_s / step_s)
+        self._end_step = self._start_step + round(self.timing.running_s / step_s)
         self.clear()
 
     def reset(self, seed: int | None = None) -> None:
@@ -91,7 +95,7 @@ class Task:
 
     @property
     def state(self) -> str:
-        return self.timing.state(self.sim.time, self._finished)
+        return self.timing.state(self.sim.time, self.finished)
 
     @property
     def elapsed_s(self) -> float:
@@ -99,7 +103,8 @@ class Task:
 
     def update(self) -> None:
         """Call after every physics step."""
-        if self.state != "running":
+        steps = self._clock.steps
+        if steps < self._start_step or self.finished:
             return
         if self.in_contact() and self.collisions.update(self.sim.time, True):
             self.on_collision()
@@ -117,7 +122,8 @@ class Task:
 
     @property
     def finished(self) -> bool:
-        return self.state == "finished"
+        """Done (course completed) or out of time."""
+        return self._finished or self._clock.steps >= self._end_step
 
     def info(self) -> dict:
         """VRX `/vrx/task/info` fields."""

@@ -1,0 +1,105 @@
+"""Task environments: env steps/s of StationKeeping (state observations, 10 Hz control, 100 Hz physics) in calm
+water and in sea state 3, against baselines measured in the same run; batch scaling 1 → 2 workers.
+
+    python benchmarks/bench_tasks.py [--steps 300] [--repeats 5] [--no-batch]
+
+Per sea (median of --repeats timings of --steps env steps, one core: numba 1 thread, constant action):
+- env:        gymnasium.make("usvsim/StationKeeping-v0").step (10 physics steps, scoring at each, observation);
+- sim loop:   the same 10 `Simulation.step()` calls per env step without the env (the env's own overhead = ratio);
+- bare MuJoCo: 10 `mujoco.mj_step` on the same model and data per env step (no marine forces: a lower bound).
+Batch: 8 station-keeping runs (20 s each) with 1 and 2 worker processes (`usvsim.batch.run`).
+The load average is recorded beside every figure (the machine is shared). Writes benchmarks/results/tasks.json.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import platform
+import statistics
+import time
+from pathlib import Path
+
+import mujoco
+import numba
+import numpy as np
+
+RESULTS = Path(__file__).parent / "results" / "tasks.json"
+
+
+def timed(fn, steps: int, repeats: int) -> tuple[float, float]:
+    """Median env steps/s over `repeats` runs of `steps` calls, and the 1-min load average at the end."""
+    rates = []
+    for _ in range(repeats):
+        start = time.perf_counter()
+        for _ in range(steps):
+            fn()
+        rates.append(steps / (time.perf_counter() - start))
+    return statistics.median(rates), os.getloadavg()[0]
+
+
+def bench_sea(sea_state: int | None, steps: int, repeats: int) -> dict:
+    import gymnasium
+
+    import usvsim.tasks.gym  # noqa: F401
+
+    env = gymnasium.make("usvsim/StationKeeping-v0", sea_state=sea_state, time_limit_s=1e6).unwrapped
+    env.reset(seed=0)
+    action = np.full(env.action_space.shape, 0.2, dtype=np.float32)
+    for _ in range(20):  # warm-up: numba, caches, settled hull
+        env.step(action)
+    sim, every = env.sim, env._every
+    env_rate, env_load = timed(lambda: env.step(action), steps, repeats)
+
+    def sim_loop():
+        for _ in range(every):
+            sim.step()
+
+    def bare():
+        for _ in range(every):
+            mujoco.mj_step(sim.model, sim.data)
+
+    sim_rate, sim_load = timed(sim_loop, steps, repeats)
+    bare_rate, bare_load = timed(bare, steps, repeats)
+    env.close()
+    return {"env_steps_per_s": env_rate, "sim_loop_env_steps_per_s": sim_rate, "bare_mujoco_env_steps_per_s": bare_rate,
+            "env_vs_sim_loop": env_rate / sim_rate, "env_vs_bare_mujoco": env_rate / bare_rate,
+            "load_avg_1min": {"env": env_load, "sim_loop": sim_load, "bare": bare_load}}  # fmt: skip
+
+
+def bench_batch() -> dict:
+    from usvsim.batch import expand, run
+
+    runs = expand({"task": "station_keeping", "seeds": {"start": 0, "count": 8}, "time_limit_s": 20.0})
+    out = {}
+    for workers in (1, 2):
+        start = time.perf_counter()
+        run(runs, "process", workers=workers)
+        out[f"workers_{workers}_s"] = time.perf_counter() - start
+        out[f"load_avg_1min_{workers}"] = os.getloadavg()[0]
+    out["speedup_1_to_2"] = out["workers_1_s"] / out["workers_2_s"]
+    return out
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser()
+    parser.add_argument("--steps", type=int, default=300)
+    parser.add_argument("--repeats", type=int, default=5)
+    parser.add_argument("--no-batch", action="store_true")
+    args = parser.parse_args()
+    numba.set_num_threads(1)
+    result = {"machine": platform.processor() or platform.machine(), "cpus": os.cpu_count(),
+              "load_avg_start": os.getloadavg(), "steps": args.steps, "repeats": args.repeats}  # fmt: skip
+    for label, sea_state in (("calm", None), ("sea_state_3", 3)):
+        result[label] = bench_sea(sea_state, args.steps, args.repeats)
+        print(label, json.dumps(result[label], indent=1))
+    if not args.no_batch:
+        result["batch"] = bench_batch()
+        print("batch", json.dumps(result["batch"], indent=1))
+    RESULTS.parent.mkdir(parents=True, exist_ok=True)
+    RESULTS.write_text(json.dumps(result, indent=2))
+
+
+if __name__ == "__main__":
+    main()
