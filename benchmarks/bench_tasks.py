@@ -28,15 +28,17 @@ import numpy as np
 RESULTS = Path(__file__).parent / "results" / "tasks.json"
 
 
-def timed(fn, steps: int, repeats: int) -> tuple[float, float]:
-    """Median env steps/s over `repeats` runs of `steps` calls, and the 1-min load average at the end."""
-    rates = []
+def timed(fns: dict, steps: int, repeats: int) -> dict:
+    """Median calls/s of each function over `repeats` rounds of `steps` calls; the functions take turns
+    within each round, so a change of machine load hits all of them alike."""
+    rates: dict = {name: [] for name in fns}
     for _ in range(repeats):
-        start = time.perf_counter()
-        for _ in range(steps):
-            fn()
-        rates.append(steps / (time.perf_counter() - start))
-    return statistics.median(rates), os.getloadavg()[0]
+        for name, fn in fns.items():
+            start = time.perf_counter()
+            for _ in range(steps):
+                fn()
+            rates[name].append(steps / (time.perf_counter() - start))
+    return {name: statistics.median(r) for name, r in rates.items()}
 
 
 def bench_sea(sea_state: int | None, steps: int, repeats: int) -> dict:
@@ -50,7 +52,6 @@ def bench_sea(sea_state: int | None, steps: int, repeats: int) -> dict:
     for _ in range(20):  # warm-up: numba, caches, settled hull
         env.step(action)
     sim, every = env.sim, env._every
-    env_rate, env_load = timed(lambda: env.step(action), steps, repeats)
 
     def sim_loop():
         for _ in range(every):
@@ -60,12 +61,12 @@ def bench_sea(sea_state: int | None, steps: int, repeats: int) -> dict:
         for _ in range(every):
             mujoco.mj_step(sim.model, sim.data)
 
-    sim_rate, sim_load = timed(sim_loop, steps, repeats)
-    bare_rate, bare_load = timed(bare, steps, repeats)
+    load_before = os.getloadavg()[0]
+    r = timed({"env": lambda: env.step(action), "sim_loop": sim_loop, "bare": bare}, steps, repeats)
     env.close()
-    return {"env_steps_per_s": env_rate, "sim_loop_env_steps_per_s": sim_rate, "bare_mujoco_env_steps_per_s": bare_rate,
-            "env_vs_sim_loop": env_rate / sim_rate, "env_vs_bare_mujoco": env_rate / bare_rate,
-            "load_avg_1min": {"env": env_load, "sim_loop": sim_load, "bare": bare_load}}  # fmt: skip
+    return {"env_steps_per_s": r["env"], "sim_loop_env_steps_per_s": r["sim_loop"],
+            "bare_mujoco_env_steps_per_s": r["bare"], "env_vs_sim_loop": r["env"] / r["sim_loop"],
+            "env_vs_bare_mujoco": r["env"] / r["bare"], "load_avg_1min": [load_before, os.getloadavg()[0]]}  # fmt: skip
 
 
 def bench_batch() -> dict:

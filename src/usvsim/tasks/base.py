@@ -78,9 +78,10 @@ class Task:
 
     def pose(self) -> tuple[float, float, float]:
         """Vessel base_link x, y (world ENU, m) and yaw (rad)."""
-        s = self.sim.state
-        p, r = s.pos[self.index], s.rot[self.index]
-        return float(p[0]), float(p[1]), math.atan2(r[1, 0], r[0, 0])
+        s, i = self.sim.state, self.index
+        x, y, _ = s.pos[i].tolist()
+        (r00, _, _), (r10, _, _), _ = s.rot[i].tolist()
+        return x, y, math.atan2(r10, r00)
 
     def object_xy(self, name: str) -> tuple[float, float]:
         p = self.sim.state.pos[self.object_index[name]]
