@@ -4,9 +4,9 @@ import numpy as np
 import pytest
 
 pytest.importorskip("pettingzoo")
-from pettingzoo.test import parallel_api_test, parallel_seed_test  # noqa: E402
+from pettingzoo.test import parallel_api_test, parallel_seed_test
 
-from usvsim.tasks.gym.multi import MultiStationKeeping  # noqa: E402
+from usvsim.tasks.gym.multi import MultiStationKeeping
 
 
 def test_parallel_api():

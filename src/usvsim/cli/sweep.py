@@ -7,9 +7,9 @@ from pathlib import Path
 from typing import Annotated
 
 import typer
-from rich.console import Console
 from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
 
+from usvsim.cli.errors import console, fail
 from usvsim.core.errors import UsvsimError
 
 
@@ -26,7 +26,6 @@ def sweep(
     from usvsim.batch import expand, run
     from usvsim.batch.spec import SweepSpec
 
-    console = Console(stderr=True)
     try:
         try:
             config = SweepSpec.model_validate(yaml.safe_load(spec.read_text()))
@@ -39,8 +38,7 @@ def sweep(
             results = run(runs, backend or config.backend, workers or config.workers, config.address,
                           progress=lambda done, total: bar.update(job, completed=done))  # fmt: skip
     except UsvsimError as exc:
-        console.print(f"[bold red]usvsim: error:[/] {exc}", highlight=False, soft_wrap=True)
-        raise typer.Exit(2) from None
+        fail(exc)
     out.parent.mkdir(parents=True, exist_ok=True)
     out.write_text("".join(json.dumps(r, default=float) + "\n" for r in results))
     scores = [r["score"] for r in results]

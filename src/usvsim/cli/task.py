@@ -10,6 +10,7 @@ import typer
 from rich.console import Console
 from rich.table import Table
 
+from usvsim.cli.errors import console, fail
 from usvsim.core.errors import UsvsimError
 
 
@@ -25,7 +26,6 @@ def task(
     from usvsim.tasks import TASKS, TaskTiming
     from usvsim.tasks.solutions import run_trial
 
-    console = Console(stderr=True)
     try:
         if name not in TASKS:
             raise UsvsimError(f"unknown task {name!r}; choose one of: {', '.join(TASKS)}")
@@ -34,8 +34,7 @@ def task(
             with console.status(f"{name} difficulty {difficulty}, trial {k + 1}/{trials} (seed {seed + k})"):
                 results.append(run_trial(name, difficulty, seed + k, TaskTiming(running_s=time_limit)))
     except UsvsimError as exc:
-        console.print(f"[bold red]usvsim: error:[/] {exc}", highlight=False, soft_wrap=True)
-        raise typer.Exit(2) from None
+        fail(exc)
     table = Table("trial", "seed", "score", "collisions", "sim time s", "wall s", box=None)
     for k, r in enumerate(results):
         table.add_row(str(k), str(r["seed"]), f"{r['score']:.4g}", str(r["num_collisions"]),

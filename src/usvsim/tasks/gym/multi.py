@@ -40,11 +40,11 @@ class MultiStationKeeping(ParallelEnv):
         self._limit_steps = round(time_limit_s * 1e9 / self.sim.clock.step_ns)
         self.agents: list[str] = []
 
-    @functools.lru_cache(maxsize=None)  # noqa: B019 - one space object per agent, as PettingZoo expects
+    @functools.cache  # noqa: B019 - one space object per agent, as PettingZoo expects
     def observation_space(self, agent):
         return spaces.Box(-np.inf, np.inf, (13,), np.float32)
 
-    @functools.lru_cache(maxsize=None)  # noqa: B019
+    @functools.cache  # noqa: B019
     def action_space(self, agent):
         return spaces.Box(-1.0, 1.0, (4,), np.float32)
 
