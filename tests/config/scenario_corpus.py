@@ -146,6 +146,7 @@ def _mesh_cases(directory: Path) -> list[tuple[str, str, object]]:
     (directory / "empty.obj").write_text("")
     big = trimesh.creation.icosphere(subdivisions=7, radius=1.0)  # 328 k faces: over the face limit
     big.export(directory / "huge.stl")
+    trimesh.creation.torus(3.0, 1.0, major_sections=200, minor_sections=60).export(directory / "torus.stl")
     obstacle = {"type": "mesh", "name": "rock", "position": [10.0, 10.0, 0.0]}
     custom = {"name": "hull", "model": "custom", "pose": {"position": [0.0, -20.0, 0.0]}, "mass": {"mass_kg": 100.0}}
     return [
@@ -154,6 +155,7 @@ def _mesh_cases(directory: Path) -> list[tuple[str, str, object]]:
         ("mesh_empty_obstacle", "error", _set(BASE, "objects", [{**obstacle, "file": "empty.obj"}])),
         ("mesh_missing_obstacle", "error", _set(BASE, "objects", [{**obstacle, "file": "nope.stl"}])),
         ("mesh_huge_obstacle", "error", _set(BASE, "objects", [{**obstacle, "file": "huge.stl"}])),
+        ("mesh_big_nonconvex_obstacle", "error", _set(BASE, "objects", [{**obstacle, "file": "torus.stl"}])),
         ("mesh_open_hull", "error", _set(BASE, "vessels", [{**custom, "hull_mesh": "open.stl"}])),
         ("mesh_huge_hull", "error", _set(BASE, "vessels", [{**custom, "hull_mesh": "huge.stl"}])),
         ("mesh_hull_is_directory", "error", _set(BASE, "vessels", [{**custom, "hull_mesh": "."}])),

@@ -76,17 +76,23 @@ def mesh_parts(obj: MeshObstacle, base_dir: Path, key: str) -> list[Part]:
     rgba = COLORS[obj.color]
     return [
         Part("mesh", mesh=piece, pos=obj.position, quat=quat, rgba=rgba, name=f"{obj.name}_{i}")
-        for i, piece in enumerate(convex_pieces(mesh))
+        for i, piece in enumerate(convex_pieces(mesh, key))
     ]
 
 
-def convex_pieces(mesh: Mesh) -> list[Mesh]:
+MAX_DECOMPOSE_FACES = 20_000
+
+
+def convex_pieces(mesh: Mesh, key: str = "mesh") -> list[Mesh]:
     """Convex decomposition (CoACD) of a mesh; a convex mesh is returned whole. Cached on disk."""
     import trimesh
 
     tm = trimesh.Trimesh(mesh.vertices, mesh.faces, process=True)
     if tm.is_convex:
         return [mesh]
+    if len(tm.faces) > MAX_DECOMPOSE_FACES:  # CoACD's time grows quickly with the faces: keep it bounded
+        raise MeshError(f"{key}: a non-convex obstacle mesh has {len(tm.faces)} triangles; convex decomposition takes at "
+                        f"most {MAX_DECOMPOSE_FACES}: decimate it or split it into convex parts")  # fmt: skip
     digest = hashlib.sha256(mesh.vertices.tobytes() + mesh.faces.tobytes()).hexdigest()[:24]
     cache = Path(os.environ.get("USVSIM_CACHE", Path.home() / ".cache" / "usvsim")) / "convex" / f"{digest}.npz"
     if cache.is_file():
