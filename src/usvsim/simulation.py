@@ -20,6 +20,7 @@ from usvsim.control.factory import control_loop
 from usvsim.ground_truth import GroundTruth
 from usvsim.messages.envelope import Envelope
 from usvsim.sensors import SensorSuite
+from usvsim.traffic import Traffic, kinematic_bodies
 from usvsim.world.state import BodyState
 from usvsim.world.world import World
 
@@ -30,12 +31,13 @@ class Simulation:
     """A scenario running in MuJoCo with marine physics. `seed` drives every random stream."""
 
     def __init__(self, scenario: Scenario, seed: int = 0):
-        self.world = world = World(scenario, seed)
+        self.world = world = World(scenario, seed, kinematic_bodies(scenario))  # traffic ships: mocap bodies
         scenario = world.scenario  # with a real place's parts resolved (geo/)
         self.controllers = {v.name: control_loop(world, v.name, v.controller)
                             for v in scenario.vessels if v.controller is not None}  # fmt: skip
         rec = scenario.outputs.recording
         self.ground_truth = GroundTruth(world, rec.clock_rate_hz, rec.ground_truth_rate_hz)
+        self.traffic = Traffic(world, self.controllers)  # other ships: tracks, pilots, awareness, AIS
         self.sensors = SensorSuite(world)
         self.commands = CommandInbox(world, self.controllers, self.reset)
         self._subscribers: list[Callable[[Envelope], None]] = []
@@ -105,16 +107,18 @@ class Simulation:
             static = self.ground_truth.static_transforms(self.sensors.static_transforms())
             self._emit(static + self.ground_truth.due(0, 0))
         self.commands.apply()
+        self.traffic.before_step(world)
         for loop in self.controllers.values():
             loop(world)
         world.step_physics()
-        measurements = self.sensors.on_step(world)  # every step: the IMU differentiates velocities
+        measurements = self.traffic.on_step(world) + self.sensors.on_step(world)  # IMU: every step
         if self._subscribers:
             self._emit(self.ground_truth.due(world.clock.steps, world.clock.now_ns) + measurements)
 
     def reset(self) -> None:
         """Back to the scenario's initial state at t = 0 (bodies, thrusters, clock); subscribers stay."""
         self.world.reset()
+        self.traffic.reset(self.world)
         self.sensors.reset()
         for loop in self.controllers.values():
             loop.reset()
@@ -145,6 +149,7 @@ class Simulation:
     def close(self) -> None:
         """Release sensor resources (render contexts, thread pools)."""
         self.sensors.close()
+        self.traffic.close()
         self.world.close()
 
     def _emit(self, envelopes: list[Envelope]) -> None:

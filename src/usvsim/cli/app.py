@@ -21,11 +21,14 @@ from usvsim.cli.navigate import demo_app
 from usvsim.cli.recover import recover
 from usvsim.cli.sweep import sweep as sweep_command
 from usvsim.cli.task import task as task_command
+from usvsim.cli.traffic import imazu
+from usvsim.cli.traffic import print_report as print_traffic_report
 from usvsim.core.errors import UsvsimError
 
 app = typer.Typer(
     add_completion=False, no_args_is_help=True, help="usvsim: unmanned surface vehicle simulator."
 )
+app.command()(imazu)  # usvsim imazu (cli/traffic.py)
 
 EXPERIMENTS = {
     "sphere": ("usvsim.experiments.sphere", "sphere lowered through flat water: volume vs the analytic cap"),
@@ -110,6 +113,7 @@ def run(
     rtf = sim.time / wall if wall > 0 else float("inf")
     status = "stopped (Ctrl-C)" if interrupted else "done"
     typer.echo(f"{status}: simulated {sim.time:.2f} s in {wall:.2f} s wall ({rtf:.1f}x real time)")
+    print_traffic_report(sim, console)
     if recorder:
         typer.echo(f"recorded {recorder.message_count} messages to {recorder.path}")
     for bridge in bridges:

@@ -118,6 +118,7 @@ def _check_rates(scenario: Scenario, source: str) -> None:
               for i, v in enumerate(scenario.vessels) if v.controller]  # fmt: skip
     rates += [(f"vessels[{i}].sensors[{k}].rate_hz", sensor.rate_hz)
               for i, v in enumerate(scenario.vessels) for k, sensor in enumerate(v.sensors)]  # fmt: skip
+    rates.append(("traffic.awareness.rate_hz", scenario.traffic.awareness.rate_hz))
     for key, rate in rates:
         try:
             steps_per_period(rate, step)

@@ -11,6 +11,7 @@ from usvsim.config.environment import Environment
 from usvsim.config.geo import Geo
 from usvsim.config.objects import WorldObject
 from usvsim.config.rendering import Rendering
+from usvsim.config.traffic import Traffic
 from usvsim.config.vessel import Vessel
 
 
@@ -72,10 +73,12 @@ class Scenario(Section):
     geo: Geo | None = Field(None, description="a real place from geospatial files (docs/geo.md)")
     outputs: Outputs = Outputs()
     rendering: Rendering = Rendering()
+    traffic: Traffic = Traffic()
 
     @model_validator(mode="after")
     def _unique_names(self):
         names = [v.name for v in self.vessels] + [o.name for o in self.objects]
+        names += [s.name for s in self.traffic.ships]
         dupes = sorted({n for n in names if names.count(n) > 1})
         if dupes:
             raise ValueError(f"names of vessels and objects must be unique; repeated: {', '.join(dupes)}")

@@ -20,6 +20,8 @@ from typing import Any
 import numpy as np
 from rosbags.typesys import Stores, get_types_from_msg, get_typestore
 
+from usvsim.messages.marine import MARINE_MSGS
+
 NS_PER_S = 1_000_000_000
 _INT32_MAX = 2**31 - 1
 _ZERO_COV = np.zeros(36, dtype=np.float64)
@@ -58,6 +60,8 @@ def typestore() -> Any:
     types: dict = {}
     for name, text in VISION_MSGS.items():
         types |= get_types_from_msg(text, f"vision_msgs/msg/{name}")
+    for name, text in MARINE_MSGS.items():  # radar, NMEA sentences, traffic awareness (messages/marine.py)
+        types |= get_types_from_msg(text, name)
     store.register(types)
     return store
 

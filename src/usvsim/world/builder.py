@@ -41,6 +41,18 @@ class FloatingBody:
     bottom_offset: float = 0.0
 
 
+@dataclass(frozen=True)
+class KinematicBody:
+    """A body moved along a prescribed track (a MuJoCo mocap body): drawn, seen by ray sensors, and floating
+    bodies collide with it; it does not respond to forces. Parts are in its body frame (FLU)."""
+
+    name: str
+    collision: tuple[Part, ...]
+    visuals: tuple[Part, ...]
+    position: tuple[float, float, float] = (0.0, 0.0, 0.0)  # world ENU at t = 0 (and after a reset), m
+    quat: tuple[float, float, float, float] = (1.0, 0.0, 0.0, 0.0)
+
+
 def principal_inertia(inertia: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Principal moments and the quaternion (w, x, y, z) of the principal axes in the body frame."""
     moments, axes = np.linalg.eigh(inertia)
@@ -109,10 +121,20 @@ def _add_floating(spec: mujoco.MjSpec, fb: FloatingBody) -> None:
         line.rgba = [0.9, 0.9, 0.2, 1.0]
 
 
+def _add_kinematic(spec: mujoco.MjSpec, kb: KinematicBody) -> None:
+    body = spec.worldbody.add_body(name=kb.name, mocap=True, pos=list(kb.position), quat=list(kb.quat))
+    for k, part in enumerate(kb.collision):
+        _add_geom(spec, body, part, COLLISION_GROUP, True, f"{kb.name}_col{k}")
+    for k, part in enumerate(kb.visuals):
+        _add_geom(spec, body, part, VISUAL_GROUP, False, f"{kb.name}_vis{k}")
+
+
 def build_model(floating: list[FloatingBody], static: list[Part], dt: float, gravity: float,
-                visual_only: list[Part] = (), collision_only: list[Part] = ()) -> mujoco.MjModel:  # fmt: skip
+                visual_only: list[Part] = (), collision_only: list[Part] = (),
+                kinematic: tuple[KinematicBody, ...] = ()) -> mujoco.MjModel:  # fmt: skip
     """Compile the world. Body i+1 of the result is floating[i] (body 0 is the world). `static` parts are
-    drawn and solid; `visual_only` (after them, in order) and `collision_only` parts one or the other."""
+    drawn and solid; `visual_only` (after them, in order) and `collision_only` parts one or the other.
+    Kinematic (mocap) bodies follow the floating ones: body len(floating)+1+j is kinematic[j] (mocap id j)."""
     spec = mujoco.MjSpec()
     spec.modelname = "usvsim"
     spec.compiler.inertiafromgeom = mujoco.mjtInertiaFromGeom.mjINERTIAFROMGEOM_FALSE
@@ -139,4 +161,6 @@ def build_model(floating: list[FloatingBody], static: list[Part], dt: float, gra
         _add_geom(spec, spec.worldbody, part, COLLISION_GROUP, True, f"extra_col{k}")
     for fb in floating:
         _add_floating(spec, fb)
+    for kb in kinematic:
+        _add_kinematic(spec, kb)
     return spec.compile()

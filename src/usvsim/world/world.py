@@ -37,7 +37,7 @@ from usvsim.ocean.patch import WaterPatch
 from usvsim.vessel import Body, Thruster, Vessel
 from usvsim.vessels import buoy
 from usvsim.vessels.library import vessel_model
-from usvsim.world.builder import FloatingBody, build_model
+from usvsim.world.builder import FloatingBody, KinematicBody, build_model
 from usvsim.world.divergence import DivergenceGuard
 from usvsim.world.obstacles import static_parts
 from usvsim.world.state import BodyState
@@ -48,9 +48,11 @@ BAD_QPOS, BAD_QVEL, BAD_QACC = (int(mujoco.mjtWarning.mjWARN_BADQPOS), int(mujoc
 
 
 class World:
-    """The state of one scenario: physics, ocean, bodies, thrusters, clock. `seed` drives every random stream."""
+    """The state of one scenario: physics, ocean, bodies, thrusters, clock. `seed` drives every random stream.
+    `kinematic` bodies (mocap, e.g. traffic ships) are built after the floating ones; whoever moves them sets
+    `data.mocap_pos`/`mocap_quat` (a reset puts them back at their t = 0 poses)."""
 
-    def __init__(self, scenario: Scenario, seed: int = 0):
+    def __init__(self, scenario: Scenario, seed: int = 0, kinematic: tuple[KinematicBody, ...] = ()):
         scenario = resolve_geo(scenario)
         self.place = load_place(scenario)  # a real place (geo/), or None
         scenario = with_local_depth(scenario, self.place)
@@ -68,7 +70,7 @@ class World:
         floating = self._floating_bodies()
         static = static_parts(scenario.objects, base_dir(scenario), source_of(scenario))
         geo = geo_parts(self.place) if self.place else GeoParts([], [])
-        self.model = build_model(floating, static, self.clock.dt, self.g, geo.visual, geo.collision)
+        self.model = build_model(floating, static, self.clock.dt, self.g, geo.visual, geo.collision, kinematic)
         if self.place:
             set_clip_planes(self.model, self.place.settings.extent_m)
         self.data = mujoco.MjData(self.model)
@@ -247,7 +249,7 @@ class World:
 
     def contacts(self) -> list[tuple[str, str, float]]:
         """Active contacts as (body name, other body name or 'world', penetration depth m >= 0)."""
-        names = ["world", *self.bodies]
+        names = [self.model.body(b).name for b in range(self.model.nbody)]  # world, floating, kinematic
         out = []
         for c in self.data.contact[: self.data.ncon]:
             b1, b2 = self.model.geom_bodyid[c.geom[0]], self.model.geom_bodyid[c.geom[1]]

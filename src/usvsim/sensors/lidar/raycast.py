@@ -87,6 +87,14 @@ class _Chunk:
                            self.dist, self.geom, self.cos_inc)  # fmt: skip
 
 
+def quat_matrices(quats: np.ndarray) -> np.ndarray:
+    """Rotation matrices (n, 3, 3) of unit quaternions (n, 4) (w, x, y, z)."""
+    w, x, y, z = quats.T
+    return np.stack([np.stack([1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)], -1),
+                     np.stack([2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)], -1),
+                     np.stack([2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)], -1)], 1)  # fmt: skip
+
+
 class RayWorld:
     """The triangles of one geom group, static and moving, and a multi-threaded `cast`."""
 
@@ -97,6 +105,10 @@ class RayWorld:
         self.center_body_m = np.array([b.center_body_m for b in self.bodies]).reshape(-1, 3)
         self.radius_m = np.array([b.radius_m for b in self.bodies])
         self.body_index = np.array([b.body for b in self.bodies], int)
+        # kinematic (mocap) bodies, e.g. traffic ships, are placed by `data.mocap_pos`/`mocap_quat`, not `sim.state`
+        self.mocap_id = sim.model.body_mocapid[self.body_index + 1] if len(self.bodies) else np.zeros(0, int)
+        self._mocap = np.flatnonzero(self.mocap_id >= 0)
+        self._floating = np.flatnonzero(self.mocap_id < 0)
 
     def scene_of(self, body: int) -> int | None:
         """Index into `bodies` of the scene of `sim.state` body `body` (None: it has no triangles)."""
@@ -106,7 +118,14 @@ class RayWorld:
     def poses(self) -> tuple[np.ndarray, np.ndarray]:
         """World positions (B, 3) and rotations (B, 3, 3, body → world) of the moving scenes now."""
         s = self.sim.state
-        return s.pos[self.body_index], s.rot[self.body_index]
+        if not len(self._mocap):
+            return s.pos[self.body_index], s.rot[self.body_index]
+        pos, rot = np.empty((len(self.bodies), 3)), np.empty((len(self.bodies), 3, 3))
+        pos[self._floating], rot[self._floating] = s.pos[self.body_index[self._floating]], s.rot[self.body_index[self._floating]]
+        ids, data = self.mocap_id[self._mocap], self.sim.data
+        pos[self._mocap] = data.mocap_pos[ids]
+        rot[self._mocap] = quat_matrices(data.mocap_quat[ids])
+        return pos, rot
 
     def cast(self, origins: np.ndarray, dirs: np.ndarray, max_range: float, prior=None, skip: int | None = None):
         """Nearest hits of rays (world ENU; `dirs` unit). Returns distance (m, float32, +inf on a miss or

@@ -50,7 +50,7 @@ def reflectivities(sim: World, overrides: dict[str, float]) -> np.ndarray:
     m = sim.model
     luminance = m.geom_rgba[:, :3] @ np.array([0.2126, 0.7152, 0.0722])
     refl = np.clip(luminance, 0.05, 1.0)
-    names = ["world", *sim.bodies]
+    names = [m.body(b).name for b in range(m.nbody)]  # "world", floating bodies, traffic ships
     for g in range(m.ngeom):
         refl[g] = overrides.get(names[m.geom_bodyid[g]], refl[g])
     return np.append(refl, [0.0, 0.0]).astype(np.float32)

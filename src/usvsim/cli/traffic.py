@@ -1,0 +1,39 @@
+"""`usvsim imazu`: write an Imazu encounter scenario for any own ship and speed; the traffic run report."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Annotated
+
+import typer
+
+
+def imazu(
+    case: Annotated[int, typer.Argument(help="Imazu encounter 1-22", min=1, max=22)],
+    model: Annotated[str, typer.Option(help="own ship: a library vessel (wamv, otter)")] = "wamv",
+    speed: Annotated[float, typer.Option(help="own ship speed, m/s", min=0.1)] = 2.0,
+    encounter: Annotated[float, typer.Option(help="seconds until the encounter", min=10.0)] = 300.0,
+    out: Annotated[Path | None, typer.Option(help="write the scenario here (default: print it)")] = None,
+) -> None:
+    """Write Imazu encounter CASE (own ship heading north, 1-3 targets) as a scenario YAML."""
+    from usvsim.traffic.imazu import imazu_yaml
+
+    text = imazu_yaml(case, model=model, speed_mps=speed, encounter_s=encounter)
+    if out is None:
+        typer.echo(text, nl=False)
+    else:
+        out.write_text(text)
+        typer.echo(f"wrote Imazu case {case} to {out}; run it with: usvsim run {out} --duration {2 * encounter:g}")
+
+
+def print_report(sim, console) -> None:
+    """Per target: the least distance to the own ship during the run, when, and the least CPA predicted."""
+    report = sim.traffic.report()
+    if not report:
+        return
+    from rich.table import Table
+
+    table = Table("target", "min distance (m)", "at t (s)", "min predicted CPA (m)", box=None)
+    for name, r in report.items():
+        table.add_row(name, f"{r['min_distance_m']:.1f}", f"{r['t_min_distance_s']:.1f}", f"{r['min_cpa_m']:.1f}")
+    console.print(table)

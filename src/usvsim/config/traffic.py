@@ -1,0 +1,129 @@
+"""Scenario keys of other ships (`traffic:`): their motion, type and size, AIS and situational awareness.
+
+Positions are world ENU metres (x east, y north). Courses and headings are nautical: degrees clockwise
+from north, as on a chart, in AIS and in COLREG practice. Speeds are m/s (AIS messages carry knots).
+
+A ship moves `kinematic`ally (a MuJoCo mocap body on its track: cameras, LiDAR and radar see it, and
+physics vessels collide with it) unless `vessel` names a scenario vessel with a velocity controller: then
+that vessel follows the route with full physics (line-of-sight guidance feeding its controller).
+"""
+
+from __future__ import annotations
+
+from typing import Annotated, Literal
+
+from pydantic import Field, model_validator
+
+from usvsim.config.base import NonNegativeFloat, PositiveFloat, Section, Vec2, tuple_of
+
+Name = Annotated[str, Field(pattern=r"^[A-Za-z][A-Za-z0-9_]*$")]
+# AIS ship type (ITU-R M.1371 table 53, first digit 3x/5x specials and 6x-8x classes) by name
+SHIP_TYPES = {"pleasure": 37, "sailing": 36, "fishing": 30, "tug": 52, "pilot": 50, "passenger": 60,
+              "cargo": 70, "tanker": 80, "high_speed": 40, "other": 90}  # fmt: skip
+ShipType = Literal["pleasure", "sailing", "fishing", "tug", "pilot", "passenger", "cargo", "tanker", "high_speed",
+                   "other"]  # fmt: skip
+
+
+class Waypoint(Section):
+    position: Vec2 = Field(description="world ENU (x east, y north), m")
+    speed_mps: NonNegativeFloat = Field(description="speed on the leg that starts here, m/s")
+
+
+class Route(Section):
+    """Straight legs between waypoints at each leg's speed; stops at the last one (or starts over if `loop`)."""
+
+    type: Literal["route"] = "route"
+    waypoints: tuple_of(Waypoint) = Field(min_length=2)
+    loop: bool = False
+
+
+class Constant(Section):
+    """Constant course and speed from a start position."""
+
+    type: Literal["constant"] = "constant"
+    position: Vec2 = Field(description="world ENU position at t = 0, m")
+    course_deg: float = Field(description="course over ground, degrees clockwise from north")
+    speed_mps: NonNegativeFloat
+
+
+class AisReplay(Section):
+    """A recorded AIS track: CSV with a header `time,lat,lon,sog,cog,heading` (s from the scenario start or
+    ISO 8601 UTC; WGS-84 degrees; knots; degrees clockwise from north; heading 511 = not available)."""
+
+    type: Literal["ais_replay"] = "ais_replay"
+    path: str = Field(description="CSV file, relative to the scenario file")
+
+
+Motion = Annotated[Route | Constant | AisReplay, Field(discriminator="type")]
+
+
+class ShipAis(Section):
+    """What this ship transmits: class A (types 1/2/3 + 5) or B (type 18 + 24)."""
+
+    enabled: bool = True
+    ais_class: Literal["A", "B"] = "A"
+    callsign: str = Field("", max_length=7)
+
+
+class Ship(Section):
+    name: Name
+    motion: Motion
+    mmsi: int = Field(ge=100_000_000, le=999_999_999, description="9-digit Maritime Mobile Service Identity")
+    ship_type: ShipType = "cargo"
+    length_m: PositiveFloat = 20.0
+    beam_m: PositiveFloat = 6.0
+    height_m: PositiveFloat = Field(4.0, description="hull top above the waterline (superstructure adds half)")
+    draft_m: NonNegativeFloat = 1.5
+    vessel: Name | None = Field(None, description="a scenario vessel (with a velocity controller) to drive")
+    ais: ShipAis = ShipAis()
+
+
+class OwnShipAis(Section):
+    """AIS from a scenario vessel (the own ship), e.g. to test a receiver."""
+
+    vessel: Name
+    mmsi: int = Field(ge=100_000_000, le=999_999_999)
+    ais_class: Literal["A", "B"] = "A"
+    ship_type: ShipType = "pleasure"
+    length_m: PositiveFloat = 5.0
+    beam_m: PositiveFloat = 2.0
+
+
+class Ais(Section):
+    """AIS transmissions as NMEA 0183 `!AIVDM` sentences on `topic` (nmea_msgs/Sentence) and, optionally, as
+    UDP datagrams to 127.0.0.1:`udp_port` (what chart plotters and OpenCPN listen to)."""
+
+    enabled: bool = True
+    topic: str = "/ais"
+    udp_port: int | None = Field(None, ge=1024, le=65535)
+    position_noise_m: NonNegativeFloat = Field(0.0, description="Gaussian std-dev per axis of reported position")
+    dropout_probability: float = Field(0.0, ge=0.0, lt=1.0, description="chance a report is lost")
+    own_ship: OwnShipAis | None = None
+
+
+class Awareness(Section):
+    """Ground-truth situational awareness of `own_ship`: per target range, bearing, CPA, TCPA and COLREG
+    encounter, on `topic` at `rate_hz`; the minimum CPA per target goes into the run report."""
+
+    own_ship: Name | None = Field(None, description="default: the first scenario vessel")
+    rate_hz: PositiveFloat = 1.0
+    topic: str = "/traffic/situation"
+
+
+class Traffic(Section):
+    ships: tuple_of(Ship) = Field(default=(), max_length=1000)
+    ais: Ais = Ais()
+    awareness: Awareness = Awareness()
+
+    @model_validator(mode="after")
+    def _unique(self):
+        for what, values in (("names", [s.name for s in self.ships]), ("MMSIs", [s.mmsi for s in self.ships])):
+            dupes = sorted({str(v) for v in values if values.count(v) > 1})
+            if dupes:
+                raise ValueError(f"ship {what} must be unique; repeated: {', '.join(dupes)}")
+        return self
+
+
+def ais_type_code(name: str) -> int:
+    return SHIP_TYPES[name]
+

@@ -1,0 +1,104 @@
+"""AIS reports as NMEA 0183 `!AIVDM` sentences (pyais encodes the 6-bit payloads) and their reporting intervals.
+
+Reporting intervals, ITU-R M.1371-5 Annex 1 table 1 (Class A) and Class B "CS" (carrier-sense) units:
+
+| Class A ship's dynamic conditions                 | interval |
+|---------------------------------------------------|----------|
+| at anchor or moored, not moving faster than 3 kn  | 3 min    |
+| at anchor or moored, moving faster than 3 kn      | 10 s     |
+| 0-14 kn                                           | 10 s     |
+| 0-14 kn and changing course                       | 3 1/3 s  |
+| 14-23 kn                                          | 6 s      |
+| 14-23 kn and changing course                      | 2 s      |
+| > 23 kn (changing course or not)                  | 2 s      |
+| Class B CS: not faster than 2 kn / faster         | 3 min / 30 s |
+Static and voyage data (type 5; Class B: type 24 parts A and B): every 6 min.
+
+"Changing course" here means a rate of turn above `TURNING_DEG_PER_MIN` (the standard leaves the threshold
+to the equipment). A ship is taken as moored when it moves slower than 0.1 kn (navigational status 5).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+from pyais.encode import encode_dict
+
+KNOT_MPS = 1852.0 / 3600.0
+STATIC_INTERVAL_S = 360.0
+TURNING_DEG_PER_MIN = 5.0
+MOORED_KN = 0.1
+HEADING_NA = 511
+
+
+def class_a_interval(sog_kn: float, turning: bool) -> float:
+    """Seconds between Class A position reports (table above)."""
+    if sog_kn < MOORED_KN:
+        return 180.0
+    if sog_kn <= 14.0:
+        return 10.0 / 3.0 if turning else 10.0
+    if sog_kn <= 23.0:
+        return 2.0 if turning else 6.0
+    return 2.0
+
+
+def class_b_interval(sog_kn: float) -> float:
+    """Seconds between Class B (CS) position reports."""
+    return 180.0 if sog_kn <= 2.0 else 30.0
+
+
+@dataclass(frozen=True)
+class Report:
+    """One ship's dynamic state as AIS carries it: WGS-84 degrees, knots, degrees clockwise from north."""
+
+    mmsi: int
+    lat_deg: float
+    lon_deg: float
+    sog_kn: float
+    cog_deg: float
+    heading_deg: int  # HEADING_NA when unknown
+    utc_second: int
+
+
+def _clip_cog(cog_deg: float) -> float:
+    return round(cog_deg % 360.0, 1) % 360.0
+
+
+def position_sentences(r: Report, ais_class: str, channel: str = "A") -> list[str]:
+    """Type 1 (Class A, scheduled) or type 18 (Class B CS) position report."""
+    moored = r.sog_kn < MOORED_KN
+    data = {"mmsi": r.mmsi, "lat": r.lat_deg, "lon": r.lon_deg, "speed": min(r.sog_kn, 102.2),
+            "course": _clip_cog(r.cog_deg), "heading": r.heading_deg, "second": r.utc_second}  # fmt: skip
+    if ais_class == "A":
+        data |= {"type": 1, "status": 5 if moored else 0, "turn": -128}
+    else:
+        data |= {"type": 18, "cs": 1}
+    return encode_dict(data, talker_id="AI", sentence_type="VDM", radio_channel=channel)
+
+
+def _dimensions(length_m: float, beam_m: float) -> dict[str, int]:
+    """Reference point at midship: metres to bow, stern, port, starboard (AIS limits 511/511/63/63)."""
+    half_l, half_b = min(round(0.5 * length_m), 511), min(round(0.5 * beam_m), 63)
+    return {"to_bow": half_l, "to_stern": half_l, "to_port": half_b, "to_starboard": half_b}
+
+
+def static_sentences(mmsi: int, name: str, ship_type: int, callsign: str, length_m: float, beam_m: float,
+                     draft_m: float, ais_class: str, seq_id: int, channel: str = "A") -> list[str]:  # fmt: skip
+    """Type 5 (Class A, two sentences) or type 24 parts A and B (Class B)."""
+    shipname = name.upper().replace("_", " ")[:20]
+    dims = _dimensions(length_m, beam_m)
+    kw = {"talker_id": "AI", "sentence_type": "VDM", "radio_channel": channel}
+    if ais_class == "A":
+        data = {"type": 5, "mmsi": mmsi, "shipname": shipname, "callsign": callsign, "ship_type": ship_type,
+                "draught": min(draft_m, 25.5), "epfd": 1, **dims}  # fmt: skip
+        return encode_dict(data, seq_id=seq_id % 10, **kw)
+    part_a = encode_dict({"type": 24, "mmsi": mmsi, "partno": 0, "shipname": shipname}, **kw)
+    part_b = encode_dict({"type": 24, "mmsi": mmsi, "partno": 1, "ship_type": ship_type, "callsign": callsign,
+                          **dims}, **kw)  # fmt: skip
+    return part_a + part_b
+
+
+def heading_deg(yaw_enu_rad: float) -> int:
+    """True heading in whole degrees (0..359) of an ENU yaw."""
+    return int(round(math.degrees(0.5 * math.pi - yaw_enu_rad))) % 360

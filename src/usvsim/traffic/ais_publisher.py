@@ -1,0 +1,133 @@
+"""`AisPublisher`: every transmitting ship's AIS reports on schedule, as nmea_msgs/Sentence on `traffic.ais.topic`
+(frame `ais`) and, when `udp_port` is set, as UDP datagrams (one sentence + CRLF each) to 127.0.0.1.
+
+Each transmitter keeps its next position-report and static-report times; the interval after a report
+follows its speed and rate of turn at that report (ais.py). First reports are spread at random over the
+first interval (stream `traffic/ais`), as real transponders are not synchronized. Reported positions get
+Gaussian noise (`position_noise_m` per ENU axis) and whole reports are lost with `dropout_probability`.
+"""
+
+from __future__ import annotations
+
+import math
+import socket
+from dataclasses import dataclass
+from typing import TYPE_CHECKING
+
+import numpy as np
+import pymap3d
+
+from usvsim.config.traffic import SHIP_TYPES
+from usvsim.core.errors import ScenarioError
+from usvsim.messages import ros
+from usvsim.messages.envelope import Envelope
+from usvsim.traffic import ais
+
+if TYPE_CHECKING:
+    from usvsim.config.traffic import Ais
+    from usvsim.world.world import World
+    from usvsim.traffic.fleet import Fleet
+
+
+@dataclass
+class Transmitter:
+    mmsi: int
+    name: str
+    ais_class: str
+    ship_type: int
+    callsign: str
+    length_m: float
+    beam_m: float
+    draft_m: float
+    ship: int | None  # index into the fleet, or None for the own ship
+    next_position_s: float = 0.0
+    next_static_s: float = 0.0
+    last_yaw: float = math.nan
+    last_t: float = 0.0
+
+
+def _transmitters(world: World, fleet: Fleet, cfg: Ais) -> list[Transmitter]:
+    out = [Transmitter(s.mmsi, s.name, s.ais.ais_class, SHIP_TYPES[s.ship_type], s.ais.callsign, s.length_m,
+                       s.beam_m, s.draft_m, k) for k, s in enumerate(fleet.ships) if s.ais.enabled]  # fmt: skip
+    own = cfg.own_ship
+    if own is not None:
+        if own.vessel not in world.vessels:
+            raise ScenarioError(getattr(world.scenario, "_source", ""), "traffic.ais.own_ship.vessel",
+                                f"{own.vessel!r} is not a scenario vessel")  # fmt: skip
+        out.append(Transmitter(own.mmsi, own.vessel, own.ais_class, SHIP_TYPES[own.ship_type], "", own.length_m,
+                               own.beam_m, 0.0, None))  # fmt: skip
+    return out
+
+
+class AisPublisher:
+    def __init__(self, world: World, fleet: Fleet, cfg: Ais):
+        self.cfg, self.fleet = cfg, fleet
+        self.origin = world.scenario.world.origin
+        self.tx = _transmitters(world, fleet, cfg)
+        self.own = world.vessels[cfg.own_ship.vessel] if cfg.own_ship is not None else None
+        self.rng = world.rng.get("traffic/ais")
+        self.sock = socket.socket(socket.AF_INET, socket.SOCK_DGRAM) if cfg.udp_port is not None else None
+        self.sent = self.dropped = 0
+        self.reset(world)
+
+    def reset(self, world: World) -> None:
+        for t in self.tx:  # first reports spread over the first interval (table 1 intervals at rest: 10 s / 30 s)
+            first = 10.0 if t.ais_class == "A" else 30.0
+            t.next_position_s = float(self.rng.uniform(0.0, first))
+            t.next_static_s = t.next_position_s + float(self.rng.uniform(0.0, 5.0))
+            t.last_yaw, t.last_t = math.nan, 0.0
+        self._earliest = min((min(t.next_position_s, t.next_static_s) for t in self.tx), default=math.inf)
+
+    def _state(self, world: World, t: Transmitter) -> tuple[np.ndarray, np.ndarray, float]:
+        if t.ship is not None:
+            f = self.fleet
+            return f.pos_enu[t.ship], f.vel_enu[t.ship], float(f.yaw_rad[t.ship])
+        v = self.own
+        return v.position[:2], world.origin_velocity(v.index)[:2], float(v.rpy[2])
+
+    def due(self, world: World) -> list[Envelope]:
+        now = world.time
+        if now < self._earliest:
+            return []
+        sentences: list[str] = []
+        for t in self.tx:
+            if now >= t.next_position_s:
+                sentences += self._position(world, t, now)
+            if now >= t.next_static_s:
+                sentences += ais.static_sentences(t.mmsi, t.name, t.ship_type, t.callsign, t.length_m, t.beam_m,
+                                                  t.draft_m, t.ais_class, self.sent)  # fmt: skip
+                t.next_static_s = now + ais.STATIC_INTERVAL_S
+        self._earliest = min(min(t.next_position_s, t.next_static_s) for t in self.tx)
+        return self._publish(world, sentences)
+
+    def _position(self, world: World, t: Transmitter, now: float) -> list[str]:
+        pos, vel, yaw = self._state(world, t)
+        sog_kn = float(np.hypot(*vel)) / ais.KNOT_MPS
+        turn_deg_min = 0.0 if math.isnan(t.last_yaw) or now <= t.last_t else \
+            abs(math.degrees(math.remainder(yaw - t.last_yaw, 2 * math.pi))) * 60.0 / (now - t.last_t)  # fmt: skip
+        turning = turn_deg_min > ais.TURNING_DEG_PER_MIN
+        interval = ais.class_a_interval(sog_kn, turning) if t.ais_class == "A" else ais.class_b_interval(sog_kn)
+        t.next_position_s, t.last_yaw, t.last_t = now + interval, yaw, now
+        if self.cfg.dropout_probability > 0 and self.rng.random() < self.cfg.dropout_probability:
+            self.dropped += 1
+            return []
+        noise = self.rng.normal(0.0, self.cfg.position_noise_m, 2) if self.cfg.position_noise_m > 0 else np.zeros(2)
+        o = self.origin
+        lat, lon, _ = pymap3d.enu2geodetic(pos[0] + noise[0], pos[1] + noise[1], 0.0, o.latitude_deg,
+                                           o.longitude_deg, 0.0)  # fmt: skip
+        cog = math.degrees(math.atan2(vel[0], vel[1])) % 360.0
+        report = ais.Report(t.mmsi, float(lat), float(lon), sog_kn, cog, ais.heading_deg(yaw), int(now) % 60)
+        return ais.position_sentences(report, t.ais_class)
+
+    def _publish(self, world: World, sentences: list[str]) -> list[Envelope]:
+        cls, stamp = ros.msg_class("nmea_msgs/msg/Sentence"), world.clock.now_ns
+        self.sent += len(sentences)
+        if self.sock is not None:
+            for s in sentences:
+                self.sock.sendto((s + "\r\n").encode("ascii"), ("127.0.0.1", self.cfg.udp_port))
+        return [Envelope(self.cfg.topic, stamp, cls(header=ros.header(stamp, "ais"), sentence=s)) for s in sentences]
+
+    def close(self) -> None:
+        if self.sock is not None:
+            self.sock.close()
+            self.sock = None

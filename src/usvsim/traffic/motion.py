@@ -1,0 +1,128 @@
+"""Where a traffic ship is at time t: routes, constant course and speed, replayed AIS tracks.
+
+A `Track` is a table of segments; `kernels.evaluate` gives every ship's position (world ENU, m), velocity
+(ENU, m/s) and heading (ENU yaw, rad, counter-clockwise from east) at simulation time t in one call.
+Tracks are pure functions of time: nothing to reset, and a reset simulation replays them exactly.
+"""
+
+from __future__ import annotations
+
+import csv
+import math
+from dataclasses import dataclass
+from datetime import datetime
+from pathlib import Path
+
+import numpy as np
+import pymap3d
+
+from usvsim.config import traffic as cfg
+from usvsim.core.errors import ScenarioError
+
+KNOT_MPS = 1852.0 / 3600.0
+AIS_NO_HEADING = 511
+
+
+def yaw_from_course(course_rad: float) -> float:
+    """ENU yaw (CCW from east) of a nautical course (clockwise from north), both radians."""
+    return 0.5 * math.pi - course_rad
+
+
+def course_from_velocity(vx: float, vy: float) -> float:
+    """Nautical course (rad, [0, 2π), clockwise from north) of an ENU velocity."""
+    return math.atan2(vx, vy) % (2.0 * math.pi)
+
+
+@dataclass(frozen=True)
+class Track:
+    """A ship's motion as segments, each valid on [t0, t1): `linear` ones move at v0 from p0 (exactly, also
+    for t1 = inf), the others are cubic Hermite curves from (p0, v0) to (p1, v1). Before the first segment the
+    ship rests at its start; after the last it rests at its end (or, with `period_s` > 0, starts over)."""
+
+    t0: np.ndarray  # (S,) s
+    t1: np.ndarray
+    p0: np.ndarray  # (S, 2) world ENU, m
+    p1: np.ndarray
+    v0: np.ndarray  # (S, 2) m/s
+    v1: np.ndarray
+    yaw0: np.ndarray  # (S,) ENU yaw at t0 and t1, rad
+    yaw1: np.ndarray
+    linear: np.ndarray  # (S,) bool
+    period_s: float = 0.0
+
+
+def constant_track(start_enu, course_rad: float, speed_mps: float) -> Track:
+    v = speed_mps * np.array([[math.sin(course_rad), math.cos(course_rad)]])
+    p = np.asarray(start_enu, float).reshape(1, 2)
+    yaw = np.array([yaw_from_course(course_rad)])
+    return Track(np.zeros(1), np.full(1, np.inf), p, p, v, v, yaw, yaw, np.ones(1, bool))
+
+
+def route_track(points, speeds, loop: bool = False) -> Track:
+    """Legs between waypoints, each at its start waypoint's speed; the heading turns at a waypoint. Legs at
+    zero speed or of zero length are left out (a ship would never leave them)."""
+    pts = np.asarray(points, float)
+    if loop:
+        pts = np.vstack([pts, pts[:1]])
+    legs, speed = np.diff(pts, axis=0), np.asarray(speeds, float)[: len(pts) - 1]
+    length = np.linalg.norm(legs, axis=1)
+    keep = (speed > 0) & (length > 1e-9)
+    if not keep.any():
+        return constant_track(pts[0], 0.0, 0.0)
+    legs, length, speed, start = legs[keep], length[keep], speed[keep], pts[:-1][keep]
+    dirs = legs / length[:, None]
+    t1 = np.cumsum(length / speed)
+    t0 = np.concatenate([[0.0], t1[:-1]])
+    yaw = np.arctan2(dirs[:, 1], dirs[:, 0])
+    v = dirs * speed[:, None]
+    return Track(t0, t1, start, start + legs, v, v, yaw, yaw, np.ones(len(t0), bool), float(t1[-1]) if loop else 0.0)
+
+
+def hermite_track(t_s, pos_enu, vel_enu, yaw_rad) -> Track:
+    """Samples joined by cubic Hermite curves: exact at the samples, velocity-consistent in between."""
+    t, p, v, yaw = (np.asarray(a, float) for a in (t_s, pos_enu, vel_enu, yaw_rad))
+    yaw_next = yaw[:-1] + (yaw[1:] - yaw[:-1] + math.pi) % (2 * math.pi) - math.pi  # the short way round
+    return Track(t[:-1], t[1:], p[:-1], p[1:], v[:-1], v[1:], yaw[:-1], yaw_next, np.zeros(len(t) - 1, bool))
+
+
+def _time_column(values: list[str]) -> np.ndarray:
+    try:
+        return np.array([float(v) for v in values])
+    except ValueError:
+        stamps = [datetime.fromisoformat(v.replace("Z", "+00:00")).timestamp() for v in values]
+        return np.array(stamps) - stamps[0]
+
+
+def read_ais_csv(path: Path, origin, source: str = "", key: str = "") -> Track:
+    """An AIS track CSV (see `config.traffic.AisReplay`) as a Hermite track in the world frame of `origin`
+    (a `GeodeticOrigin`)."""
+    try:
+        with open(path, newline="") as f:
+            rows = list(csv.DictReader(f))
+        cols = {name: [r[name] for r in rows] for name in ("time", "lat", "lon", "sog", "cog", "heading")}
+    except FileNotFoundError:
+        raise ScenarioError(source, key, f"AIS CSV not found: {path}") from None
+    except (KeyError, TypeError):
+        raise ScenarioError(source, key, f"{path}: needs a header row time,lat,lon,sog,cog,heading") from None
+    try:
+        t = _time_column(cols["time"])
+        lat, lon, sog, cog, hdg = (np.array([float(v) for v in cols[c]]) for c in ("lat", "lon", "sog", "cog", "heading"))
+    except ValueError as exc:
+        raise ScenarioError(source, key, f"{path}: not a number: {exc}") from None
+    if len(t) < 2 or np.any(np.diff(t) <= 0):
+        raise ScenarioError(source, key, f"{path}: needs at least two rows with increasing time")
+    e, n, _ = pymap3d.geodetic2enu(lat, lon, 0.0, origin.latitude_deg, origin.longitude_deg, 0.0)
+    course = np.radians(cog)
+    vel = (sog * KNOT_MPS)[:, None] * np.stack([np.sin(course), np.cos(course)], axis=1)
+    heading = np.where(hdg == AIS_NO_HEADING, cog, hdg)
+    yaw = 0.5 * np.pi - np.radians(heading)
+    return hermite_track(t, np.stack([e, n], axis=1), vel, yaw)
+
+
+def make_track(motion, origin, base: Path, source: str = "", key: str = ""):
+    """The track of a ship's `motion` config."""
+    if isinstance(motion, cfg.Constant):
+        return constant_track(motion.position, math.radians(motion.course_deg), motion.speed_mps)
+    if isinstance(motion, cfg.Route):
+        return route_track([w.position for w in motion.waypoints], [w.speed_mps for w in motion.waypoints], motion.loop)
+    return read_ais_csv(base / motion.path, origin, source, f"{key}.path")

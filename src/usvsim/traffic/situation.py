@@ -1,0 +1,92 @@
+"""The ground-truth situation of the own ship on `traffic.awareness.topic` (usvsim_msgs/TrafficSituation, frame
+`world`), and the run report: per target the least distance to the own ship (between samples the motion is
+taken as straight, so a closest pass between two samples is found exactly), when it happened, and the least
+CPA predicted while the target was closing."""
+
+from __future__ import annotations
+
+import math
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from usvsim.config.loader import source_of
+from usvsim.core.clock import steps_per_period
+from usvsim.core.errors import ScenarioError
+from usvsim.messages import ros
+from usvsim.messages.envelope import Envelope
+from usvsim.traffic import awareness as aw
+
+if TYPE_CHECKING:
+    from usvsim.config.traffic import Awareness
+    from usvsim.world.world import World
+    from usvsim.traffic.fleet import Fleet
+
+
+class SituationPublisher:
+    def __init__(self, world: World, fleet: Fleet, cfg: Awareness):
+        source = source_of(world.scenario)
+        own = cfg.own_ship or (world.scenario.vessels[0].name if world.scenario.vessels else None)
+        if own is None or own not in world.vessels:
+            raise ScenarioError(source, "traffic.awareness.own_ship", f"{own!r} is not a scenario vessel")
+        try:
+            self.every = steps_per_period(cfg.rate_hz, world.clock.step_ns)
+        except ValueError as exc:
+            raise ScenarioError(source, "traffic.awareness.rate_hz", str(exc)) from None
+        self.cfg, self.fleet, self.own = cfg, fleet, world.vessels[own]
+        self.period_s = self.every * world.clock.dt
+        self.targets = [k for k, s in enumerate(fleet.ships) if s.vessel != own]
+        self.reset(world)
+
+    def reset(self, world: World) -> None:
+        n = len(self.targets)
+        self.min_dist, self.t_min, self.min_cpa = np.full(n, np.inf), np.zeros(n), np.full(n, np.inf)
+
+    def compute(self, world: World) -> dict[str, np.ndarray]:
+        """Every target's situation now (arrays over targets; see awareness.py for the conventions)."""
+        v = self.own
+        own_pos, own_vel, own_yaw = v.position[:2], world.origin_velocity(v.index)[:2], float(v.rpy[2])
+        idx = self.targets
+        rel_pos = self.fleet.pos_enu[idx] - own_pos
+        rel_vel = self.fleet.vel_enu[idx] - own_vel
+        cpa, tcpa = aw.cpa_tcpa(rel_pos, rel_vel)
+        enc = aw.encounters(rel_pos, own_vel, own_yaw, self.fleet.vel_enu[idx], self.fleet.yaw_rad[idx], tcpa)
+        bearing = aw.nautical_bearing(rel_pos)
+        rel_bearing = aw.wrap_pi(bearing - (0.5 * math.pi - own_yaw))
+        return {"own_pos": own_pos, "own_vel": own_vel, "own_yaw": own_yaw, "rel_pos": rel_pos, "rel_vel": rel_vel,
+                "range": np.linalg.norm(rel_pos, axis=1), "bearing": bearing, "relative_bearing": rel_bearing,
+                "cpa": cpa, "tcpa": tcpa, "encounter": enc}  # fmt: skip
+
+    def due(self, world: World) -> list[Envelope]:
+        if world.clock.steps % self.every != 0 or not self.targets:
+            return []
+        s = self.compute(world)
+        ahead, when = aw.min_distance_over(s["rel_pos"], s["rel_vel"], self.period_s)
+        closer = ahead < self.min_dist
+        self.min_dist[closer], self.t_min[closer] = ahead[closer], world.time + when[closer]
+        closing = s["tcpa"] > 0
+        self.min_cpa[closing] = np.minimum(self.min_cpa[closing], s["cpa"][closing])
+        return [Envelope(self.cfg.topic, world.clock.now_ns, self._message(world.clock.now_ns, s))]
+
+    def _message(self, stamp_ns: int, s: dict) -> object:
+        target_cls = ros.msg_class("usvsim_msgs/msg/TrafficTarget")
+        f = self.fleet
+        targets = []
+        for j, k in enumerate(self.targets):
+            vel = f.vel_enu[k]
+            targets.append(target_cls(
+                name=f.names[k], mmsi=f.ships[k].mmsi, position=ros.point([*f.pos_enu[k], 0.0]),
+                velocity=ros.vector3([*vel, 0.0]), course=math.atan2(vel[0], vel[1]) % (2 * math.pi),
+                speed=float(np.hypot(*vel)), heading=(0.5 * math.pi - f.yaw_rad[k]) % (2 * math.pi),
+                range=float(s["range"][j]), bearing=float(s["bearing"][j]),
+                relative_bearing=float(s["relative_bearing"][j]), cpa=float(s["cpa"][j]), tcpa=float(s["tcpa"][j]),
+                encounter=int(s["encounter"][j])))  # fmt: skip
+        return ros.msg_class("usvsim_msgs/msg/TrafficSituation")(
+            header=ros.header(stamp_ns, "world"), own_ship=self.own.name, own_position=ros.point([*s["own_pos"], 0.0]),
+            own_velocity=ros.vector3([*s["own_vel"], 0.0]), own_heading=(0.5 * math.pi - s["own_yaw"]) % (2 * math.pi),
+            targets=targets)  # fmt: skip
+
+    def report(self) -> dict[str, dict[str, float]]:
+        return {self.fleet.names[k]: {"min_distance_m": float(self.min_dist[j]), "t_min_distance_s": float(self.t_min[j]),
+                                      "min_cpa_m": float(self.min_cpa[j])}
+                for j, k in enumerate(self.targets)}  # fmt: skip

@@ -1,0 +1,114 @@
+"""AIS: every sentence decodes with pyais to the true MMSI, position (within the noise), SOG, COG and heading;
+reporting intervals follow ITU-R M.1371 table 1 by speed; static data (types 5, 24); UDP on loopback."""
+
+import math
+import socket
+
+import numpy as np
+import pymap3d
+import pytest
+from pyais import decode
+
+from usvsim.simulation import Simulation
+from usvsim.traffic import ais
+
+KN = 1852.0 / 3600.0
+
+
+def test_class_a_intervals_follow_the_table():
+    assert ais.class_a_interval(0.0, False) == 180.0
+    assert ais.class_a_interval(10.0, False) == 10.0
+    assert ais.class_a_interval(10.0, True) == pytest.approx(10.0 / 3.0)
+    assert ais.class_a_interval(18.0, False) == 6.0
+    assert ais.class_a_interval(18.0, True) == 2.0
+    assert ais.class_a_interval(30.0, False) == 2.0
+    assert ais.class_b_interval(1.0) == 180.0 and ais.class_b_interval(8.0) == 30.0
+
+
+def scenario(scenario_of, noise=0.0, dropout=0.0, udp_port=None):
+    ships = [
+        {"name": "slow", "mmsi": 257000001, "motion": {"type": "constant", "position": [0, 500], "course_deg": 45,
+                                                       "speed_mps": 8 * KN}},
+        {"name": "fast", "mmsi": 257000002, "ship_type": "high_speed", "length_m": 40, "beam_m": 9,
+         "motion": {"type": "constant", "position": [500, 0], "course_deg": 300, "speed_mps": 18 * KN}},
+        {"name": "yacht", "mmsi": 257000003, "ship_type": "sailing", "ais": {"ais_class": "B", "callsign": "LH2211"},
+         "motion": {"type": "constant", "position": [-300, 0], "course_deg": 10, "speed_mps": 6 * KN}},
+    ]  # fmt: skip
+    return scenario_of({"world": {"physics_rate_hz": 20}, "outputs": {"recording": {"clock_rate_hz": 10, "ground_truth_rate_hz": 10}},
+                        "vessels": [{"name": "wamv", "model": "wamv"}],
+                        "traffic": {"ships": ships, "ais": {"position_noise_m": noise, "dropout_probability": dropout,
+                                                            "udp_port": udp_port}}})  # fmt: skip
+
+
+def collect(sim, seconds):
+    out = []
+    sim.subscribe(lambda e: out.append((e.stamp_ns / 1e9, e.msg.sentence)) if e.topic == "/ais" else None)
+    sim.run(seconds)
+    return out
+
+
+def truth(t, start, course_deg, speed_kn, origin):
+    c = math.radians(course_deg)
+    e, n = start[0] + speed_kn * KN * t * math.sin(c), start[1] + speed_kn * KN * t * math.cos(c)
+    lat, lon, _ = pymap3d.enu2geodetic(e, n, 0.0, origin.latitude_deg, origin.longitude_deg, 0.0)
+    return lat, lon
+
+
+TRUE = {257000001: ((0, 500), 45, 8), 257000002: ((500, 0), 300, 18), 257000003: ((-300, 0), 10, 6)}
+
+
+def test_every_sentence_decodes_to_the_truth(scenario_of):
+    sim = Simulation(scenario(scenario_of, noise=3.0))
+    sentences = collect(sim, 61.0)
+    origin = sim.scenario.world.origin
+    times: dict[int, list[float]] = {}
+    pending: list[str] = []
+    statics = set()
+    for t, s in sentences:
+        pending.append(s)
+        fields = s.split(",")
+        if fields[1] != fields[2]:  # a fragment of a multi-sentence message: wait for the last
+            continue
+        msg, pending = decode(*pending).asdict(), []
+        mmsi = msg["mmsi"]
+        start, course, speed = TRUE[mmsi]
+        if msg["msg_type"] in (5, 24):
+            statics.add((mmsi, msg["msg_type"], msg.get("partno")))
+            if msg["msg_type"] == 5:
+                assert msg["shipname"] == "SLOW" or msg["shipname"] == "FAST"
+                assert msg["to_bow"] + msg["to_stern"] == (40 if mmsi == 257000002 else 20)
+            continue
+        assert msg["msg_type"] == (18 if mmsi == 257000003 else 1)
+        lat, lon = truth(t, start, course, speed, origin)
+        north = (msg["lat"] - lat) * 111_320.0
+        east = (msg["lon"] - lon) * 111_320.0 * math.cos(math.radians(lat))
+        assert math.hypot(north, east) < 5 * 3.0 + 0.3  # 5 sigma of the configured noise + AIS resolution
+        assert msg["speed"] == pytest.approx(speed, abs=0.051)
+        assert msg["course"] == pytest.approx(course, abs=0.051)
+        assert msg["heading"] == course
+        times.setdefault(mmsi, []).append(t)
+    gaps = {m: np.diff(ts) for m, ts in times.items()}
+    np.testing.assert_allclose(gaps[257000001], 10.0, atol=0.051)  # 8 kn: 10 s
+    np.testing.assert_allclose(gaps[257000002], 6.0, atol=0.051)  # 18 kn: 6 s
+    np.testing.assert_allclose(gaps[257000003], 30.0, atol=0.051)  # class B (CS) above 2 kn: 30 s
+    assert {(257000001, 5, None), (257000002, 5, None), (257000003, 24, 0), (257000003, 24, 1)} <= statics
+    sim.close()
+
+
+def test_dropouts_lose_reports(scenario_of):
+    sim = Simulation(scenario(scenario_of, dropout=0.5))
+    collect(sim, 60.0)
+    publisher = sim.traffic.ais
+    assert publisher.dropped > 3 and publisher.sent > 3
+
+
+def test_udp_datagrams_on_loopback(scenario_of):
+    rx = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
+    rx.bind(("127.0.0.1", 0))
+    rx.settimeout(2.0)
+    sim = Simulation(scenario(scenario_of, udp_port=rx.getsockname()[1]))
+    sentences = collect(sim, 12.0)
+    got = [rx.recv(1024).decode("ascii") for _ in sentences]
+    assert [g.rstrip("\r\n") for g in got] == [s for _, s in sentences]
+    sim.close()
+    rx.close()

@@ -1,0 +1,86 @@
+"""Traffic tracks against closed forms: constant course/speed, routes, AIS CSV replay (exact at samples)."""
+
+import math
+
+import numpy as np
+import pymap3d
+import pytest
+
+from usvsim.config.scenario import GeodeticOrigin
+from usvsim.core.errors import ScenarioError
+from usvsim.traffic.kernels import TrackTable
+from usvsim.traffic.motion import KNOT_MPS, constant_track, read_ais_csv, route_track
+
+
+def at(track, t):
+    pos, vel, yaw = np.zeros((1, 2)), np.zeros((1, 2)), np.zeros(1)
+    TrackTable.of([track]).evaluate(t, pos, vel, yaw)
+    return pos[0], vel[0], yaw[0]
+
+
+def test_constant_course_and_speed():
+    # course 030° (nautical) at 4 m/s: velocity (east, north) = 4 (sin 30°, cos 30°), ENU yaw 60°
+    pos, vel, yaw = at(constant_track((10.0, -5.0), math.radians(30.0), 4.0), 25.0)
+    np.testing.assert_allclose(vel, [2.0, 4.0 * math.cos(math.radians(30))], atol=1e-12)
+    np.testing.assert_allclose(pos, [10.0 + 50.0, -5.0 + 100.0 * math.cos(math.radians(30))], atol=1e-9)
+    assert yaw == pytest.approx(math.radians(60.0))
+
+
+def test_route_legs_speeds_and_stop():
+    track = route_track([(0, 0), (100, 0), (100, 50)], [5.0, 2.0, 0.0])
+    pos, vel, yaw = at(track, 10.0)  # 50 m along the first leg (east) at 5 m/s
+    np.testing.assert_allclose(pos, [50, 0], atol=1e-9)
+    np.testing.assert_allclose(vel, [5, 0], atol=1e-12)
+    pos, vel, yaw = at(track, 20.0 + 12.5)  # second leg starts at 20 s, 2 m/s north
+    np.testing.assert_allclose(pos, [100, 25], atol=1e-9)
+    assert yaw == pytest.approx(math.pi / 2)
+    pos, vel, _ = at(track, 1000.0)  # arrived and stopped at the last waypoint
+    np.testing.assert_allclose(pos, [100, 50])
+    np.testing.assert_allclose(vel, [0, 0])
+
+
+def test_looped_route_starts_over():
+    track = route_track([(0, 0), (10, 0), (10, 10)], [1.0, 1.0, 1.0], loop=True)
+    period = 10 + 10 + math.hypot(10, 10)
+    for t in (3.0, 17.0, 25.0):
+        np.testing.assert_allclose(at(track, t)[0], at(track, t + 2 * period)[0], atol=1e-9)
+
+
+def test_many_tracks_in_one_table():
+    tracks = [constant_track((k, 0.0), 0.0, float(k)) for k in range(50)]
+    pos, vel, yaw = np.zeros((50, 2)), np.zeros((50, 2)), np.zeros(50)
+    TrackTable.of(tracks).evaluate(2.0, pos, vel, yaw)
+    np.testing.assert_allclose(pos[:, 1], 2.0 * np.arange(50))
+
+
+def write_csv(path, origin, rows):
+    lines = ["time,lat,lon,sog,cog,heading"]
+    for t, e, n, sog, cog, hdg in rows:
+        lat, lon, _ = pymap3d.enu2geodetic(e, n, 0.0, origin.latitude_deg, origin.longitude_deg, 0.0)
+        lines.append(f"{t},{lat:.9f},{lon:.9f},{sog},{cog},{hdg}")
+    path.write_text("\n".join(lines) + "\n")
+
+
+def test_ais_csv_replay_exact_at_samples_and_smooth_between(tmp_path):
+    origin = GeodeticOrigin()
+    v = 10.0 * KNOT_MPS  # a ship turning from north to east at 10 kn on a 300 m circle
+    rows = []
+    for k in range(7):
+        a = k * math.pi / 12
+        t = 300.0 * a / v
+        rows.append((t, 300 * (1 - math.cos(a)), 300 * math.sin(a), 10.0, math.degrees(a), 511 if k == 3 else math.degrees(a)))
+    write_csv(tmp_path / "track.csv", origin, rows)
+    track = read_ais_csv(tmp_path / "track.csv", origin)
+    for t, e, n, *_ in rows:
+        np.testing.assert_allclose(at(track, t)[0], [e, n], atol=1e-3)  # exact at the samples (float round-off)
+    t_mid = 0.5 * (rows[2][0] + rows[3][0])
+    a = v * t_mid / 300.0
+    np.testing.assert_allclose(at(track, t_mid)[0], [300 * (1 - math.cos(a)), 300 * math.sin(a)], atol=0.5)
+
+
+def test_ais_csv_errors_name_the_file(tmp_path):
+    (tmp_path / "bad.csv").write_text("t,lat\n0,1\n")
+    with pytest.raises(ScenarioError, match="header row"):
+        read_ais_csv(tmp_path / "bad.csv", GeodeticOrigin(), "s.yaml", "traffic.ships[0].motion")
+    with pytest.raises(ScenarioError, match="not found"):
+        read_ais_csv(tmp_path / "none.csv", GeodeticOrigin(), "s.yaml", "traffic.ships[0].motion")

@@ -1,0 +1,126 @@
+"""Traffic in a running simulation: mocap ships on their tracks, collisions, LiDAR returns, ground-truth
+situation (CPA/TCPA vs closed form) in an MCAP read back by rosbags and mcap-ros2, reset = fresh start."""
+
+import math
+
+import numpy as np
+import pytest
+from readers import read_with_mcap_ros2, read_with_rosbags
+
+from usvsim.core.errors import ScenarioError
+from usvsim.io.mcap_recorder import McapRecorder
+from usvsim.simulation import Simulation
+
+OWN = {"name": "wamv", "model": "wamv", "command_timeout_s": 0.0}
+
+
+def ship(name, mmsi, motion, **kw):
+    return {"name": name, "mmsi": mmsi, "motion": motion, **kw}
+
+
+@pytest.fixture
+def crossing(scenario_of):
+    """Own ship at rest at the origin heading north; a ferry from 200 m north heading south at 5 m/s, 20 m east of the own ship
+    (CPA 20 m at t = 40 s); a tug crossing west at 3 m/s 100 m north."""
+    return scenario_of({
+        "world": {"physics_rate_hz": 50},
+        "outputs": {"recording": {"clock_rate_hz": 10, "ground_truth_rate_hz": 10}},
+        "vessels": [{**OWN, "pose": {"yaw_deg": 90}}],  # heading north
+        "traffic": {"awareness": {"rate_hz": 2}, "ais": {"enabled": False}, "ships": [
+            ship("ferry", 257000001, {"type": "constant", "position": [20, 200], "course_deg": 180, "speed_mps": 5}),
+            ship("tug", 257000002, {"type": "constant", "position": [300, 100], "course_deg": 270, "speed_mps": 3},
+                 ship_type="tug", length_m=12, beam_m=4)]},
+    })  # fmt: skip
+
+
+def test_kinematic_ships_follow_their_tracks_and_situation_matches_closed_form(crossing, tmp_path):
+    sim = Simulation(crossing)
+    path = tmp_path / "run.mcap"
+    with McapRecorder(path) as rec:
+        sim.subscribe(rec.write)
+        sim.run(10.0)
+    t = sim.time
+    ferry = sim.model.body("ferry").id
+    np.testing.assert_allclose(sim.data.xpos[ferry, :2], [20, 200 - 5 * t], atol=1e-9)  # drawn where the track is
+    np.testing.assert_allclose(sim.traffic.fleet.pos_enu[1], [300 - 3 * t, 100], atol=1e-9)
+    for messages in (read_with_rosbags(path), read_with_mcap_ros2(path)):
+        situations = [m for topic, _, m in messages if topic == "/traffic/situation"]
+        assert len(situations) == 20
+        last = situations[-1]
+        own = np.array([last.own_position.x, last.own_position.y])
+        f = last.targets[0]
+        rel, vel = np.array([20.0, 200 - 5 * t]) - own, np.array([0.0, -5.0]) - [last.own_velocity.x, last.own_velocity.y]
+        tcpa = -rel @ vel / (vel @ vel)  # closed form from the true states
+        assert f.name == "ferry" and f.mmsi == 257000001
+        assert f.tcpa == pytest.approx(tcpa, rel=1e-6) and f.tcpa == pytest.approx(30.0, abs=0.5)
+        assert f.cpa == pytest.approx(np.linalg.norm(rel + vel * tcpa), rel=1e-6)
+        assert f.cpa == pytest.approx(20.0, abs=0.5)
+        assert f.range == pytest.approx(np.linalg.norm(rel)) and f.bearing == pytest.approx(math.atan2(rel[0], rel[1]))
+        assert f.encounter == 1  # HEAD_ON: 7.6° off the bow, reciprocal course
+        assert f.course == pytest.approx(math.pi) and f.speed == pytest.approx(5.0)
+    sim.close()
+
+
+def test_report_has_min_distance_per_target(crossing):
+    sim = Simulation(crossing)
+    sim.run(50.0)
+    report = sim.traffic.report()
+    assert report["ferry"]["min_distance_m"] == pytest.approx(20.0, abs=1.0)  # the pass at t = 40 s
+    assert report["ferry"]["t_min_distance_s"] == pytest.approx(40.0, abs=0.5)
+    assert report["tug"]["min_distance_m"] == pytest.approx(math.hypot(150.0, 100.0), abs=2.0)  # still closing
+
+
+def test_reset_equals_fresh_start(crossing):
+    a = Simulation(crossing)
+    a.run(3.0)
+    a.reset()
+    a.run(2.0)
+    b = Simulation(crossing)
+    b.run(2.0)
+    np.testing.assert_array_equal(a.data.mocap_pos, b.data.mocap_pos)
+    np.testing.assert_array_equal(a.data.qpos, b.data.qpos)
+
+
+def test_a_ship_that_runs_into_the_own_ship_collides(scenario_of):
+    sc = scenario_of({"vessels": [OWN], "traffic": {"ships": [
+        ship("ferry", 257000001, {"type": "constant", "position": [0, 30], "course_deg": 180, "speed_mps": 4},
+             length_m=20, beam_m=6)]}})  # fmt: skip
+    sim = Simulation(sc)
+    touched = set()
+    sim.run(9.0, on_step=lambda s: touched.update((a, b) for a, b, _ in s.contacts()))
+    assert ("wamv", "ferry") in touched or ("ferry", "wamv") in touched
+    assert sim.vessels["wamv"].position[1] < -3.0  # pushed south by the ship
+
+
+def test_lidar_sees_a_traffic_ship(scenario_of):
+    lidar = {"type": "lidar", "name": "scan", "preset": "seed_2d", "rate_hz": 5, "mount": {"position": [0.701, 0, 1.031]}}
+    sc = scenario_of({"vessels": [{**OWN, "sensors": [lidar]}], "traffic": {"ships": [
+        ship("ferry", 257000001, {"type": "constant", "position": [40, 0], "course_deg": 0, "speed_mps": 0},
+             length_m=20, beam_m=6)]}})  # fmt: skip
+    sim = Simulation(sc)
+    sim.run(0.2)
+    scan = sim.sensors["wamv/scan"].latest[0].msg
+    ranges = np.asarray(scan.ranges)
+    ahead = ranges[len(ranges) // 2 - 5 : len(ranges) // 2 + 5]  # angle 0 = forward (+x, east)
+    assert np.all(np.abs(ahead - (40 - 3 - 0.701)) < 0.5)  # the ship's port side 3 m west of its centre
+
+
+def test_physics_ship_needs_a_velocity_controller(scenario_of):
+    sc = scenario_of({"vessels": [OWN, {"name": "other", "model": "otter", "pose": {"position": [50, 0, 0]}}],
+                      "traffic": {"ships": [ship("other_ship", 257000003, {"type": "constant", "position": [50, 0],
+                                                 "course_deg": 0, "speed_mps": 1}, vessel="other")]}})  # fmt: skip
+    with pytest.raises(ScenarioError, match=r"traffic.ships\[0\].vessel.*velocity"):
+        Simulation(sc)
+
+
+def test_physics_ship_follows_its_route(scenario_of):
+    other = {"name": "other", "model": "otter", "pose": {"position": [0, 20, 0], "yaw_deg": 0},
+             "controller": {"type": "velocity"}, "command_timeout_s": 0.0}
+    route = {"type": "route", "waypoints": [{"position": [0, 20], "speed_mps": 1.0}, {"position": [60, 20], "speed_mps": 1.0}]}
+    sc = scenario_of({"vessels": [OWN, other], "traffic": {"ships": [ship("otter_ship", 257000004, route, vessel="other",
+                                                                          length_m=2, beam_m=1)]}})  # fmt: skip
+    sim = Simulation(sc)
+    sim.run(30.0)
+    x, y, _ = sim.vessels["other"].position
+    assert 15.0 < x < 35.0 and abs(y - 20.0) < 2.0  # on the leg, at roughly the leg speed
+    assert sim.traffic.fleet.vel_enu[0][0] == pytest.approx(1.0, abs=0.25)
