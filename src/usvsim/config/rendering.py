@@ -9,7 +9,7 @@ depth and segmentation images never depend on it. A running simulation holds the
 from __future__ import annotations
 
 import math
-from datetime import datetime, timezone
+from datetime import UTC, datetime
 from typing import Annotated, Any, Literal
 
 from pydantic import BeforeValidator, Field, field_validator, model_validator
@@ -114,7 +114,7 @@ def _merge(base: dict, changes: dict) -> dict:
 def utc_datetime(text: str) -> datetime:
     """Parse an ISO 8601 time; a time without zone is UTC."""
     stamp = datetime.fromisoformat(text.replace("Z", "+00:00"))
-    return stamp.replace(tzinfo=timezone.utc) if stamp.tzinfo is None else stamp.astimezone(timezone.utc)
+    return stamp.replace(tzinfo=UTC) if stamp.tzinfo is None else stamp.astimezone(UTC)
 
 
 def solar_angles_deg(utc: str, latitude_deg: float, longitude_deg: float) -> tuple[float, float]:

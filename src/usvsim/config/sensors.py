@@ -234,5 +234,60 @@ class Detections(SensorBase, ObjectFilter):
     range_max_m: PositiveFloat | None = None
 
 
-Sensor = Annotated[Imu | Odometry | Gnss | GroundTruth | Lidar | Camera | Detections, Field(discriminator="type")]
+# -- marine radar ----------------------------------------------------------------------------------
+class SeaClutter(Section):
+    """Sea clutter: mean power (over receiver noise) `snr_at_100m_db` at 100 m (default: from the sea state,
+    ~5 dB per Douglas state, after Nathanson's X-band low-grazing σ0 tables), falling as range^-`range_exponent`;
+    K-distributed intensity (gamma texture of shape `shape` × exponential speckle)."""
+
+    sea_state: Annotated[int, Field(ge=0, le=9)] | None = Field(None, description="default: the environment's")
+    snr_at_100m_db: float | None = None
+    range_exponent: PositiveFloat = 3.0
+    shape: PositiveFloat = 2.0
+
+
+class Arpa(Section):
+    """ARPA-style tracking on `<topic>/tracks` (usvsim_msgs/RadarTrackArray) once per revolution: CA-CFAR plots
+    (`threshold_db` over the mean of `training_bins` range bins each side) → nearest-neighbour α-β tracks."""
+
+    threshold_db: PositiveFloat = 12.0
+    training_bins: Annotated[int, Field(ge=2, le=64)] = 16
+    min_cells: Annotated[int, Field(ge=1)] = 3
+    range_min_m: NonNegativeFloat = Field(30.0, description="no plots nearer (sea clutter around the own ship)")
+    gate_m: PositiveFloat = 30.0
+    alpha: Annotated[float, Field(gt=0, le=1)] = 0.6
+    beta: Annotated[float, Field(gt=0, le=1)] = 0.3
+    confirm_hits: Annotated[int, Field(ge=1)] = 3
+    drop_misses: Annotated[int, Field(ge=1)] = 3
+
+
+class Radar(SensorBase):
+    """X-band marine radar (sensors/radar): a beam turning at `rpm` CCW seen from above (REP 103 angles in the
+    sensor frame, 0 = bow), `spokes` azimuths per turn, `range_bins` bins to `range_max_m`; each sample publishes
+    the spokes swept since the last one as marine_sensor_msgs/RadarSector (echoes 0..1 = 0..`dynamic_range_db`
+    over the noise floor). A 1 m² surface facing the radar at 1 km returns `reference_snr_db`."""
+
+    type: Literal["radar"]
+    rate_hz: PositiveFloat = 10.0
+    rpm: Annotated[float, Field(gt=0, le=120)] = 24.0
+    spokes: Annotated[int, Field(ge=16, le=8192)] = 1024
+    range_bins: Annotated[int, Field(ge=8, le=8192)] = 512
+    range_max_m: PositiveFloat = 1500.0
+    range_min_m: NonNegativeFloat = Field(5.0, description="no echoes nearer (transmit pulse, own hull)")
+    horizontal_beamwidth_deg: Annotated[float, Field(gt=0, le=30)] = 1.8
+    vertical_beamwidth_deg: Annotated[float, Field(gt=0, le=60)] = 22.0
+    elevation_rays: Annotated[int, Field(ge=2, le=128)] = 16
+    azimuth_oversampling: Annotated[int, Field(ge=1, le=8)] = 2
+    reference_snr_db: float = 20.0
+    dynamic_range_db: PositiveFloat = 60.0
+    sea_clutter: SeaClutter = SeaClutter()
+    rain_rate_mm_h: NonNegativeFloat = 0.0
+    blind_sectors_deg: tuple_of(Vec2) = Field((), description="[from, to] CCW from the bow, degrees")
+    image: Literal["polar", "cartesian", "none"] = "cartesian"
+    image_size_px: Annotated[int, Field(ge=32, le=4096)] = 512
+    arpa: Arpa | None = Arpa()
+
+
+Sensor = Annotated[Imu | Odometry | Gnss | GroundTruth | Lidar | Camera | Detections | Radar,
+                   Field(discriminator="type")]  # fmt: skip
 Sensors = tuple_of(Sensor)

@@ -39,6 +39,12 @@ def _detections(cfg, vessel, sim, shared):
     return Detections3D(cfg, vessel, sim, shared)
 
 
+def _radar(cfg, vessel, sim, shared):
+    from usvsim.sensors.radar.sensor import Radar
+
+    return Radar(cfg, vessel, sim, shared)
+
+
 def _plain(cls):
     return lambda cfg, vessel, sim, shared: cls(cfg, vessel, sim)
 
@@ -46,7 +52,7 @@ def _plain(cls):
 # YAML `type` → factory(cfg, vessel, sim, shared); `shared` holds per-suite resources (ray scenes, renderers)
 REGISTRY = {"imu": _plain(Imu), "odometry": _plain(Odometry), "gnss": _plain(Gnss),
             "ground_truth": _plain(GroundTruthPose), "lidar": _lidar, "camera": _camera,
-            "detections": _detections}  # fmt: skip
+            "detections": _detections, "radar": _radar}  # fmt: skip
 
 
 class SensorSuite:

@@ -1,0 +1,1 @@
+"""X-band marine radar: beam rays, clutter, sectors, images, ARPA tracks."""
