@@ -35,3 +35,18 @@ def test_pointcloud2_matches_rosbags(names, frame):
         header=ros.header(-5, frame), height=2, width=3, fields=fields, is_bigendian=False, point_step=step,
         row_step=3 * step, data=data, is_dense=False)  # fmt: skip
     assert pointcloud2_cdr(msg) == rosbags_cdr(msg)
+
+
+@pytest.mark.parametrize("frame", ["", "wamv/radar", "ab"])
+@pytest.mark.parametrize("spokes", [0, 1, 3])
+def test_radar_sector_matches_rosbags(frame, spokes):
+    from usvsim.messages.cdr_fast import radar_sector_cdr
+
+    duration = ros.msg_class("builtin_interfaces/msg/Duration")
+    echo = ros.msg_class("marine_sensor_msgs/msg/RadarEcho")
+    msg = ros.msg_class("marine_sensor_msgs/msg/RadarSector")(
+        header=ros.header(5_000_000_123, frame), angle_start=-0.25, angle_increment=-0.006,
+        time_increment=duration(sec=0, nanosec=2_441_406), scan_time=duration(sec=2, nanosec=500_000_000),
+        range_min=0.0, range_max=1500.0,
+        intensities=[echo(echoes=np.linspace(0, 1, 5 + k, dtype=np.float32)) for k in range(spokes)])  # fmt: skip
+    assert radar_sector_cdr(msg) == rosbags_cdr(msg)

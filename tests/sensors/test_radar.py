@@ -1,0 +1,131 @@
+"""Marine radar: a target in the right range bin and spoke and in the ARPA list, clutter statistics of the
+configured model, shadowing behind a wall, blind sectors, and sectors/images/tracks read back from an MCAP."""
+
+import math
+
+import numpy as np
+import pytest
+from readers import read_with_mcap_ros2
+
+from usvsim.io.mcap_recorder import McapRecorder
+from usvsim.sensors.radar import clutter
+from usvsim.simulation import Simulation
+
+MOUNT_X, MOUNT_Z = 0.0, 3.0
+QUIET = {"sea_state": 0, "snr_at_100m_db": -60.0}
+
+
+def radar_scenario(scenario_of, ships=(), objects=(), **radar):
+    cfg = {"type": "radar", "name": "radar", "rpm": 60, "rate_hz": 10, "range_max_m": 1000.0, "spokes": 512,
+           "range_bins": 256, "image_size_px": 256,
+           "mount": {"position": [MOUNT_X, 0.0, MOUNT_Z]}, "sea_clutter": QUIET, **radar}  # fmt: skip
+    return scenario_of({
+        "world": {"physics_rate_hz": 50}, "outputs": {"recording": {"clock_rate_hz": 10, "ground_truth_rate_hz": 10}},
+        "vessels": [{"name": "wamv", "model": "wamv", "sensors": [cfg]}], "objects": list(objects),
+        "traffic": {"ais": {"enabled": False}, "ships": list(ships)},
+    })  # fmt: skip
+
+
+def moored(name, x, y, course=0.0, length=20.0, beam=6.0, mmsi=257000001):
+    return {"name": name, "mmsi": mmsi, "length_m": length, "beam_m": beam,
+            "motion": {"type": "constant", "position": [x, y], "course_deg": course, "speed_mps": 0.0}}  # fmt: skip
+
+
+def one_turn(sim, turns=1.0):
+    sim.run(turns * 60.0 / sim.sensors["wamv/radar"].cfg.rpm + 0.2)
+    return sim.sensors["wamv/radar"]
+
+
+def test_target_in_its_range_bin_and_spoke_and_in_the_arpa_list(scenario_of, tmp_path):
+    # a ship broadside-on 400 m out at 30° to port of the bow (the WAM-V heads east): near side at 397 m
+    x, y = 400.0 * math.cos(math.radians(30)), 400.0 * math.sin(math.radians(30))
+    sim = Simulation(radar_scenario(scenario_of, [moored("target", x, y, course=120.0)]))
+    path = tmp_path / "radar.mcap"
+    with McapRecorder(path) as rec:
+        sim.subscribe(rec.write)
+        radar = one_turn(sim, 3.0)
+    pos, _ = radar.pose_world(sim)
+    rel = np.array([x, y]) - pos[:2]
+    near_face = np.linalg.norm(rel) - 3.0  # beam 6 m, seen side-on
+    power = radar.revolution.power
+    k, b = np.unravel_index(np.argmax(power), power.shape)
+    assert abs(b - int(near_face / radar.bin_m)) <= 1
+    angle = math.atan2(rel[1], rel[0]) - sim.vessels["wamv"].rpy[2]
+    expected_spoke = round(-angle / (2 * math.pi) * radar.n) % radar.n
+    assert min(abs(k - expected_spoke), radar.n - abs(k - expected_spoke)) <= 1
+    messages = read_with_mcap_ros2(path)
+    tracks = [m for t, _, m in messages if t == "/wamv/radar/tracks"][-1].tracks
+    assert len(tracks) == 1
+    tr = tracks[0]
+    assert tr.range == pytest.approx(np.linalg.norm(rel), abs=3.0 + 2 * radar.bin_m)  # near face and bins
+    assert tr.bearing == pytest.approx(math.atan2(rel[0], rel[1]), abs=math.radians(1.0))  # nautical
+    assert tr.speed < 0.5
+    sectors = [m for t, _, m in messages if t == "/wamv/radar"]
+    assert len(sectors) == 32 and sum(len(s.intensities) for s in sectors) == int(3.2 * 512)  # 1 turn/s
+    assert len(sectors[0].intensities[0].echoes) == 256
+    first = len(sectors[0].intensities)
+    assert sectors[1].angle_start == pytest.approx(-first * 2 * math.pi / 512, abs=1e-5)
+    assert sectors[1].angle_increment == pytest.approx(-2 * math.pi / 512)  # clockwise
+    image = [m for t, _, m in messages if t == "/wamv/radar/image"][-1]
+    assert (image.width, image.height, image.encoding) == (256, 256, "mono8")
+    sim.close()
+
+
+def test_bigger_and_broadside_targets_return_more(scenario_of):
+    ships = [moored("big", 300, 100, course=90.0, length=40, beam=8), moored("small", 300, -100, course=90.0,
+             length=10, beam=3, mmsi=257000002), moored("bow_on", -300, 0, course=90.0, length=40, beam=8, mmsi=257000003)]  # fmt: skip
+    radar = one_turn(Simulation(radar_scenario(scenario_of, ships)))
+    p = radar.revolution.power
+
+    def total(x, y):  # the whole echo of a target: over ±8° and ±30 m around it
+        k = round(-math.atan2(y, x) / (2 * math.pi) * radar.n)
+        b = int(math.hypot(x, y) / radar.bin_m)
+        rows = np.arange(k - 12, k + 13) % radar.n
+        return p[rows, b - 8 : b + 8].sum()
+
+    assert total(300, 100) > 2.5 * total(300, -100)  # size: 40 m x 8 m vs 10 m x 3 m, both side-on
+    assert total(300, 100) > 2.0 * total(-300, 0)  # aspect: the same ship broadside (40 m) vs end-on (8 m)
+
+
+def test_sea_clutter_follows_the_model(scenario_of):
+    sim = Simulation(radar_scenario(scenario_of, sea_clutter={"sea_state": 4}))
+    radar = one_turn(sim)
+    mean_model = 1.0 + clutter.sea_clutter_mean(radar.bin_centres, clutter.SEA_STATE_SNR_DB[4], 3.0)
+    p = radar.revolution.power
+    for lo, hi in ((20, 40), (60, 100), (150, 250)):  # bins: 40-80 m, 120-200 m, 300-500 m
+        measured = p[:, lo:hi].mean(axis=0) / mean_model[lo:hi]
+        assert measured.mean() == pytest.approx(1.0, rel=0.12)
+    c = 1e4  # K + noise: E[I²]/E[I]² = 2 E[(1 + Cτ)²] / (1 + C)², τ ~ Gamma(ν, 1/ν)
+    rng = np.random.default_rng(1)
+    sample = clutter.background(rng, (4000, 400), np.full((4000, 400), c), 2.0, np.zeros(400))
+    assert sample.mean() == pytest.approx(1 + c, rel=0.03)
+    expected = 2 * (1 + 2 * c + c**2 * (1 + 1 / 2.0)) / (1 + c) ** 2
+    assert (sample**2).mean() / sample.mean() ** 2 == pytest.approx(expected, rel=0.08)
+
+
+def test_rain_raises_the_background(scenario_of):
+    dry = one_turn(Simulation(radar_scenario(scenario_of))).revolution.power[:, 50:150].mean()
+    wet = one_turn(Simulation(radar_scenario(scenario_of, rain_rate_mm_h=8.0))).revolution.power[:, 50:150].mean()
+    assert wet > 3.0 * dry
+
+
+def test_a_wall_shadows_the_target_and_the_sea(scenario_of):
+    ship = moored("target", 500.0, 0.0)
+    wall = {"type": "wall", "name": "pier", "position": [250.0, 0.0, 0.0], "size": [5.0, 60.0, 20.0]}
+    kw = {"sea_clutter": {"sea_state": 5}, "arpa": None}
+    open_sea = one_turn(Simulation(radar_scenario(scenario_of, [ship], **kw)))
+    shadowed = one_turn(Simulation(radar_scenario(scenario_of, [ship], [wall], **kw)))
+    ahead = [-1, 0, 1]  # spokes around the bow (east)
+    target_bins = slice(int(490 / open_sea.bin_m), int(500 / open_sea.bin_m) + 2)
+    assert open_sea.revolution.power[ahead, target_bins].max() > 100.0
+    assert shadowed.revolution.power[ahead, target_bins].max() < 30.0
+    beyond = slice(int(300 / open_sea.bin_m), int(450 / open_sea.bin_m))  # sea behind the wall: noise only
+    assert shadowed.revolution.power[ahead, beyond].mean() == pytest.approx(1.0, rel=0.3)
+    assert open_sea.revolution.power[ahead, beyond].mean() > 1.5
+
+
+def test_blind_sector_holds_noise_only(scenario_of):
+    ship = moored("target", -300.0, 0.0)  # astern
+    radar = one_turn(Simulation(radar_scenario(scenario_of, [ship], blind_sectors_deg=[[170.0, 190.0]])))
+    astern = radar.n // 2
+    assert radar.revolution.power[astern - 3 : astern + 4].max() < 30.0
