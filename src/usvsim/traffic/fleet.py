@@ -85,9 +85,12 @@ class Fleet:
         self.table = TrackTable.of(_tracks(world.scenario))
         n, nk = len(ships), len(self.kinematic)
         self.pos_enu, self.vel_enu, self.yaw_rad = np.zeros((n, 2)), np.zeros((n, 2)), np.zeros(n)
-        self._kpos, self._kvel, self._kyaw = np.zeros((nk, 2)), np.zeros((nk, 2)), np.zeros(nk)
         self.pilots = {k: (s.vessel, _pilot(world, self.controllers, s, f"traffic.ships[{k}]"))
                        for k, s in enumerate(ships) if s.vessel is not None}  # fmt: skip
+        if self.pilots:
+            self._kpos, self._kvel, self._kyaw = np.zeros((nk, 2)), np.zeros((nk, 2)), np.zeros(nk)
+        else:  # all kinematic: the kernel fills the public arrays directly
+            self._kpos, self._kvel, self._kyaw = self.pos_enu, self.vel_enu, self.yaw_rad
         self.mocap = slice(0, nk)  # the traffic ships are the only mocap bodies, in this order
         self._t_eval = math.nan
         self.update(world)
@@ -121,8 +124,9 @@ class Fleet:
             if self._t_eval != world.time:  # before_step evaluated the tracks for this time already
                 self.table.evaluate(world.time, self._kpos, self._kvel, self._kyaw)
                 self._t_eval = world.time
-            self.pos_enu[self.kinematic], self.vel_enu[self.kinematic] = self._kpos, self._kvel
-            self.yaw_rad[self.kinematic] = self._kyaw
+            if self.pilots:
+                self.pos_enu[self.kinematic], self.vel_enu[self.kinematic] = self._kpos, self._kvel
+                self.yaw_rad[self.kinematic] = self._kyaw
         for k, (name, _) in self.pilots.items():
             i = world.vessels[name].index
             self.pos_enu[k], self.yaw_rad[k] = world.state.pos[i, :2], _yaw(world.state.rot[i])

@@ -125,6 +125,7 @@ def _add_kinematic(spec: mujoco.MjSpec, kb: KinematicBody) -> None:
     body = spec.worldbody.add_body(name=kb.name, mocap=True, pos=list(kb.position), quat=list(kb.quat))
     for k, part in enumerate(kb.collision):
         _add_geom(spec, body, part, COLLISION_GROUP, True, f"{kb.name}_col{k}")
+        body.geoms[-1].contype = 0  # touches floating bodies and static parts (conaffinity 1), not other mocap ships
     for k, part in enumerate(kb.visuals):
         _add_geom(spec, body, part, VISUAL_GROUP, False, f"{kb.name}_vis{k}")
 

@@ -18,7 +18,7 @@ from usvsim.messages.envelope import Envelope
 from usvsim.sensors.radar.arpa import Tracker, plots
 
 if TYPE_CHECKING:
-    from usvsim.simulation import Simulation
+    from usvsim.world.world import World
 
 
 def cartesian_lookup(size: int, spokes: int, bins: int) -> np.ndarray:
@@ -50,7 +50,7 @@ class Revolution:
         if self.tracker is not None:
             self.tracker.reset()
 
-    def add(self, sim: Simulation, stamp_ns: int, k0: int, power, echoes, pos, yaw) -> list[Envelope]:
+    def add(self, world: World, stamp_ns: int, k0: int, power, echoes, pos, yaw) -> list[Envelope]:
         n = self.cfg.spokes
         rows = (k0 + np.arange(len(power))) % n
         self.power[rows], self.echoes[rows] = power, echoes
@@ -64,7 +64,7 @@ class Revolution:
         if self.tracker is not None:
             found = plots(self.power, self.pose, self.time_s, self.cfg)
             self.tracker.update(found, stamp_ns / 1e9)
-            out.append(Envelope(f"{self.topic}/tracks", stamp_ns, self.tracker.message(stamp_ns, pos, sim.origin_velocity(self.body)[:2])))
+            out.append(Envelope(f"{self.topic}/tracks", stamp_ns, self.tracker.message(stamp_ns, pos, world.origin_velocity(self.body)[:2])))
         return out
 
     def _image(self, stamp_ns: int):

@@ -30,18 +30,18 @@ from usvsim.sensors.radar.beam import SpokeRays, elevations, two_way_gain
 from usvsim.sensors.radar.revolution import Revolution
 
 if TYPE_CHECKING:
-    from usvsim.simulation import Simulation
+    from usvsim.world.world import World
 
 VISUAL_GROUP = 1
 REFERENCE_SOLID_ANGLE = 1e-6  # sr: 1 m² at 1 km
 
 
 class Radar(Sensor):
-    def __init__(self, cfg, vessel: str, sim: Simulation, shared: dict):
-        super().__init__(cfg, vessel, sim)
+    def __init__(self, cfg, vessel: str, world: World, shared: dict):
+        super().__init__(cfg, vessel, world)
         self.n, self.bins = cfg.spokes, cfg.range_bins
         self.spokes_per_ns = cfg.rpm / 60.0 * cfg.spokes / 1e9
-        per_sample = self.spokes_per_ns * self.every * sim.clock.step_ns
+        per_sample = self.spokes_per_ns * self.every * world.clock.step_ns
         if per_sample > cfg.spokes:
             raise ValueError(f"rate_hz {cfg.rate_hz} Hz is too low for {cfg.rpm} rpm: one sample would sweep more "
                              f"than a turn; use at least {cfg.rpm / 60.0:g} Hz")  # fmt: skip
@@ -50,7 +50,7 @@ class Radar(Sensor):
         self.rays = SpokeRays(cfg.spokes, math.radians(cfg.horizontal_beamwidth_deg), cfg.azimuth_oversampling)
         self.gain = 10.0 ** (cfg.reference_snr_db / 10.0) / REFERENCE_SOLID_ANGLE
         sea = cfg.sea_clutter
-        state = sea.sea_state if sea.sea_state is not None else clutter.sea_state_of(sim.scenario.environment.sea)
+        state = sea.sea_state if sea.sea_state is not None else clutter.sea_state_of(world.scenario.environment.sea)
         snr100 = sea.snr_at_100m_db if sea.snr_at_100m_db is not None else clutter.SEA_STATE_SNR_DB[state]
         near = self.bin_centres >= cfg.range_min_m
         self.sea_mean = clutter.sea_clutter_mean(self.bin_centres, snr100, sea.range_exponent) * near
@@ -58,10 +58,10 @@ class Radar(Sensor):
         self.blind = self._blind_spokes(cfg.blind_sectors_deg)
         key = "rays/visual"
         if key not in shared:
-            shared[key] = RayWorld(sim, VISUAL_GROUP)
-        self.world: RayWorld = shared[key]
-        m = sim.model
-        self.own_geoms = np.flatnonzero(m.geom_bodyid == sim.vessels[vessel].index + 1)
+            shared[key] = RayWorld(world, VISUAL_GROUP)
+        self.caster: RayWorld = shared[key]
+        m = world.model
+        self.own_geoms = np.flatnonzero(m.geom_bodyid == world.vessels[vessel].index + 1)
         self.revolution = Revolution(cfg, self.topic, self.frame_id, self.body)
         self.sector_cls, self.echo_cls = (ros.msg_class(f"marine_sensor_msgs/msg/{t}") for t in ("RadarSector", "RadarEcho"))
         self._weights: dict[int, np.ndarray] = {}
@@ -80,23 +80,23 @@ class Radar(Sensor):
         self.emitted = 0
         self.revolution.reset()
 
-    def sample(self, sim: Simulation, stamp_ns: int) -> list[Envelope]:
+    def sample(self, world: World, stamp_ns: int) -> list[Envelope]:
         k1 = int(math.floor(stamp_ns * self.spokes_per_ns + 1e-9))
         k0, count = self.emitted, k1 - self.emitted
         if count <= 0:
             return []
         self.emitted = k1
-        power = self.sweep(sim, k0, count)
+        power = self.sweep(world, k0, count)
         echoes = np.clip(10.0 * np.log10(power) / self.cfg.dynamic_range_db, 0.0, 1.0).astype(np.float32)
-        pos, rot = self.pose_world(sim)
+        pos, rot = self.pose_world(world)
         yaw = math.atan2(rot[1, 0], rot[0, 0])
         out = [Envelope(self.topic, stamp_ns, self._sector(stamp_ns, k0, echoes))]
-        return out + self.revolution.add(sim, stamp_ns, k0, power, echoes, pos, yaw)
+        return out + self.revolution.add(world, stamp_ns, k0, power, echoes, pos, yaw)
 
-    def sweep(self, sim: Simulation, k0: int, count: int) -> np.ndarray:
+    def sweep(self, world: World, k0: int, count: int) -> np.ndarray:
         """Received power (count, bins), noise units, of spokes k0 .. k0 + count - 1 at the current pose."""
         cfg = self.cfg
-        pos, rot = self.pose_world(sim)
+        pos, rot = self.pose_world(world)
         el, water_r, width = elevations(pos[2], cfg.range_min_m, cfg.range_max_m, cfg.elevation_rays)
         # rays are levelled (the sparse elevations near the horizon must not tilt with the hull); the vertical beam
         # pattern is applied about the antenna's own, tilted, plane
@@ -106,7 +106,7 @@ class Radar(Sensor):
         dirs_world = dirs.reshape(-1, 3)
         off_plane = np.arcsin(np.clip(dirs_world @ rot[:, 2], -1.0, 1.0))
         w_ray = np.tile(width * ce, len(az)) * two_way_gain(off_plane, math.radians(cfg.vertical_beamwidth_deg))
-        dist, geom, cos_inc = self.world.cast(np.broadcast_to(pos, dirs_world.shape), dirs_world, cfg.range_max_m)
+        dist, geom, cos_inc = self.caster.cast(np.broadcast_to(pos, dirs_world.shape), dirs_world, cfg.range_max_m)
         dist = dist.astype(float)
         z_hit = pos[2] + dist * dirs_world[:, 2]
         own = np.isin(geom, self.own_geoms)
