@@ -25,8 +25,8 @@ from usvsim.traffic import ais
 
 if TYPE_CHECKING:
     from usvsim.config.traffic import Ais
-    from usvsim.world.world import World
     from usvsim.traffic.fleet import Fleet
+    from usvsim.world.world import World
 
 
 @dataclass

@@ -19,8 +19,8 @@ from usvsim.traffic import awareness as aw
 
 if TYPE_CHECKING:
     from usvsim.config.traffic import Awareness
-    from usvsim.world.world import World
     from usvsim.traffic.fleet import Fleet
+    from usvsim.world.world import World
 
 
 class SituationPublisher:
