@@ -66,7 +66,7 @@ def main(seconds: float) -> dict:
             sim.step()  # /tf_static is written now, long before the peer exists
         start = {name: v.position.copy() for name, v in sim.vessels.items()}
         accept = peer("accept", str(seconds))
-        steps = step_while(sim, lambda: accept.poll() is None, 90.0)
+        steps = step_while(sim, lambda: accept.poll() is None, 200.0)
         result = json.loads(accept.stdout.read() or "{}")
         moved = {name: float(abs(v.position - start[name])[:2].max()) for name, v in sim.vessels.items()}
         noisy_steps = []
