@@ -45,6 +45,10 @@ EXPERIMENTS = {
     "otter": ("usvsim.experiments.otter", "Fossen's Otter straight runs vs PythonVehicleSimulator"),
     "kerner-vectors": ("usvsim.experiments.kerner_vectors", "single-triangle Kerner forces vs test vectors"),
     "waves": ("usvsim.experiments.waves", "wave statistics, dispersion and height queries"),
+    "detection-robustness": (
+        "usvsim.experiments.detection_robustness",
+        "YOLO trained on clear synthetic buoys, evaluated on clear and foggy sets (extra: yolo)",
+    ),
     "endurance": (
         "usvsim.experiments.endurance",
         "one hour in sea state 6 with each model: afloat, upright, bounded",

@@ -1,0 +1,149 @@
+"""`usvsim experiment detection-robustness`: the seed's clear-vs-foggy detection experiment (thesis §5.3, Fig. 32).
+
+Two data sets of the `buoy_field` scenario: `clear_calm` (train + held-out val) and `foggy_wavy` (val only),
+different seeds. A YOLOv8n is trained from scratch on the CPU on the clear training images (Ultralytics, an
+AGPL test-only extra, run in its own process by experiments/yolo_job.py with the Python named by
+USVSIM_YOLO_PYTHON, or this one if it has `ultralytics`), then evaluated on both held-out sets: mAP50 overall
+and per class, and a confusion matrix per set (rows: true class and background, columns: predicted; matched
+one to one at IoU >= 0.5, normalized per true class), written as JSON and PNG.
+
+Sizes come from the environment (defaults in brackets): USVSIM_DR_TRAIN [160] clear frames (80 % train),
+USVSIM_DR_FOGGY [40], USVSIM_DR_EPOCHS [40], USVSIM_DR_IMGSZ [320]. PASS: foggy mAP50 < clear mAP50.
+"""
+
+from __future__ import annotations
+
+import importlib.util
+import json
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+
+from usvsim.core.errors import UsvsimError
+from usvsim.datasets import DatasetSpec, generate
+from usvsim.datasets.labels import DETECTABLE
+
+JOB = Path(__file__).with_name("yolo_job.py")
+
+
+def yolo_python() -> str:
+    """The interpreter that runs the YOLO job: USVSIM_YOLO_PYTHON, else this one if it has ultralytics."""
+    python = os.environ.get("USVSIM_YOLO_PYTHON")
+    if python:
+        return python
+    if importlib.util.find_spec("ultralytics") is not None:
+        return sys.executable
+    raise UsvsimError("detection-robustness needs Ultralytics YOLO: set USVSIM_YOLO_PYTHON to a Python that has "
+                      "torch, torchvision and ultralytics (docs/datasets.md)")  # fmt: skip
+
+
+def run_yolo(job: dict, out: Path) -> dict:
+    """Runs experiments/yolo_job.py on `job` in its own process; returns its yolo_result.json."""
+    out.mkdir(parents=True, exist_ok=True)
+    (out / "job.json").write_text(json.dumps({**job, "out": str(out)}))
+    env = dict(os.environ, YOLO_OFFLINE="1", YOLO_VERBOSE="false")
+    proc = subprocess.run(
+        [yolo_python(), str(JOB), str(out / "job.json")], capture_output=True, text=True, env=env
+    )
+    if proc.returncode != 0:
+        raise UsvsimError(
+            f"YOLO job failed: {proc.stderr.strip().splitlines()[-1] if proc.stderr.strip() else proc.returncode}"
+        )
+    return json.loads((out / "yolo_result.json").read_text())
+
+
+def _iou(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """IoU matrix of boxes a (n, 4) and b (m, 4), x0 y0 x1 y1."""
+    lo, hi = np.maximum(a[:, None, :2], b[None, :, :2]), np.minimum(a[:, None, 2:], b[None, :, 2:])
+    inter = np.prod(np.clip(hi - lo, 0, None), axis=2)
+    area = lambda x: np.prod(x[:, 2:] - x[:, :2], axis=1)  # noqa: E731
+    return inter / (area(a)[:, None] + area(b)[None, :] - inter)
+
+
+def confusion(root: Path, predictions: dict, n: int = len(DETECTABLE)) -> np.ndarray:
+    """(n + 1)² counts: rows true class (last: background, i.e. false positives), columns predicted class
+    (last: missed). Greedy one-to-one matching by IoU >= 0.5, most confident prediction first."""
+    m = np.zeros((n + 1, n + 1), np.int64)
+    for label in sorted((root / "labels" / "val").glob("*.txt")):
+        from PIL import Image
+
+        w, h = Image.open(root / "images" / "val" / f"{label.stem}.png").size
+        rows = np.array(
+            [[float(v) for v in line.split()] for line in label.read_text().splitlines()]
+        ).reshape(-1, 5)
+        truth = np.c_[
+            rows[:, 1] - rows[:, 3] / 2,
+            rows[:, 2] - rows[:, 4] / 2,
+            rows[:, 1] + rows[:, 3] / 2,
+            rows[:, 2] + rows[:, 4] / 2,
+        ] * [w, h, w, h]
+        preds = sorted(predictions.get(f"{label.stem}.png", []), key=lambda p: -p[1])
+        used = np.zeros(len(truth), bool)
+        for cls, _, *box in preds:
+            iou = _iou(np.array([box]), truth)[0] if len(truth) else np.zeros(0)
+            iou[used] = 0.0
+            k = int(np.argmax(iou)) if len(iou) else -1
+            if k >= 0 and iou[k] >= 0.5:
+                used[k] = True
+                m[int(rows[k, 0]), cls] += 1
+            else:
+                m[n, cls] += 1
+        for k in np.flatnonzero(~used):
+            m[int(rows[k, 0]), n] += 1
+    return m
+
+
+def _plot(matrices: dict, classes: list[str], path: Path) -> None:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, axes = plt.subplots(1, len(matrices), figsize=(6 * len(matrices), 5.2))
+    for ax, (name, mat) in zip(np.atleast_1d(axes), matrices.items()):
+        im = ax.imshow(mat, vmin=0, vmax=1, cmap="Blues")
+        ax.set_xticks(range(len(classes)), classes, rotation=60, ha="right", fontsize=7)
+        ax.set_yticks(range(len(classes)), classes, fontsize=7)
+        ax.set_xlabel("predicted"), ax.set_ylabel("true"), ax.set_title(f"{name}: normalized confusion")
+        fig.colorbar(im, ax=ax, fraction=0.046)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
+def run(out_dir: Path) -> dict:
+    env = os.environ.get
+    n_train, n_foggy = int(env("USVSIM_DR_TRAIN", 160)), int(env("USVSIM_DR_FOGGY", 40))
+    epochs, imgsz = int(env("USVSIM_DR_EPOCHS", 40)), int(env("USVSIM_DR_IMGSZ", 320))
+    work = Path(out_dir) / "detection_robustness_data"
+    size = (imgsz, imgsz * 3 // 4)
+    clear = generate(
+        DatasetSpec("buoy_field", n_train, work / "clear", ("yolo",), 11, "clear_calm", size, (0.8, 0.2, 0.0))
+    )
+    foggy = generate(
+        DatasetSpec("buoy_field", n_foggy, work / "foggy", ("yolo",), 12, "foggy_wavy", size, (0.0, 1.0, 0.0))
+    )
+    job = {"train": str(clear / "data.yaml"), "epochs": epochs, "imgsz": imgsz,
+           "evals": {"clear": str(clear / "data.yaml"), "foggy": str(foggy / "data.yaml")}}  # fmt: skip
+    result = run_yolo(job, work / "yolo")
+    present = sorted({int(line.split()[0]) for root in (clear, foggy) for f in (root / "labels").rglob("*.txt")
+                      for line in f.read_text().splitlines()})  # fmt: skip
+    keep = [*present, len(DETECTABLE)]
+    classes = [DETECTABLE[i] for i in present] + ["background"]
+    summary, matrices, counts = {}, {}, {}
+    for name, root in (("clear", clear), ("foggy", foggy)):
+        m = confusion(root, result["evals"][name]["predictions"])[np.ix_(keep, keep)]
+        counts[name] = m.tolist()
+        matrices[name] = m / np.maximum(m.sum(axis=1, keepdims=True), 1)
+        summary[f"{name}_map50"] = result["evals"][name]["map50"]
+        summary[f"{name}_map50_per_class"] = result["evals"][name]["map50_per_class"]
+    passed = summary["foggy_map50"] < summary["clear_map50"]
+    out = {"passed": passed, "summary": summary, "classes": classes, "confusion_counts": counts,
+           "confusion_normalized": {k: v.round(4).tolist() for k, v in matrices.items()},
+           "sizes": {"clear_frames": n_train, "foggy_frames": n_foggy, "epochs": epochs, "imgsz": imgsz}}  # fmt: skip
+    (Path(out_dir) / "detection_robustness.json").write_text(json.dumps(out, indent=1))
+    _plot(matrices, classes, Path(out_dir) / "detection_robustness.png")
+    return out

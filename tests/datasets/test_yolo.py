@@ -1,0 +1,40 @@
+"""Ultralytics YOLO on an exported data set (test-only extra, AGPL, in its own process): `yolo train` for one
+epoch at imgsz 320 on a 50-image export completes from scratch on the CPU; the experiment's confusion matrix."""
+
+from __future__ import annotations
+
+import importlib.util
+import os
+
+import numpy as np
+import pytest
+from PIL import Image
+
+from usvsim.datasets import DatasetSpec, generate
+from usvsim.datasets.labels import DETECTABLE
+from usvsim.experiments.detection_robustness import confusion, run_yolo
+
+HAVE_YOLO = bool(os.environ.get("USVSIM_YOLO_PYTHON")) or importlib.util.find_spec("ultralytics") is not None
+
+
+@pytest.mark.skipif(not HAVE_YOLO, reason="needs USVSIM_YOLO_PYTHON or ultralytics (extra: yolo)")
+def test_yolo_trains_one_epoch_on_a_50_image_export(tmp_path):
+    root = generate(DatasetSpec("buoy_field", 50, tmp_path / "set", ("yolo",), 5, "clear_calm", (320, 240), (0.8, 0.2, 0.0)))
+    assert len(list((root / "images").rglob("*.png"))) == 50
+    job = {"train": str(root / "data.yaml"), "epochs": 1, "imgsz": 320, "evals": {"clear": str(root / "data.yaml")}}
+    result = run_yolo(job, tmp_path / "yolo")
+    assert (tmp_path / "yolo" / "train" / "weights" / "last.pt").exists()
+    assert 0.0 <= result["evals"]["clear"]["map50"] <= 1.0 and result["evals"]["clear"]["predictions"]
+
+
+def test_confusion_matrix_matches_by_iou(tmp_path):
+    (tmp_path / "labels" / "val").mkdir(parents=True)
+    (tmp_path / "images" / "val").mkdir(parents=True)
+    Image.new("RGB", (100, 100)).save(tmp_path / "images" / "val" / "a.png")
+    red, green = DETECTABLE.index("buoy_red"), DETECTABLE.index("buoy_green")
+    (tmp_path / "labels" / "val" / "a.txt").write_text(f"{red} 0.2 0.2 0.2 0.2\n{green} 0.7 0.7 0.2 0.2\n")
+    preds = {"a.png": [[red, 0.9, 11.0, 11.0, 30.0, 30.0], [red, 0.8, 61.0, 60.0, 80.0, 80.0], [red, 0.7, 0, 80, 10, 90]]}
+    m = confusion(tmp_path, preds)
+    n = len(DETECTABLE)
+    assert m[red, red] == 1 and m[green, red] == 1 and m[n, red] == 1 and m.sum() == 3
+    assert np.count_nonzero(m) == 3
