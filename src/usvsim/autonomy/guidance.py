@@ -26,8 +26,8 @@ def wrap(angle: float) -> float:
 @dataclass
 class LosGuidance:
     speed_mps: float = 1.5
-    lookahead_m: float = 4.0
-    course_gain_1ps: float = 0.8
+    lookahead_m: float = 6.0
+    course_gain_1ps: float = 0.4
     max_yaw_rate_radps: float = 0.5
     decel_mps2: float = 0.15
     integral_gain: float = 0.0  # σ_i of integral LOS; 0 = plain LOS

@@ -58,7 +58,8 @@ class KissIcpOdometry:
 
 
 class TrackedOdometry:
-    """Without KISS-ICP: the newest nav_msgs/Odometry from `source()` (odom ← base_link), in the map frame."""
+    """Without KISS-ICP: the newest nav_msgs/Odometry from `source()` (odom ← base_link), in the map frame; the
+    cloud is used as it comes (not deskewed: at 1.5 m/s a 10 Hz sweep smears walls by up to 0.15 m)."""
 
     def __init__(self, base_from_lidar: np.ndarray, source):
         self.base_from_lidar, self.source = base_from_lidar, source
