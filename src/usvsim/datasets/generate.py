@@ -225,7 +225,7 @@ def _camera_config(cfg: dict):
 
 
 def frame_metadata(sim, i, camera, split, look, scene, environment, pos, rot) -> dict:
-    """Everything that made the frame: enough to re-render it (`rerender` in datasets/rerender.py)."""
+    """Everything that made the frame: look, drawn values, poses, full qpos and time (to re-render it)."""
     bodies = {name: {"position_m": sim.state.pos[v.index].round(6).tolist(), "quat_wxyz": sim.body_quat(v.index).round(8).tolist()}
               for name, v in sim.vessels.items()}  # fmt: skip
     return {"frame": i, "camera": camera, "split": split, "seed": sim.seed, "time_s": round(sim.time, 9),
