@@ -112,3 +112,12 @@ def test_udp_datagrams_on_loopback(scenario_of):
     assert [g.rstrip("\r\n") for g in got] == [s for _, s in sentences]
     sim.close()
     rx.close()
+
+
+def test_enu_to_latlon_matches_pymap3d():
+    rng = np.random.default_rng(0)
+    for lat0, lon0 in ((59.42, 10.43), (-33.9, 151.2), (0.0, 0.0), (78.2, 15.6)):
+        for e, n in rng.uniform(-20_000, 20_000, (20, 2)):
+            lat, lon, _ = pymap3d.enu2geodetic(e, n, 0.0, lat0, lon0, 0.0)
+            got = ais.enu_to_latlon(e, n, lat0, lon0)
+            assert got == pytest.approx((lat, lon), abs=1e-8)  # ~1 mm

@@ -15,7 +15,6 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 import numpy as np
-import pymap3d
 
 from usvsim.config.traffic import SHIP_TYPES
 from usvsim.core.errors import ScenarioError
@@ -113,8 +112,7 @@ class AisPublisher:
             return []
         noise = self.rng.normal(0.0, self.cfg.position_noise_m, 2) if self.cfg.position_noise_m > 0 else np.zeros(2)
         o = self.origin
-        lat, lon, _ = pymap3d.enu2geodetic(pos[0] + noise[0], pos[1] + noise[1], 0.0, o.latitude_deg,
-                                           o.longitude_deg, 0.0)  # fmt: skip
+        lat, lon = ais.enu_to_latlon(pos[0] + noise[0], pos[1] + noise[1], o.latitude_deg, o.longitude_deg)
         cog = math.degrees(math.atan2(vel[0], vel[1])) % 360.0
         report = ais.Report(t.mmsi, float(lat), float(lon), sog_kn, cog, ais.heading_deg(yaw), int(now) % 60)
         return ais.position_sentences(report, t.ais_class)
