@@ -52,14 +52,22 @@ VISION_MSGS = {
     "Detection3DArray": "std_msgs/Header header\nvision_msgs/Detection3D[] detections\n",
 }  # fmt: skip
 
+# ros_gz_interfaces (gazebosim/ros_gz, Jazzy): the two types VRX's task topics use
+ROS_GZ_MSGS = {
+    "ParamVec": "std_msgs/Header header\nrcl_interfaces/Parameter[] params\n",
+    "Float32Array": "float32[] data\n",
+}
+
 
 @functools.cache
 def typestore() -> Any:
-    """The ROS 2 Jazzy typestore (message classes, CDR (de)serializer, message definitions) + vision_msgs."""
+    """The ROS 2 Jazzy typestore (message classes, CDR (de)serializer, message definitions) + vision_msgs
+    + the ros_gz_interfaces types of VRX's task topics."""
     store = get_typestore(Stores.ROS2_JAZZY)
     types: dict = {}
-    for name, text in VISION_MSGS.items():
-        types |= get_types_from_msg(text, f"vision_msgs/msg/{name}")
+    for package, msgs in (("vision_msgs", VISION_MSGS), ("ros_gz_interfaces", ROS_GZ_MSGS)):
+        for name, text in msgs.items():
+            types |= get_types_from_msg(text, f"{package}/msg/{name}")
     for name, text in MARINE_MSGS.items():  # radar, NMEA sentences, traffic awareness (messages/marine.py)
         types |= get_types_from_msg(text, name)
     store.register(types)
