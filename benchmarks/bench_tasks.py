@@ -6,7 +6,8 @@ water and in sea state 3, against baselines measured in the same run; batch scal
 Per sea (median of --repeats timings of --steps env steps, one core: numba 1 thread, constant action):
 - env:        gymnasium.make("usvsim/StationKeeping-v0").step (10 physics steps, scoring at each, observation);
 - sim loop:   the same 10 `Simulation.step()` calls per env step without the env (the env's own overhead = ratio);
-- bare MuJoCo: 10 `mujoco.mj_step` on the same model and data per env step (no marine forces: a lower bound).
+- bare MuJoCo: 10 `mujoco.mj_step` on the same model (a copy of its data) per env step, with the last applied
+                wrenches held: MuJoCo's own share of the cost, an upper bound on speed.
 Batch: 8 station-keeping runs (20 s each) with 1 and 2 worker processes (`usvsim.batch.run`).
 The load average is recorded beside every figure (the machine is shared). Writes benchmarks/results/tasks.json.
 """
@@ -57,9 +58,12 @@ def bench_sea(sea_state: int | None, steps: int, repeats: int) -> dict:
         for _ in range(every):
             sim.step()
 
+    bare_data = mujoco.MjData(sim.model)  # a copy: bare stepping must not disturb the env's state
+    mujoco.mj_copyData(bare_data, sim.model, sim.data)
+
     def bare():
         for _ in range(every):
-            mujoco.mj_step(sim.model, sim.data)
+            mujoco.mj_step(sim.model, bare_data)
 
     load_before = os.getloadavg()[0]
     r = timed({"env": lambda: env.step(action), "sim_loop": sim_loop, "bare": bare}, steps, repeats)

@@ -23,18 +23,20 @@ def reference_controller(world, hold: dict | None = None):
 
 
 def run_trial(name: str, difficulty: int = 0, seed: int = 0, timing: TaskTiming | None = None,
-              sea_state: int | None = None, mass_kg: float | None = None, hold: dict | None = None) -> dict:  # fmt: skip
+              sea_state: int | None = None, mass_kg: float | None = None, hold: dict | None = None,
+              trace: list | None = None) -> dict:  # fmt: skip
     """One trial of a task with its reference solution; returns the trial's report (JSON-ready).
-    `mass_kg` overrides the WAM-V's mass; `hold` the controller's hold gains (`config.control.Hold` keys)."""
+    `mass_kg` overrides the WAM-V's mass; `hold` the controller's hold gains (`config.control.Hold` keys);
+    `trace`, if given, receives (t s, x m, y m, yaw rad) at every control step."""
     task = TASKS[name](difficulty, seed, timing, sea_state)
     sim = Simulation(task.scenario({"mass": {"mass_kg": mass_kg}} if mass_kg else None), seed=seed)
     try:
-        return _drive(task, sim, reference_controller(sim, hold))
+        return _drive(task, sim, reference_controller(sim, hold), trace)
     finally:
         sim.close()
 
 
-def _drive(task, sim, controller) -> dict:
+def _drive(task, sim, controller, trace=None) -> dict:
     task.bind(sim)
     vessel = sim.vessels["wamv"]
     every = steps_per_period(CONTROL_RATE_HZ, sim.clock.step_ns)
@@ -42,6 +44,8 @@ def _drive(task, sim, controller) -> dict:
     while not task.finished:
         if sim.clock.steps % every == 0 and task.state == "running":
             target = task.reference_target()
+            if trace is not None:
+                trace.append((sim.time, *task.pose()))
             if target is None:
                 vessel.command(0.0)
             else:
