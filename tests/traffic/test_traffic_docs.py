@@ -7,6 +7,7 @@ import subprocess
 import sys
 from pathlib import Path
 
+import pytest
 import yaml
 from pydantic import TypeAdapter
 
@@ -43,6 +44,7 @@ def test_shell_lines_run(tmp_path):
     assert (tmp_path / "imazu14_otter.yaml").is_file()
 
 
+@pytest.mark.slow  # renders a camera and runs an encounter: about a minute on a loaded machine
 def test_figure_script_runs(tmp_path):
     env = dict(os.environ, MUJOCO_GL="egl", PYTHONPATH=str(ROOT / "src"))
     subprocess.run([sys.executable, str(ROOT / "examples/traffic_figures.py"), str(tmp_path), "--quick"], env=env,
