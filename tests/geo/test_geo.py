@@ -205,3 +205,21 @@ def test_waves_feel_the_depth_under_the_origin(place):
     sim = Simulation(scenario(place, [{"name": "wamv", "model": "wamv"}], marks=[]))
     assert sim.scenario.environment.water_depth_m == pytest.approx(sim.place.depth_at(0.0, 0.0)[0])
     sim.close()
+
+
+def test_radar_sees_the_coast_at_its_range(place):
+    radar = {"type": "radar", "name": "radar", "rpm": 60, "rate_hz": 10, "range_max_m": 400.0, "spokes": 256,
+             "range_bins": 200, "image": "none", "arpa": None, "mount": {"position": [0.0, 0.0, 3.0]},
+             "sea_clutter": {"sea_state": 0, "snr_at_100m_db": -60.0}}
+    sim = Simulation(scenario(place, [{"name": "wamv", "model": "wamv", "pose": {"yaw_deg": 90.0}}], [radar],
+                              structures=[], marks=[]))
+    sim.run(1.2)
+    sensor = sim.sensors["wamv/radar"]
+    pos, _ = sensor.pose_world(sim)
+    power = sensor.revolution.power
+    bow = power[0]  # spoke 0 looks along the bow: north, at the coast
+    first = int(np.argmax(bow > 0.5 * bow.max()))
+    assert abs(first - int((COAST_Y - pos[1]) / sensor.bin_m)) <= 1
+    stern = power[len(power) // 2]  # south: open water inside the 400 m range
+    assert stern.max() < 0.1 * bow.max()
+    sim.close()
