@@ -2,7 +2,8 @@
 
     MUJOCO_GL=egl python examples/snapshot.py [SCENARIO] [OUT.png]
 
-Renders with MuJoCo's offscreen renderer (EGL; works on a CPU-only machine through Mesa).
+Renders offscreen through the viewer's renderer (EGL; works on a CPU-only machine through Mesa), with the
+scenario's `rendering:` look (docs/rendering.md), from a fixed camera above the harbour.
 """
 
 from __future__ import annotations
@@ -12,10 +13,11 @@ import sys
 
 os.environ.setdefault("MUJOCO_GL", "egl")
 
-import mujoco
-from PIL import Image
+import numpy as np
 
 from usvsim import Simulation
+from usvsim.viewer.camera import CameraPose
+from usvsim.viewer.offscreen import OffscreenViewer, save_png
 
 
 def main(scenario: str = "harbor", out: str = "harbor.png") -> None:
@@ -24,14 +26,12 @@ def main(scenario: str = "harbor", out: str = "harbor.png") -> None:
     for k in range(700):
         boat.command(0.8, 0.25 if k > 300 else 0.0)  # straight, then a turn to starboard
         sim.step()
-    renderer = mujoco.Renderer(sim.model, 720, 1280)
-    camera = mujoco.MjvCamera()
-    camera.lookat[:], camera.distance, camera.azimuth, camera.elevation = [8, -4, 0], 30.0, 200.0, -16.0
-    option = mujoco.MjvOption()
-    option.geomgroup[:] = [0, 1, 1, 0, 0, 0]  # visuals and water, not the collision pieces
-    option.flags[mujoco.mjtVisFlag.mjVIS_TENDON] = 1  # mooring lines
-    renderer.update_scene(sim.data, camera, option)
-    Image.fromarray(renderer.render()).save(out)
+    viewer = OffscreenViewer(sim, 1280, 720)
+    viewer.view.show_hud = False
+    pose = CameraPose(np.array([8.0, -4.0, 0.0]), 30.0, 200.0, -16.0)
+    viewer.view.camera_pose = lambda dt=0.0: pose  # a fixed view instead of the follow camera
+    save_png(viewer.render(), out)
+    viewer.close()
     print(f"wrote {out} at t = {sim.time:.1f} s")
 
 

@@ -131,7 +131,11 @@ def solar_angles_deg(utc: str, latitude_deg: float, longitude_deg: float) -> tup
     lat = math.radians(latitude_deg)
     cos_zen = math.sin(lat) * math.sin(decl) + math.cos(lat) * math.cos(decl) * math.cos(hour_angle)
     zen = math.acos(max(-1.0, min(1.0, cos_zen)))
-    az = math.degrees(math.atan2(math.sin(hour_angle), math.cos(hour_angle) * math.sin(lat) - math.tan(decl) * math.cos(lat)))
+    az = math.degrees(
+        math.atan2(
+            math.sin(hour_angle), math.cos(hour_angle) * math.sin(lat) - math.tan(decl) * math.cos(lat)
+        )
+    )
     return (az + 180.0) % 360.0, 90.0 - math.degrees(zen)
 
 

@@ -1,8 +1,9 @@
 """Applies a look (the `rendering:` section, docs/rendering.md) to a camera frame: the one adapter between
 the randomization and the renderer.
 
-`SHADER_DRAWS_LOOK` says whether the camera renderer draws the look itself (the [rendering] shader). Until
-it does, this module approximates it with MuJoCo's plain renderer: the sun is the model's directional light
+With `renderer: shader` (the default) the camera draws the look itself (sun, sky, haze, fog, water, exposure,
+vignetting, blur: usvsim.rendering) and only the look's noise is added here. With `renderer: mujoco` this
+module approximates it with MuJoCo's plain renderer: the sun is the model's directional light
 (direction from azimuth/elevation, colour warmer when low, scaled by `intensity`), fog is blended into the
 image from the depth image by Koschmieder's law (contrast 2 % at the visibility; the sky counts as 1 km),
 and the camera effects (exposure, vignetting, blur, noise) are applied to the 8-bit image. Sky turbidity,
@@ -20,7 +21,6 @@ import numpy as np
 from usvsim.config.rendering import Rendering, sun_angles_deg, sun_direction_enu
 from usvsim.datasets.look_kernels import finish_look, gaussian_blur, to_uint8_noisy
 
-SHADER_DRAWS_LOOK = False
 KOSCHMIEDER = 3.912  # extinction coefficient x visibility at 2 % contrast
 SKY_FOG_M = 1000.0  # the sky counts as this far away in fog
 
@@ -46,7 +46,7 @@ class LookAdapter:
 
     def before(self, look: Rendering) -> None:
         self.sim.look = look
-        if SHADER_DRAWS_LOOK:
+        if look.renderer == "shader":
             return
         origin = self.sim.scenario.world.origin
         az, el = sun_angles_deg(look, origin.latitude_deg, origin.longitude_deg)
@@ -59,10 +59,15 @@ class LookAdapter:
     def after(
         self, look: Rendering, rgb: np.ndarray, depth: np.ndarray, rng: np.random.Generator
     ) -> np.ndarray:
-        """Fog, exposure, vignetting, blur and noise on an (H, W, 3) uint8 image; returns a new image."""
-        if SHADER_DRAWS_LOOK:
-            return rgb
+        """Fog, exposure, vignetting, blur and noise on an (H, W, 3) uint8 image; returns a new image. Under the
+        shader look the camera drew all but the noise."""
         h, w = depth.shape
+        cam = look.camera
+        if look.renderer == "shader":
+            noise = rng.standard_normal((h, w, 3), dtype=np.float32) if cam.noise_stddev > 0 else np.empty((0, 0, 3), np.float32)
+            out = np.empty((h, w, 3), np.uint8)
+            to_uint8_noisy(rgb.astype(np.float32) / np.float32(255.0), noise, np.float32(cam.noise_stddev), out)
+            return out
         if self.ray_scale is None or self.ray_scale.shape != depth.shape:
             xy = self.cam.rays()  # the published (distorted) pixels' rays: distance = depth · ray_scale
             self.ray_scale = np.sqrt(1.0 + (xy**2).sum(axis=2)).astype(np.float32)

@@ -39,21 +39,45 @@ class FrameRenderer:
         model.vis.quality.offsamples = samples
         self.buffer = mujoco.mjtFramebuffer.mjFB_WINDOW if window else mujoco.mjtFramebuffer.mjFB_OFFSCREEN
         mujoco.mjr_setBuffer(self.buffer, self.context)
+        self.marine, self._center_xy = None, (0.0, 0.0)  # the shader passes (usvsim.rendering), made on first use
 
     def update_water(self, sim, center_xy) -> None:
         """Re-sample the drawn wave surface from `sim.ocean` around `center_xy` and upload it."""
-        update_water_visual(sim, self.context, center_xy)
+        self._center_xy = tuple(center_xy[:2])
+        if _shader_look(sim) is None:
+            update_water_visual(sim, self.context, center_xy)
+
+    def _prepare_marine(self, sim):
+        """The shader passes for this frame (None when `sim.look` asks for MuJoCo's plain look)."""
+        look = _shader_look(sim)
+        self.option.geomgroup[2] = int(look is None)
+        if look is None:
+            return None
+        from usvsim.rendering.frame import prepare
+        from usvsim.rendering.marine import MarinePass
+
+        if self.marine is None:
+            self.marine = MarinePass()
+        prepare(self.marine, sim, self._center_xy)
+        return self.marine
 
     def draw(self, sim, viewport: mujoco.MjrRect, pose: CameraPose, hud_rows=None, points=None, inset=None,
              help_text: str | None = HELP) -> None:  # fmt: skip
         """Render the scene from `pose` with the optional layers; the caller swaps or reads the pixels."""
         mujoco.mjr_setBuffer(self.buffer, self.context)
+        marine = self._prepare_marine(sim)
         pose.apply(self.camera)
         mujoco.mjv_updateScene(sim.model, sim.data, self.option, None, self.camera, mujoco.mjtCatBit.mjCAT_ALL.value,
                                self.scene)  # fmt: skip
         if points is not None and len(points):
             add_points(self.scene, points, max_points=self.max_points)
+        if marine is not None:
+            from usvsim.rendering.frame import apply_lights
+
+            apply_lights(self.scene, marine.daylight)
         mujoco.mjr_render(viewport, self.scene, self.context)
+        if marine is not None:
+            marine.draw(self.scene.camera[0], viewport, time_s=sim.time)
         if inset is not None:
             draw_inset(inset, viewport, self.context)
         if hud_rows:
@@ -71,4 +95,11 @@ class FrameRenderer:
         return rgb[::-1].copy()
 
     def free(self) -> None:
+        if self.marine is not None:
+            self.marine.release()
         self.context.free()
+
+
+def _shader_look(sim):
+    look = getattr(sim, "look", None)
+    return look if look is not None and look.renderer == "shader" else None

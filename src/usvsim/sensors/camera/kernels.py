@@ -13,13 +13,14 @@ from numba import njit
 
 
 @njit(cache=True, nogil=True)
-def finish_rgb_depth(rgb_gl, z_gl, near_m, far_m, zero_near, up_optical, intrinsics, zenith, horizon, rgb_out,
-                     depth_out):  # fmt: skip
+def finish_rgb_depth(rgb_gl, z_gl, near_m, far_m, zero_near, up_optical, intrinsics, zenith, horizon, paint_sky,
+                     rgb_out, depth_out):  # fmt: skip
     """Flip, linearize depth (metres along optical z, NaN = nothing nearer than `far_m`) and paint the sky.
 
     `z_gl`: window depth (0 at near if `zero_near`, else reversed Z). `up_optical`: the world up axis
     expressed in the optical frame (sky gradient: horizon colour at 0°, zenith colour straight up).
-    `intrinsics` = (fx, fy, cx, cy); `zenith`, `horizon` RGB in 0..255.
+    `intrinsics` = (fx, fy, cx, cy); `zenith`, `horizon` RGB in 0..255. Without `paint_sky` the drawn colour is
+    kept everywhere (the shader renderer draws the sky and water beyond the far plane itself).
     """
     height, width = z_gl.shape
     fx, fy, cx, cy = intrinsics[0], intrinsics[1], intrinsics[2], intrinsics[3]
@@ -35,7 +36,11 @@ def finish_rgb_depth(rgb_gl, z_gl, near_m, far_m, zero_near, up_optical, intrins
             else:
                 empty = raw <= 0.0
                 d = near_m / (raw + (1.0 - raw) * ratio)
-            if empty or d >= 0.999 * far_m:
+            if (empty or d >= 0.999 * far_m) and not paint_sky:
+                depth_out[row, col] = np.nan
+                for c in range(3):
+                    rgb_out[row, col, c] = rgb_gl[src, col, c]
+            elif empty or d >= 0.999 * far_m:
                 depth_out[row, col] = np.nan
                 x = (col - cx) / fx
                 t = (x * up_optical[0] + y * up_optical[1] + up_optical[2]) / math.sqrt(x * x + y * y + 1.0)
@@ -80,3 +85,18 @@ def rgb_gain_noise(rgb, normal, stddev):
     for i in range(flat.shape[0]):
         value = np.float32(flat[i]) * (np.float32(1.0) + stddev * n[i])
         flat[i] = np.uint8(min(max(np.float32(round(value)), np.float32(0.0)), np.float32(255.0)))
+
+
+@njit(cache=True, nogil=True)
+def expose_vignette(rgb, gain, vignetting, intrinsics):
+    """In place: rgb · gain · (1 - vignetting · r²/r_corner²), rounded and clipped; r from the principal point."""
+    height, width = rgb.shape[0], rgb.shape[1]
+    fx, fy, cx, cy = intrinsics[0], intrinsics[1], intrinsics[2], intrinsics[3]
+    corner = max(cx * cx, (width - cx) ** 2) / (fx * fx) + max(cy * cy, (height - cy) ** 2) / (fy * fy)
+    for row in range(height):
+        y2 = ((row - cy) / fy) ** 2
+        for col in range(width):
+            x = (col - cx) / fx
+            f = np.float32(gain * (1.0 - vignetting * (x * x + y2) / corner))
+            for c in range(3):
+                rgb[row, col, c] = np.uint8(min(max(np.float32(round(np.float32(rgb[row, col, c]) * f)), 0.0), 255.0))

@@ -14,6 +14,11 @@ costs a third of the RGB pass and writes depth); the kernels paint it from the s
 empty. Planes are compiled with a coarse render grid (MuJoCo's default grid of up to 200 x 200 quads per
 plane cost more than the rest of the scene; the plane is uniformly lit, so the image is unchanged), and the
 offscreen buffer is only as large as the largest camera, without MSAA.
+
+With `sim.look.renderer == "shader"` (the default, docs/rendering.md) MuJoCo draws only the geoms, lit by the
+look's sun and sky; `usvsim.rendering.MarinePass`, attached to this same GL context, then draws fog, sky and the
+ocean into the same framebuffer and depth buffer (and the water, in its id colour, into the label pass), and the
+kernels keep the drawn colours instead of painting the sky.
 """
 
 from __future__ import annotations
@@ -63,6 +68,22 @@ class RenderContext:
             model.geom_size[planes, 2] = saved[3]
         mujoco.mjr_setBuffer(mujoco.mjtFramebuffer.mjFB_OFFSCREEN, self.ctx)
         self.water = WaterUpload()
+        self.marine = None  # the shader passes (usvsim.rendering), made on first use
+
+    def marine_look(self, sim, center_xy):
+        """The shader passes ready for a frame of `sim` at its current look and time (None: MuJoCo's look)."""
+        look = getattr(sim, "look", None)
+        if look is None or look.renderer != "shader":
+            return None
+        from usvsim.rendering.frame import prepare
+
+        self.gl.make_current()
+        if self.marine is None:
+            from usvsim.rendering.marine import MarinePass
+
+            self.marine = MarinePass()
+        prepare(self.marine, sim, center_xy)
+        return self.marine
 
     def fit(self, width: int, height: int) -> None:
         """Grow the offscreen buffer to hold a `width` x `height` image."""
@@ -80,6 +101,8 @@ class RenderContext:
     def close(self) -> None:
         if self.gl is not None:
             self.gl.make_current()
+            if self.marine is not None:
+                self.marine.release()
             self.ctx.free()
             self.gl.free()
             self.gl = None
@@ -107,6 +130,14 @@ class PinholeRenderer:
         self._gl_ids = np.empty((cam.height, cam.width, 3), np.uint8)
         self._intrinsics = np.array([cam.fx, cam.fy, cam.cx, cam.cy])
         self._up_optical = np.array([0.0, -1.0, 0.0])
+        self.marine = None  # set per frame by `use_marine`: the shader passes, or None for MuJoCo's look
+        self._time_s = 0.0
+
+    def use_marine(self, sim, center_xy) -> None:
+        """Choose the look of the next frames from `sim.look` (shader passes or MuJoCo's plain look)."""
+        self.marine = self.context.marine_look(sim, center_xy)
+        self.option.geomgroup[2] = int(self.marine is None)  # the shader draws its own water
+        self._time_s = sim.time
 
     @property
     def gl(self):
@@ -122,6 +153,10 @@ class PinholeRenderer:
         mujoco.mj_kinematics(self.model, self.data)
         mujoco.mjv_updateScene(self.model, self.data, self.option, self.pert, self.free,
                                mujoco.mjtCatBit.mjCAT_ALL, self.scene)  # fmt: skip
+        if self.marine is not None:
+            from usvsim.rendering.frame import apply_lights
+
+            apply_lights(self.scene, self.marine.daylight)
         c, n = self.cam, self.near
         self._up_optical = np.ascontiguousarray(rot_optical[2], dtype=np.float64)  # world z in the optical frame
         left, right = -(c.cx + 0.5) * n / c.fx, (c.width - c.cx - 0.5) * n / c.fx
@@ -139,6 +174,11 @@ class PinholeRenderer:
             self.scene.flags[flag] = on and not segment
         self.scene.flags[_R.mjRND_SEGMENT] = self.scene.flags[_R.mjRND_IDCOLOR] = segment
         mujoco.mjr_render(self.rect, self.scene, self.ctx)
+        if self.marine is not None:
+            from usvsim.rendering.frame import id_color
+
+            labels = id_color(self.scene.ngeom + 1) if segment else None
+            self.marine.draw(self.scene.camera[0], self.rect, labels, self._time_s)
 
     def capture(self, rgb_depth: bool = True, segmentation: bool = True) -> dict[str, np.ndarray]:
         """'rgb' (H, W, 3) uint8 + 'depth' (H, W) float32 along optical z (m; NaN where nothing is nearer than
@@ -155,7 +195,8 @@ class PinholeRenderer:
             out["rgb"], out["depth"] = np.empty_like(self._gl_rgb), np.empty_like(self._gl_depth)
             zero_near = self.ctx.readDepthMap == mujoco.mjtDepthMap.mjDEPTH_ZERONEAR  # else reversed Z
             finish_rgb_depth(self._gl_rgb, self._gl_depth, float(self.near), float(self.far), zero_near,
-                             self._up_optical, self._intrinsics, SKY_ZENITH, SKY_HORIZON, out["rgb"], out["depth"])  # fmt: skip
+                             self._up_optical, self._intrinsics, SKY_ZENITH, SKY_HORIZON, self.marine is None,
+                             out["rgb"], out["depth"])  # fmt: skip
         if segmentation:
             mujoco.mjr_readPixels(self._gl_ids, None, self.rect, self.ctx)
             out["segmentation"] = np.empty(self._gl_depth.shape, np.uint16)
@@ -171,10 +212,14 @@ class PinholeRenderer:
 
     def _segment_lut(self) -> np.ndarray:
         """Scene geom index + 1 → model geom id + 1 (0: not a geom)."""
-        lut = np.zeros(self.scene.ngeom + 1, np.uint16)
+        lut = np.zeros(self.scene.ngeom + 2, np.uint16)
         for i, g in enumerate(self.scene.geoms[: self.scene.ngeom]):
             if g.objtype == mujoco.mjtObj.mjOBJ_GEOM:
                 lut[i + 1] = g.objid + 1
+        if self.marine is not None:  # the shader's water is drawn in the colour of index ngeom + 1
+            from usvsim.rendering.frame import water_label
+
+            lut[-1] = water_label(self.model)
         return lut
 
     def close(self) -> None:

@@ -9,7 +9,8 @@ out = clip(in·(1 + σ n)), n ~ N(0, 1) per pixel and channel. Segmentation hold
 background); no noise, no blending. With `detections`, `<topic>/detections` carries ground-truth 2D boxes
 (vision_msgs/Detection2DArray, camera/boxes2d.py) with the same stamp and frame. The water surface is the
 ocean's own height field (world/water_visual), refreshed around the vessel before each frame and uploaded to
-GL only when it changed.
+GL only when it changed. With the shader look (`sim.look`, docs/rendering.md) the image also carries the
+look's exposure, vignetting and blur, and its `camera.noise_stddev` adds to `rgb_noise_stddev`.
 """
 
 from __future__ import annotations
@@ -23,7 +24,7 @@ from usvsim.messages.ros import image_msg
 from usvsim.sensors.base import OPTICAL_ROT, Sensor
 from usvsim.sensors.camera.boxes2d import BoxMaker
 from usvsim.sensors.camera.intrinsics import Intrinsics, Remap
-from usvsim.sensors.camera.kernels import rgb_gain_noise
+from usvsim.sensors.camera.kernels import expose_vignette, rgb_gain_noise
 from usvsim.sensors.camera.render import PinholeRenderer, RenderContext
 from usvsim.sensors.detections import selected, shared_objects
 from usvsim.sensors.messages import camera_info_msg, detection_array_msg
@@ -32,6 +33,17 @@ if TYPE_CHECKING:
     from usvsim.world.world import World
 
 GL_KEY = "camera/gl"  # the suite's one RenderContext in `shared`, closed by SensorSuite.close()
+
+
+def lens_effects(rgb: np.ndarray, camera_look, intrinsics: Intrinsics) -> None:
+    """In place: defocus blur, exposure (2^EV) and vignetting of an RGB image (config/rendering.CameraLook)."""
+    if camera_look.blur_sigma_px > 0:
+        from scipy.ndimage import gaussian_filter
+
+        rgb[:] = gaussian_filter(rgb, sigma=(camera_look.blur_sigma_px, camera_look.blur_sigma_px, 0), mode="nearest")
+    if camera_look.exposure_ev != 0 or camera_look.vignetting > 0:
+        k = intrinsics
+        expose_vignette(rgb, 2.0**camera_look.exposure_ev, camera_look.vignetting, np.array([k.fx, k.fy, k.cx, k.cy]))
 
 
 class Camera(Sensor):
@@ -61,28 +73,35 @@ class Camera(Sensor):
         pos, rot = pose if pose is not None else self.pose_world(sim)
         streams = self.streams if streams is None else set(streams)
         r = self.renderer
-        if self.cfg.water_surface:  # centred on the vessel: its cameras share one upload per tick
-            r.context.refresh_water(sim, sim.state.pos[self.body, :2])
+        center = sim.state.pos[self.body, :2]
+        r.use_marine(sim, center)
+        if self.cfg.water_surface and r.marine is None:  # centred on the vessel: its cameras share one upload per tick
+            r.context.refresh_water(sim, center)
         r.update(sim.data.qpos, pos, rot @ OPTICAL_ROT)
         images = r.capture(rgb_depth=bool(streams & {"rgb", "depth"}),
                            segmentation="segmentation" in streams or self.boxes is not None)  # fmt: skip
         out = {k: v for k, v in images.items() if k in streams or k == "segmentation"}
         if self.remap is not None:
             out = {k: (self.remap.linear(v) if k == "rgb" else self.remap.closest(v)) for k, v in out.items()}
+        if "rgb" in out and r.marine is not None:  # the shader look includes the camera's exposure and lens
+            lens_effects(out["rgb"], sim.look.camera, self.intrinsics)
         return out
 
-    def _noisy(self, images: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
+    def _noisy(self, images: dict[str, np.ndarray], look=None) -> dict[str, np.ndarray]:
         c = self.cfg
-        if "rgb" in images and c.rgb_noise_stddev > 0:
+        stddev = float(np.hypot(c.rgb_noise_stddev, look.camera.noise_stddev if look is not None else 0.0))
+        if "rgb" in images and stddev > 0:
+            if self._rgb_normal.shape != images["rgb"].shape:
+                self._rgb_normal = np.empty(images["rgb"].shape, np.float32)
             self.rng.standard_normal(dtype=np.float32, out=self._rgb_normal)  # buffers reused every frame
-            rgb_gain_noise(images["rgb"], self._rgb_normal, np.float32(c.rgb_noise_stddev))
+            rgb_gain_noise(images["rgb"], self._rgb_normal, np.float32(stddev))
         if "depth" in images and c.depth_noise_stddev_m > 0:
             self.rng.standard_normal(dtype=np.float32, out=self._depth_normal)
             images["depth"] += np.float32(c.depth_noise_stddev_m) * self._depth_normal
         return images
 
     def sample(self, sim: World, stamp_ns: int) -> list[Envelope]:
-        images = self._noisy(self.render(sim))
+        images = self._noisy(self.render(sim), getattr(sim, "look", None))
         frame, base, cam = self.optical_frame_id, self.topic, self.intrinsics
         info = camera_info_msg(stamp_ns, frame, cam.width, cam.height, cam.K, cam.D)
         out = []

@@ -1,0 +1,110 @@
+"""The marine shader look against MuJoCo's plain look, measured in the same run on the same scene.
+
+1. Camera 640x480 RGB + depth + segmentation on the harbour WAM-V in sea state 4: `rendering.renderer:
+   shader` with sky, glint, foam and fog (visibility 2 km) vs `renderer: mujoco` (flat sky, height field).
+2. Viewer 1280x720 (offscreen, HUD on) in sea state 4, shader vs mujoco.
+
+    MUJOCO_GL=egl python benchmarks/bench_rendering.py [--frames 12]
+Writes benchmarks/results/rendering.json: per case the median and best frame time, frames/s, the ratio
+shader / mujoco, and the 1-minute load average (the machine is shared: compare ratios, not absolutes).
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import platform
+import time
+from pathlib import Path
+
+os.environ.setdefault("MUJOCO_GL", "egl")
+
+import numpy as np
+
+from usvsim.config.loader import load_scenario
+from usvsim.rendering.gallery import scenario_dict
+
+RESULTS = Path(__file__).parent / "results"
+FOG = {"fog": {"visibility_m": 2000.0}}
+
+
+def _sim(renderer: str, width: int = 640, height: int = 480):
+    import tempfile
+
+    import yaml
+
+    from usvsim.simulation import Simulation
+
+    raw = scenario_dict(sea_state=4, look={"renderer": renderer, **FOG}, width=width, height=height)
+    path = Path(tempfile.mkdtemp()) / "bench.yaml"
+    path.write_text(yaml.safe_dump(raw))
+    sim = Simulation(load_scenario(path))
+    sim.run(3.0)
+    return sim
+
+
+def _time(frame, sim, frames: int) -> dict:
+    frame()  # warm-up: shader compilation, first uploads
+    times = []
+    for _ in range(frames):
+        sim.step()  # the ocean moves: every frame uploads new wave tiles
+        t0 = time.perf_counter()
+        frame()
+        times.append(time.perf_counter() - t0)
+    median = float(np.median(times))
+    return {
+        "median_ms": 1000 * median,
+        "best_ms": 1000 * min(times),
+        "fps": 1 / median,
+        "load_1min": os.getloadavg()[0],
+    }
+
+
+def camera_case(renderer: str, frames: int) -> dict:
+    sim = _sim(renderer)
+    camera = sim.sensors["wamv/camera"]
+    try:
+        return _time(lambda: camera.sample(sim, sim.clock_ns), sim, frames)
+    finally:
+        sim.close()
+
+
+def viewer_case(renderer: str, frames: int) -> dict:
+    from usvsim.viewer.offscreen import OffscreenViewer
+
+    sim = _sim(renderer)
+    viewer = OffscreenViewer(sim, 1280, 720)
+    try:
+        return _time(viewer.render, sim, frames)
+    finally:
+        viewer.close()
+        sim.close()
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser()
+    parser.add_argument("--frames", type=int, default=12)
+    args = parser.parse_args()
+    out = {
+        "machine": platform.processor() or platform.machine(),
+        "cpus": os.cpu_count(),
+        "frames": args.frames,
+    }
+    for name, case in (
+        ("camera_640x480_rgb_depth_seg_ss4", camera_case),
+        ("viewer_1280x720_ss4", viewer_case),
+    ):
+        shader, plain = case("shader", args.frames), case("mujoco", args.frames)
+        out[name] = {
+            "shader": shader,
+            "mujoco": plain,
+            "shader_over_mujoco_time": shader["median_ms"] / plain["median_ms"],
+        }
+        print(name, json.dumps(out[name]))
+    RESULTS.mkdir(exist_ok=True)
+    (RESULTS / "rendering.json").write_text(json.dumps(out, indent=2) + "\n")
+
+
+if __name__ == "__main__":
+    main()

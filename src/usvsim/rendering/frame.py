@@ -1,0 +1,57 @@
+"""One frame of the marine look for a simulation: daylight from `sim.look`, ocean textures, MuJoCo's lights.
+
+Used by the camera sensors and the viewer alike: `prepare` before drawing (the GL context current), then
+`apply_lights` on the MjvScene after `mjv_updateScene` and before `mjr_render`, then `MarinePass.draw`.
+"""
+
+from __future__ import annotations
+
+import mujoco
+import numpy as np
+
+from usvsim.rendering.sky import Daylight, daylight
+from usvsim.rendering.surface import surface_data
+
+WATER_GROUP = 2  # MuJoCo's own water (height field, still-water plane): hidden when the shader draws water
+
+
+def prepare(marine, sim, center_xy) -> Daylight:
+    """Upload the ocean at `sim.time` and set the light of `sim.look`; returns the frame's daylight."""
+    origin = sim.scenario.world.origin
+    light = daylight(sim.look, origin.latitude_deg, origin.longitude_deg)
+    marine.upload(surface_data(sim.ocean, sim.time, center_xy))
+    marine.set_light(light, sim.look, sim.ocean.level_m)
+    marine.restore()  # setting uniforms binds programs: MuJoCo's fixed-function pipeline needs none bound
+    marine.daylight = light
+    return light
+
+
+def apply_lights(scene: mujoco.MjvScene, light: Daylight) -> None:
+    """Sun and sky light on MuJoCo's geoms: directional lights follow the sun, the headlight gives sky fill.
+    MuJoCo's colours are display values, so the levels are display levels (noon: ambient 0.35, sun 0.6)."""
+    sky_level = float(light.ambient @ (0.3, 0.6, 0.1))
+    tint = 0.75 + 0.25 * light.ambient / max(sky_level, 1e-6)
+    ambient = np.clip(min(1.1 * sky_level, 0.4) * tint, 0.0, 1.0)
+    sun = np.clip(0.62 * light.sun_color, 0.0, 1.0)
+    for i in range(scene.nlight):
+        lamp = scene.lights[i]
+        if lamp.headlight:
+            lamp.ambient[:], lamp.diffuse[:], lamp.specular[:] = ambient, 0.0, 0.0
+        else:
+            lamp.dir[:] = -light.sun_dir
+            lamp.pos[:] = light.sun_dir * 1000.0
+            lamp.diffuse[:], lamp.ambient[:], lamp.specular[:] = sun, 0.0, 0.3 * sun
+
+
+def water_label(model: mujoco.MjModel) -> int:
+    """The label (geom id + 1) of water pixels: the drawn surface geom, else the still-water plane, else 0."""
+    for name in ("water_surface", "still_water"):
+        geom = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_GEOM, name)
+        if geom >= 0:
+            return geom + 1
+    return 0
+
+
+def id_color(index: int) -> tuple[float, float, float]:
+    """MuJoCo's segmentation colour of scene index `index` - 1 (24-bit little-endian in R, G, B)."""
+    return tuple(((index >> shift) & 255) / 255.0 for shift in (0, 8, 16))

@@ -1,0 +1,279 @@
+"""The marine passes drawn after MuJoCo's geoms into the same framebuffer: fog on geoms, sky, water.
+
+MuJoCo draws the geoms with reversed Z (clip depth 0..1, depth 1 at the near plane, cleared to 0,
+GL_GEQUAL). The water uses the same projection, so depth testing against the geoms is exact and the depth
+image that MuJoCo reads back holds the water too. Water beyond the far plane is depth-clamped onto it
+(drawn far to near) and reads back as "nothing within range". Order per frame: copy the geoms' depth →
+fog over geoms → sky where nothing was drawn → water (foam where a hull lies just behind the surface).
+The label pass draws the same water grid in one flat id colour.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from usvsim.rendering import shaders
+from usvsim.rendering.gl import attach_current
+from usvsim.rendering.grid import CELL_PX, FAR_M, screen_grid
+from usvsim.rendering.sky import Daylight, sky_table
+from usvsim.rendering.surface import SurfaceData
+
+GL_DEPTH_CLAMP, GL_GEQUAL = 0x864F, 0x0206
+TEXTURE_UNITS = {
+    "u_geo": 5,
+    "u_slope": 6,
+    "u_depth": 7,
+    "u_sky": 8,
+}  # above the units MuJoCo's fixed pipeline uses
+FOAM_CHOPPINESS = 2.0  # whitecaps where a surface this choppy would fold (the physics may use less)
+HAZE_HEIGHT_M = 500.0
+
+
+class MarinePass:
+    """Programs, the water grid and the ocean textures on one GL context (create with it current)."""
+
+    def __init__(self):
+        from OpenGL import GL
+
+        self._pixel_store = {
+            k: int(GL.glGetIntegerv(k)) for k in (GL.GL_PACK_ALIGNMENT, GL.GL_UNPACK_ALIGNMENT)
+        }
+        self.ctx = ctx = attach_current()
+        self.sky = _bind_samplers(
+            ctx.program(vertex_shader=shaders.FULLSCREEN_VS, fragment_shader=shaders.SKY_FS)
+        )
+        self.fog = _bind_samplers(
+            ctx.program(vertex_shader=shaders.FULLSCREEN_VS, fragment_shader=shaders.FOG_FS)
+        )
+        self.water = _bind_samplers(
+            ctx.program(vertex_shader=shaders.WATER_VS, fragment_shader=shaders.WATER_FS)
+        )
+        self.label = _bind_samplers(
+            ctx.program(vertex_shader=shaders.WATER_VS, fragment_shader=shaders.LABEL_FS)
+        )
+        self.fullscreen = {p: ctx.vertex_array(p, []) for p in (self.sky, self.fog)}
+        self._grids: dict[
+            tuple[int, int], tuple
+        ] = {}  # viewport size → (water vao, label vao, cell, buffers)
+        self._geo = self._slope = self._depth = self._periodic = None
+        self._sky = ctx.texture((64, 64), 3, dtype="f4")
+        self._sky.repeat_x = self._sky.repeat_y = False
+        self._key, self._sky_key, self._fbos = None, None, {}
+        self.daylight = None
+
+    def _grid(self, width: int, height: int) -> tuple:
+        if (width, height) not in self._grids:
+            vertices, indices, cell = screen_grid(width, height)
+            vbo, ibo = self.ctx.buffer(vertices.tobytes()), self.ctx.buffer(indices.tobytes())
+            vaos = tuple(self.ctx.vertex_array(p, [(vbo, "2f", "in_ndc")], index_buffer=ibo, index_element_size=4)
+                         for p in (self.water, self.label))  # fmt: skip
+            self._grids[(width, height)] = (*vaos, cell, vbo, ibo)
+        return self._grids[(width, height)]
+
+    def upload(self, data: SurfaceData) -> None:
+        """Send the ocean's textures (skipped when the same data is already there)."""
+        if data.key == self._key and self._geo is not None:
+            return
+        bands, n = data.geo.shape[0], data.geo.shape[1]
+        periodic = data.patch[2] == 0.0
+        if self._geo is None or self._geo.size != (n, n, bands) or self._periodic != periodic:
+            for tex in (self._geo, self._slope):
+                if tex is not None:
+                    tex.release()
+            self._geo = self.ctx.texture_array((n, n, bands), 4, dtype="f4")
+            self._slope = self.ctx.texture_array((n, n, bands), 4, dtype="f4")
+            self._periodic = periodic
+            for tex in (self._geo, self._slope):  # sampler changes make llvmpipe recompile: only when made
+                tex.repeat_x = tex.repeat_y = periodic
+                tex.filter = (0x2701, 0x2601)  # LINEAR_MIPMAP_NEAREST, LINEAR: half the fetches of trilinear
+        for tex, layers in ((self._geo, data.geo), (self._slope, data.slope)):
+            tex.write(np.ascontiguousarray(layers).tobytes())
+            tex.build_mipmaps()
+        self._key, self._data = data.key, data
+        surface = (data.height_scale, data.displacement_scale, data.level_m, float(n))
+        for prog in (self.water, self.label):
+            _set(prog, u_tile=tuple(data.tiles_m) + (1.0,) * (4 - len(data.tiles_m)), u_bands=bands,
+                 u_surface=surface, u_patch=(*data.patch, 0.0))  # fmt: skip
+
+    def set_light(self, light: Daylight, look, level_m: float) -> None:
+        """Sun, sky, fog and water uniforms for this frame."""
+        fog_sigma = 0.0 if look.fog.visibility_m is None else 3.912 / look.fog.visibility_m
+        brightness = float(np.clip(np.dot(light.ambient * 3.0 + light.sun_color * max(light.sun_dir[2], 0.0), (0.3, 0.6, 0.1)), 0.02, 1.2))  # fmt: skip
+        common = {"u_sun_dir": tuple(light.sun_dir), "u_sun_color": tuple(light.sun_color),
+                  "u_ambient": tuple(light.ambient), "u_haze_color": tuple(light.horizon),
+                  "u_fog_color": tuple(np.array(look.fog.color) * brightness), "u_level": level_m,
+                  "u_fog": (fog_sigma, look.fog.height_falloff_m, 3.912 / look.haze.visibility_m, HAZE_HEIGHT_M)}  # fmt: skip
+        for prog in (self.sky, self.fog, self.water):
+            _set(prog, **common)
+        sky_key = (tuple(light.sun_dir), tuple(light.zenith), tuple(light.coeffs.ravel()))
+        if sky_key != self._sky_key:
+            self._sky.write(sky_table(light).tobytes())
+            self._sky_key = sky_key
+        self._look = (look.water.foam, look.water.glint, FOAM_CHOPPINESS)
+        _set(self.water, u_water=tuple(look.water.color))
+
+    def draw(
+        self, camera, rect, labels: tuple[float, float, float] | None = None, time_s: float = 0.0
+    ) -> None:
+        """Draw into the bound framebuffer after MuJoCo: `camera` a mujoco.MjvGLCamera (its frustum), `rect` the
+        viewport. With `labels` (an RGB id colour 0..1) only the water is drawn, flat, for the label pass."""
+        from OpenGL import GL
+
+        fbo = self._framebuffer()
+        view_proj, eye, near, far = camera_matrices(camera, rect.width, rect.height)
+        viewport = (rect.left, rect.bottom, rect.width, rect.height)
+        fbo.viewport = viewport
+        water_vao, label_vao, cell, *_ = self._grid(rect.width, rect.height)
+        inv = _mat(np.linalg.inv(view_proj))
+        cell_tan = cell * 0.5 * (camera.frustum_top - camera.frustum_bottom) / near * rect.width / rect.height
+        grid = {
+            "u_cam": tuple(eye),
+            "u_view_proj": _mat(view_proj),
+            "u_inv_view_proj": inv,
+            "u_cell": (cell_tan, FAR_M),
+        }
+        self.bind_textures()
+        if labels is not None:
+            _set(self.label, u_id_color=labels, **grid)
+            self._water(label_vao, stencil=False)
+        else:
+            self._copy_depth(fbo, viewport)
+            for prog in (self.sky, self.fog):
+                _set(prog, u_cam=tuple(eye), u_inv_view_proj=inv)
+            for prog in (self.fog, self.water):
+                _set(prog, u_near_far=(near, far), u_viewport=viewport[:2])
+            _set(self.water, u_look=(*self._look, time_s), u_pixel=cell_tan / CELL_PX, **grid)
+            self._fullscreen(self.fog, "<", blend=True)  # only where a geom was drawn (depth > 0)
+            GL.glClear(GL.GL_STENCIL_BUFFER_BIT)
+            self._water(water_vao, stencil=True)
+            GL.glStencilFunc(GL.GL_EQUAL, 0, 0xFF)  # the sky where neither geoms nor water were drawn
+            GL.glStencilOp(GL.GL_KEEP, GL.GL_KEEP, GL.GL_KEEP)
+            self._fullscreen(self.sky, ">=", blend=False)
+            GL.glDisable(GL.GL_STENCIL_TEST)
+        self.restore()
+
+    def _water(self, vao, stencil: bool) -> None:
+        from OpenGL import GL
+
+        ctx = self.ctx
+        ctx.enable(ctx.DEPTH_TEST)
+        ctx.depth_func = ">="
+        if stencil:
+            GL.glEnable(GL.GL_STENCIL_TEST)
+            GL.glStencilFunc(GL.GL_ALWAYS, 1, 0xFF)
+            GL.glStencilOp(GL.GL_KEEP, GL.GL_KEEP, GL.GL_REPLACE)
+            GL.glStencilMask(0xFF)
+        ctx.enable_direct(GL_DEPTH_CLAMP)
+        vao.render()
+        ctx.disable_direct(GL_DEPTH_CLAMP)
+
+    def _fullscreen(self, prog, depth_func: str, blend: bool) -> None:
+        """A triangle over the view at depth 0 (the far plane), shaded only where the depth test passes."""
+        from OpenGL import GL
+
+        ctx = self.ctx
+        ctx.enable(ctx.DEPTH_TEST)
+        ctx.depth_func = depth_func
+        GL.glDepthMask(GL.GL_FALSE)
+        if blend:
+            ctx.enable(ctx.BLEND)
+            ctx.blend_func = ctx.ONE, ctx.SRC_ALPHA
+        else:
+            ctx.disable(ctx.BLEND)
+        self.fullscreen[prog].render(vertices=3)
+        ctx.disable(ctx.BLEND)
+        GL.glDepthMask(GL.GL_TRUE)
+
+    def _copy_depth(self, fbo, viewport) -> None:
+        width, height = viewport[2], viewport[3]
+        if self._depth is None or self._depth.size != (width, height):
+            if self._depth is not None:
+                self._depth.release()
+            self._depth = self.ctx.depth_texture((width, height))
+            self._depth.compare_func = ""
+        from OpenGL import GL
+
+        self._depth.use(TEXTURE_UNITS["u_depth"])  # binds it on that unit, which stays active for the copy
+        GL.glBindFramebuffer(GL.GL_READ_FRAMEBUFFER, fbo.glo)
+        GL.glCopyTexSubImage2D(GL.GL_TEXTURE_2D, 0, 0, 0, *viewport)
+
+    def _framebuffer(self):
+        fbo = self.ctx.detect_framebuffer()
+        return self._fbos.setdefault(fbo.glo, fbo)
+
+    def restore(self) -> None:
+        """Leave the state MuJoCo's fixed-function pipeline expects: no program, no vertex array."""
+        from OpenGL import GL
+
+        GL.glUseProgram(0)
+        GL.glBindVertexArray(0)
+        GL.glBindBuffer(GL.GL_ARRAY_BUFFER, 0)
+        GL.glActiveTexture(GL.GL_TEXTURE0)
+        GL.glDepthFunc(GL_GEQUAL)
+        for key, value in self._pixel_store.items():  # moderngl's texture writes change the alignment
+            GL.glPixelStorei(key, value)
+        self.ctx.blend_func = self.ctx.SRC_ALPHA, self.ctx.ONE_MINUS_SRC_ALPHA
+
+    def bind_textures(self) -> None:
+        self._geo.use(TEXTURE_UNITS["u_geo"])
+        self._slope.use(TEXTURE_UNITS["u_slope"])
+        self._sky.use(TEXTURE_UNITS["u_sky"])
+
+    def release(self) -> None:
+        grids = [obj for entry in self._grids.values() for obj in (entry[:2] + entry[3:])]
+        for obj in (
+            self._geo,
+            self._slope,
+            self._depth,
+            self._sky,
+            *grids,
+            self.sky,
+            self.fog,
+            self.water,
+            self.label,
+        ):
+            if obj is not None:
+                obj.release()
+
+
+def camera_matrices(camera, width: int, height: int) -> tuple[np.ndarray, np.ndarray, float, float]:
+    """World → clip matrix (4, 4) of MuJoCo's reversed-Z projection for a GL camera; eye; near; far."""
+    eye, fwd, up = (np.array(v, dtype=np.float64) for v in (camera.pos, camera.forward, camera.up))
+    n, f = float(camera.frustum_near), float(camera.frustum_far)
+    top, bottom = float(camera.frustum_top), float(camera.frustum_bottom)
+    half_w = float(camera.frustum_width) or 0.5 * (top - bottom) * width / height
+    left, right = camera.frustum_center - half_w, camera.frustum_center + half_w
+    fwd /= np.linalg.norm(fwd)
+    right_axis = np.cross(fwd, up)
+    right_axis /= np.linalg.norm(right_axis)
+    up_axis = np.cross(right_axis, fwd)
+    view = np.eye(4)
+    view[0, :3], view[1, :3], view[2, :3] = right_axis, up_axis, -fwd
+    view[:3, 3] = -view[:3, :3] @ eye
+    proj = np.zeros((4, 4))
+    proj[0, 0], proj[0, 2] = 2 * n / (right - left), (right + left) / (right - left)
+    proj[1, 1], proj[1, 2] = 2 * n / (top - bottom), (top + bottom) / (top - bottom)
+    proj[2, 2], proj[2, 3], proj[3, 2] = n / (f - n), n * f / (f - n), -1.0
+    return proj @ view, eye, n, f
+
+
+def _mat(m: np.ndarray) -> bytes:
+    return np.ascontiguousarray(m.T, dtype=np.float32).tobytes()  # GLSL matrices are column-major
+
+
+def _set(prog, **values) -> None:
+    for name, value in values.items():
+        if name not in prog:
+            continue
+        if isinstance(value, bytes):
+            prog[name].write(value)
+        else:
+            prog[name].value = value
+
+
+def _bind_samplers(prog):
+    """Sampler uniforms → texture units, once per program (setting them again makes llvmpipe recompile)."""
+    for name, unit in TEXTURE_UNITS.items():
+        if name in prog:
+            prog[name].value = unit
+    return prog

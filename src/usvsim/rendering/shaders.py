@@ -1,0 +1,232 @@
+"""GLSL sources of the marine passes: sky, water (and its label pass), fog over MuJoCo's geoms.
+
+World frame ENU, metres. Radiance in display units (see sky.py). The water surface is the ocean's tiles:
+label (x0, y0) → (x0 - k·Dx, y0 - k·Dy, level + s·h) with k = s·choppiness, bilinear in each tile cell,
+exactly as ocean/fft_kernels.py evaluates it for the physics.
+"""
+
+COMMON = """
+#version 330
+uniform vec3 u_cam;
+uniform vec3 u_sun_dir, u_sun_color, u_ambient, u_haze_color, u_fog_color;
+uniform float u_level;
+uniform sampler2D u_sky;  // sky radiance over the upper hemisphere, indexed by (x, y) / (1 + z) (no trigonometry)
+uniform vec4 u_fog;  // fog extinction at sea level (1/m), fog scale height (m), haze extinction, haze height
+
+vec3 sky(vec3 dir) {  // as seen through the clear-air haze (also in reflections, so sea and sky meet at the horizon)
+    vec3 c = texture(u_sky, dir.xy / (1.0 + max(dir.z, 0.0)) * 0.5 + 0.5).rgb;
+    return mix(u_haze_color, c, exp(-u_fog.z * u_fog.w / max(dir.z, 1e-3)));
+}
+
+float layer_depth(vec3 dir, float dist, float sigma, float height) {
+    // optical depth of an exponential layer sigma·exp(-(z - level)/height) from the camera along dir
+    float a = (u_cam.z - u_level) / height, dz = dir.z * dist / height;
+    float path = abs(dz) > 1e-4 ? (1.0 - exp(-dz)) / dz : 1.0 - 0.5 * dz;
+    return sigma * dist * exp(-a) * path;
+}
+
+vec3 fogged(vec3 color, vec3 dir, float dist) {
+    float fog = u_fog.x > 0.0 ? exp(-layer_depth(dir, dist, u_fog.x, u_fog.y)) : 1.0;
+    return mix(u_fog_color, color, fog);
+}
+
+vec3 atmosphere(vec3 color, vec3 dir, float dist) {
+    return fogged(mix(u_haze_color, color, exp(-layer_depth(dir, dist, u_fog.z, u_fog.w))), dir, dist);
+}
+
+vec3 display(vec3 c) { return pow(max(c, 0.0), vec3(1.0 / 2.2)); }  // linear radiance → display (MuJoCo's space)
+
+float hash(vec2 p) {  // arithmetic hash (no sine: cheap on a CPU rasterizer)
+    vec3 q = fract(vec3(p.xyx) * 0.1031);
+    q += dot(q, q.yzx + 33.33);
+    return fract((q.x + q.y) * q.z);
+}
+float noise(vec2 p) {
+    vec2 i = floor(p), f = fract(p), u = f * f * (3.0 - 2.0 * f);
+    return mix(mix(hash(i), hash(i + vec2(1, 0)), u.x), mix(hash(i + vec2(0, 1)), hash(i + vec2(1, 1)), u.x), u.y);
+}
+"""
+
+FULLSCREEN_VS = """
+#version 330
+out vec2 v_ndc;
+void main() {
+    vec2 p = vec2(gl_VertexID == 1 ? 3.0 : -1.0, gl_VertexID == 2 ? 3.0 : -1.0);
+    v_ndc = p;
+    gl_Position = vec4(p, 0.0, 1.0);  // depth 0: the far plane of the reversed-Z buffer
+}
+"""
+
+RAY = """
+uniform mat4 u_inv_view_proj;
+vec3 ray_dir(vec2 ndc) {
+    vec4 p = u_inv_view_proj * vec4(ndc, 0.5, 1.0);
+    return normalize(p.xyz / p.w - u_cam);
+}
+"""
+
+SKY_FS = (
+    COMMON
+    + RAY
+    + """
+in vec2 v_ndc;
+out vec4 f_color;
+void main() {
+    vec3 dir = ray_dir(v_ndc);
+    vec3 c = sky(dir);
+    float cs = dot(dir, u_sun_dir);
+    c += u_sun_color * 40.0 * smoothstep(0.99998, 0.999992, cs) * step(0.0, dir.z);  // the disc (0.27°)
+    c += u_sun_color * 0.12 * pow(max(cs, 0.0), 200.0);  // aureole
+    f_color = vec4(display(fogged(c, dir, 1e6)), 1.0);
+}
+"""
+)
+
+FOG_FS = (
+    COMMON
+    + RAY
+    + """
+uniform sampler2D u_depth;
+uniform vec2 u_near_far;
+uniform vec2 u_viewport;
+in vec2 v_ndc;
+out vec4 f_color;
+void main() {
+    float raw = texelFetch(u_depth, ivec2(gl_FragCoord.xy - u_viewport), 0).r;
+    float n = u_near_far.x, f = u_near_far.y;
+    float d = n / (raw + (1.0 - raw) * n / f);  // reversed Z → distance along the view axis
+    vec3 dir = ray_dir(v_ndc);
+    vec4 fwd = u_inv_view_proj * vec4(0.0, 0.0, 0.5, 1.0);
+    float dist = d / max(dot(dir, normalize(fwd.xyz / fwd.w - u_cam)), 1e-3);
+    float haze = exp(-layer_depth(dir, dist, u_fog.z, u_fog.w));
+    float fog = exp(-layer_depth(dir, dist, u_fog.x, u_fog.y));
+    // blended as dst·alpha + src: the geom's colour attenuated, the in-scattered light added
+    f_color = vec4(display(u_fog_color) * (1.0 - fog) + display(u_haze_color) * (1.0 - haze) * fog, haze * fog);
+}
+"""
+)
+
+TILES = """
+uniform sampler2DArray u_geo;
+uniform float u_tile[4];
+uniform int u_bands;
+uniform vec4 u_surface;  // height scale s, displacement scale k, still-water level, texel count N
+uniform vec4 u_patch;    // patch mode: centre x, y, half size (0: periodic tiles), unused
+vec2 tile_uv(vec2 label, int b) {  // texel centres on the tile vertices
+    if (u_patch.z > 0.0) return (label - u_patch.xy) / (2.0 * u_patch.z) + 0.5;
+    return label / u_tile[b] + 0.5 / u_surface.w;
+}
+"""
+
+WATER_VS = (
+    """
+#version 330
+uniform vec3 u_cam;
+uniform mat4 u_view_proj, u_inv_view_proj;
+uniform vec2 u_cell;     // view width of one grid cell at unit distance (m/m), far distance of the grid (m)
+"""
+    + TILES
+    + """
+in vec2 in_ndc;          // where the vertex lies in the view (normalized device coordinates)
+out vec2 v_label;
+out vec3 v_world;
+out float v_spacing;
+void main() {
+    vec4 p = u_inv_view_proj * vec4(in_ndc, 0.5, 1.0);
+    vec3 dir = normalize(p.xyz / p.w - u_cam);
+    float h = max(u_cam.z - u_surface.z, 0.05);
+    float horiz = max(length(dir.xy), 1e-6);
+    float reach = dir.z < -1e-6 ? min(h / -dir.z * horiz, u_cell.y) : u_cell.y;
+    vec2 label = u_cam.xy + dir.xy / horiz * reach;
+    float along = reach / horiz;  // distance along the ray
+    float spacing = along * u_cell.x / max(-dir.z, 0.02);
+    vec3 disp = vec3(0.0);
+    for (int b = 0; b < u_bands; b++) {
+        float lod = log2(max(spacing * u_surface.w / u_tile[b], 1.0));
+        vec4 g = textureLod(u_geo, vec3(tile_uv(label, b), b), lod);
+        disp += vec3(g.y, g.z, g.x);
+    }
+    if (u_patch.z > 0.0) {
+        vec2 r = abs(label - u_patch.xy) / u_patch.z;
+        disp *= 1.0 - smoothstep(0.8, 1.0, max(r.x, r.y));
+    }
+    v_world = vec3(label - u_surface.y * disp.xy, u_surface.z + u_surface.x * disp.z);
+    v_label = label;
+    v_spacing = spacing;
+    gl_Position = u_view_proj * vec4(v_world, 1.0);
+}
+"""
+)
+
+WATER_FS = (
+    COMMON
+    + TILES
+    + """
+uniform sampler2DArray u_slope;
+uniform sampler2D u_depth;
+uniform vec3 u_water;
+uniform vec4 u_look;     // foam, glint, render choppiness for whitecaps, time (s)
+uniform vec2 u_near_far;
+uniform vec2 u_viewport;
+uniform float u_pixel;   // view width of one pixel at unit distance
+in vec2 v_label;
+in vec3 v_world;
+in float v_spacing;
+out vec4 f_color;
+
+void main() {
+    vec2 zs = vec2(0.0);
+    vec3 jac = vec3(0.0), jac_foam = vec3(0.0);  // d(Dx)/dx, d(Dy)/dy, d(Dx)/dy
+    float footprint = length(u_cam - v_world) * u_pixel;  // across the ray: sharper than isotropic filtering
+    for (int b = 0; b < u_bands; b++) {
+        float lod = log2(max(footprint * u_surface.w / u_tile[b], 1.0));
+        vec4 s = textureLod(u_slope, vec3(tile_uv(v_label, b), b), lod);  // ∂Dx/∂y (small) is left out here
+        zs += s.xy;
+        jac += vec3(s.zw, 0.0);
+    }
+    float k = u_surface.y, kf = max(u_look.z, k);
+    vec3 tx = vec3(1.0 - k * jac.x, -k * jac.z, u_surface.x * zs.x);
+    vec3 ty = vec3(-k * jac.z, 1.0 - k * jac.y, u_surface.x * zs.y);
+    vec3 n = normalize(cross(tx, ty));
+    float det = (1.0 - kf * jac.x) * (1.0 - kf * jac.y) - kf * kf * jac.z * jac.z;
+
+    vec3 to_cam = u_cam - v_world;
+    float dist = length(to_cam);
+    vec3 v = to_cam / dist;
+    if (dot(n, v) < 0.02) n = normalize(n + (0.02 - dot(n, v)) * v);
+    vec3 r = reflect(-v, n);
+    float cos_v = clamp(dot(n, v), 0.0, 1.0);
+    float fresnel = 0.02 + 0.98 * pow(1.0 - cos_v, 5.0);
+    vec3 reflected = sky(vec3(r.xy, abs(r.z)));
+    // sun glint: a Beckmann-like lobe widened with distance (unresolved ripples)
+    float rough = 0.015 + 0.06 * clamp(v_spacing / 4.0, 0.0, 1.0);
+    vec3 h = normalize(v + u_sun_dir);
+    float nh = max(dot(n, h), 0.0);
+    float t2 = (1.0 - nh * nh) / max(nh * nh, 1e-4);
+    float lobe = exp(-t2 / (rough * rough)) / (3.1416 * rough * rough * pow(max(nh, 1e-2), 4.0));
+    vec3 glint = u_sun_color * u_look.y * fresnel * lobe * 0.25 * step(0.0, u_sun_dir.z);
+    // body colour: sky and sun light scattered back from inside, brighter through thin crests toward the sun
+    float scatter = 0.5 + 0.5 * max(dot(-v.xy, u_sun_dir.xy), 0.0) * clamp(1.0 - cos_v, 0.0, 1.0);
+    vec3 body = u_water * (u_ambient * 1.2 + u_sun_color * max(u_sun_dir.z, 0.0) * scatter * 0.6);
+    vec3 c = mix(body, reflected, fresnel) + glint;
+    // foam: whitecaps where the choppy surface folds, broken up by noise; and along hulls at the waterline
+    float grain = noise(v_label * 1.7 + u_look.w * 0.3);
+    float whitecap = smoothstep(0.6, 0.1, det) * (0.55 + 0.45 * grain);
+    float raw = texelFetch(u_depth, ivec2(gl_FragCoord.xy - u_viewport), 0).r;
+    float n0 = u_near_far.x, f0 = u_near_far.y;
+    float behind = raw > 0.0 ? n0 / (raw + (1.0 - raw) * n0 / f0) - n0 / (gl_FragCoord.z + (1.0 - gl_FragCoord.z) * n0 / f0) : 1e9;
+    float contact = (1.0 - smoothstep(0.0, 0.35 + 0.002 * dist, behind)) * (0.6 + 0.4 * grain);
+    float foam = clamp(u_look.x * max(whitecap, contact), 0.0, 1.0);
+    vec3 foam_light = vec3(0.85) * (u_ambient * 2.5 + u_sun_color * max(u_sun_dir.z, 0.0));
+    c = mix(c, foam_light, foam * (1.0 - smoothstep(200.0, 2000.0, dist)));
+    f_color = vec4(display(atmosphere(c, -v, dist)), 1.0);
+}
+"""
+)
+
+LABEL_FS = """
+#version 330
+uniform vec3 u_id_color;
+out vec4 f_color;
+void main() { f_color = vec4(u_id_color, 1.0); }
+"""

@@ -1,0 +1,79 @@
+"""The ocean as GPU textures: FFT tiles as they are (periodic, infinite), any other wave field as a patch.
+
+Per band two RGBA float layers: geometry (h, Dx, Dy, ∂Dx/∂y) and slopes (∂h/∂x, ∂h/∂y, ∂Dx/∂x, ∂Dy/∂y), with
+mipmaps so that distant water is filtered instead of aliased. FFT tiles come straight from the field the
+physics queries (`FFTWaveField.tiles`), so the drawn surface is the physical one. Other fields (direct sums,
+regular waves) are sampled on a patch around the camera with `Ocean.render_grid` and fade to flat outside it.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+PATCH_POINTS, PATCH_SIZE_M = 128, 256.0
+
+
+@dataclass
+class SurfaceData:
+    geo: np.ndarray  # (bands, N, N, 4) float32
+    slope: np.ndarray  # (bands, N, N, 4) float32
+    tiles_m: tuple[float, ...]  # tile side per band (patch: the patch side)
+    height_scale: float  # s (start-up ramp)
+    displacement_scale: float  # k = s · choppiness
+    level_m: float
+    patch: tuple[float, float, float]  # centre x, y, half side; half side 0 = periodic tiles
+    key: tuple  # what the data depends on: equal keys → no upload
+
+
+def surface_data(ocean, t: float, center_xy) -> SurfaceData:
+    """Textures of the ocean's surface at time `t` (s); `center_xy` (world ENU, m) centres a patch."""
+    waves = ocean.waves
+    if waves is None:
+        flat = np.zeros((1, 8, 8, 4), np.float32)
+        return SurfaceData(
+            flat, flat, (8.0,), 0.0, 0.0, ocean.level_m, (0.0, 0.0, 0.0), ("flat", ocean.level_m)
+        )
+    if hasattr(waves, "tiles"):
+        tiles = waves.tiles(t)  # (bands, 4, N, N): h, Dx, Dy, w
+        sizes = tuple(float(s) for s in waves.sizes)
+        s = waves.ramp(t)
+        geo, slope = _layers(
+            tiles[:, 0], tiles[:, 1], tiles[:, 2], np.array(sizes) / tiles.shape[-1], periodic=True
+        )
+        return SurfaceData(
+            geo, slope, sizes, s, s * waves.choppiness, ocean.level_m, (0.0, 0.0, 0.0), ("fft", t)
+        )
+    return _patch(ocean, t, center_xy)
+
+
+def _patch(ocean, t: float, center_xy) -> SurfaceData:
+    step = PATCH_SIZE_M / (PATCH_POINTS - 1)
+    cx, cy = (float(np.round(c / step) * step) for c in center_xy[:2])
+    axis = np.linspace(-0.5 * PATCH_SIZE_M, 0.5 * PATCH_SIZE_M, PATCH_POINTS)
+    gx, gy = np.meshgrid(cx + axis, cy + axis)
+    grid = ocean.render_grid((cx, cy), PATCH_SIZE_M, PATCH_POINTS, t)
+    h, dx, dy = grid[..., 2] - ocean.level_m, gx - grid[..., 0], gy - grid[..., 1]  # X = x0 - D
+    geo, slope = _layers(h[None], dx[None], dy[None], np.array([step]), periodic=False)
+    size = PATCH_SIZE_M + step  # texel centres sit on the grid points
+    return SurfaceData(
+        geo, slope, (size,), 1.0, 1.0, ocean.level_m, (cx, cy, 0.5 * size), ("patch", t, cx, cy)
+    )
+
+
+def _layers(h, dx, dy, cell_m, periodic: bool) -> tuple[np.ndarray, np.ndarray]:
+    """(bands, N, N) fields [iy, ix] → geometry and slope layers (bands, N, N, 4) float32."""
+    inv = (1.0 / cell_m)[:, None, None]
+    d_dx = _diff(dx, 2, periodic) * inv, _diff(dx, 1, periodic) * inv
+    geo = np.stack([h, dx, dy, d_dx[1]], axis=-1).astype(np.float32)
+    slope = np.stack([_diff(h, 2, periodic) * inv, _diff(h, 1, periodic) * inv, d_dx[0],
+                      _diff(dy, 1, periodic) * inv], axis=-1).astype(np.float32)  # fmt: skip
+    return geo, slope
+
+
+def _diff(f: np.ndarray, axis: int, periodic: bool) -> np.ndarray:
+    """Central difference in cells along `axis` (periodic wrap, or one-sided at the edges)."""
+    if periodic:
+        return 0.5 * (np.roll(f, -1, axis) - np.roll(f, 1, axis))
+    return np.gradient(f, axis=axis)
