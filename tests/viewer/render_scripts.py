@@ -50,6 +50,7 @@ def lap(out: str) -> None:
     from usvsim.viewer.demo import HARBOR_LAP, HARBOR_LAP_SECONDS
 
     sim = Simulation.from_scenario("harbor")
+    sim.look = sim.look.updated({"renderer": "mujoco"})  # the lap tests driving: the cheap look keeps it short
     boat = sim.vessels["wamv"]
     start, track = boat.position[:2].copy(), []
     stats = run_viewer(sim, script=HARBOR_LAP, max_seconds=HARBOR_LAP_SECONDS, screenshot=out, time_scale=4.0,
@@ -58,5 +59,17 @@ def lap(out: str) -> None:
     print(json.dumps(stats))
 
 
+def shader_window(out: str) -> None:
+    """A few frames of the shader look in a real (GLX) window, with a camera sensor in the scene."""
+    from usvsim.simulation import Simulation
+    from usvsim.viewer.app import run_viewer
+
+    sim = Simulation.from_scenario("harbor_sensors")
+    stats = run_viewer(sim, max_seconds=0.2, screenshot=out, gamepad=False)
+    images = sim.sensors["wamv/camera"].render(sim)
+    stats.update(camera_std=float(images["rgb"].std()), sim_time=sim.time)
+    print(json.dumps(stats))
+
+
 if __name__ == "__main__":
-    {"offscreen": offscreen, "lap": lap}[sys.argv[1]](sys.argv[2])
+    {"offscreen": offscreen, "lap": lap, "shader_window": shader_window}[sys.argv[1]](sys.argv[2])

@@ -85,3 +85,18 @@ def test_window_drives_a_lap_of_the_harbor_under_xvfb(tmp_path):
     assert shot.shape == (720, 1280, 3)
     assert shot.std() > 10  # a real picture, not a blank buffer
     assert result["frames"] > 20
+
+
+def test_window_with_the_shader_look_and_a_camera_sensor_under_xvfb(tmp_path):
+    xvfb, display = start_xvfb()
+    try:
+        env = {k: v for k, v in os.environ.items() if k not in ("MUJOCO_GL", "PYOPENGL_PLATFORM")}
+        env["DISPLAY"] = display
+        result = run_script("shader_window", tmp_path / "shader.png", env)
+    finally:
+        xvfb.terminate()
+        xvfb.wait(timeout=10)
+    shot = load(tmp_path / "shader.png")
+    assert shot.shape == (720, 1280, 3) and shot.std() > 10
+    assert shot[5:60, 500:800, 2].mean() > shot[5:60, 500:800, 0].mean()  # sky at the top, bluish
+    assert result["camera_std"] > 5  # the camera sensor renders beside the window

@@ -51,6 +51,7 @@ class FrameRenderer:
         """The shader passes for this frame (None when `sim.look` asks for MuJoCo's plain look)."""
         look = _shader_look(sim)
         self.option.geomgroup[2] = int(look is None)
+        self.scene.flags[mujoco.mjtRndFlag.mjRND_SKYBOX] = int(look is None)  # the shader draws the sky
         if look is None:
             return None
         from usvsim.rendering.frame import prepare
