@@ -60,3 +60,13 @@ def test_same_seed_same_bytes_and_look_changes_only_rgb():
     assert np.array_equal(foggy["depth"], first["depth"], equal_nan=True)
     assert np.abs(foggy["rgb"].astype(int) - first["rgb"]).mean() > 5
     a_sim.close(), b_sim.close()
+
+
+def test_gallery_picture(tmp_path):
+    from PIL import Image
+
+    from usvsim.rendering.gallery import render_look
+
+    path = render_look("dusk", tmp_path, 160, 90, settle_s=0.2)
+    image = np.asarray(Image.open(path))
+    assert image.shape == (90, 160, 3) and image.std() > 2

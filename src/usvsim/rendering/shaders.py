@@ -211,7 +211,8 @@ void main() {
     vec3 c = mix(body, reflected, fresnel) + glint;
     // foam: whitecaps where the choppy surface folds, broken up by noise; and along hulls at the waterline
     float grain = noise(v_label * 1.7 + u_look.w * 0.3);
-    float whitecap = smoothstep(0.6, 0.1, det) * (0.55 + 0.45 * grain);
+    float steep = smoothstep(0.17, 0.3, u_surface.x * length(zs));  // without horizontal displacement: steep faces
+    float whitecap = max(smoothstep(0.6, 0.1, det), steep) * (0.55 + 0.45 * grain);
     float raw = texelFetch(u_depth, ivec2(gl_FragCoord.xy - u_viewport), 0).r;
     float n0 = u_near_far.x, f0 = u_near_far.y;
     float behind = raw > 0.0 ? n0 / (raw + (1.0 - raw) * n0 / f0) - n0 / (gl_FragCoord.z + (1.0 - gl_FragCoord.z) * n0 / f0) : 1e9;
