@@ -19,12 +19,7 @@ from usvsim.rendering.sky import Daylight, sky_table
 from usvsim.rendering.surface import SurfaceData
 
 GL_DEPTH_CLAMP, GL_GEQUAL = 0x864F, 0x0206
-TEXTURE_UNITS = {
-    "u_geo": 5,
-    "u_slope": 6,
-    "u_depth": 7,
-    "u_sky": 8,
-}  # above the units MuJoCo's fixed pipeline uses
+TEXTURE_UNITS = {"u_geo": 5, "u_slope": 6, "u_depth": 7, "u_sky": 8, "u_noise": 9}  # above MuJoCo's units
 FOAM_CHOPPINESS = 2.0  # whitecaps where a surface this choppy would fold (the physics may use less)
 HAZE_HEIGHT_M = 500.0
 
@@ -58,6 +53,8 @@ class MarinePass:
         self._geo = self._slope = self._depth = self._periodic = None
         self._sky = ctx.texture((64, 64), 3, dtype="f4")
         self._sky.repeat_x = self._sky.repeat_y = False
+        noise = np.random.default_rng(17).random((64, 64), dtype=np.float32)  # fixed: same bytes every run
+        self._noise = ctx.texture((64, 64), 1, noise.tobytes(), dtype="f4")
         self._key, self._sky_key, self._fbos = None, None, {}
         self.daylight = None
 
@@ -110,6 +107,7 @@ class MarinePass:
             self._sky.write(sky_table(light).tobytes())
             self._sky_key = sky_key
         self._look = (look.water.foam, look.water.glint, FOAM_CHOPPINESS)
+        self._level_m, self._fog_height_m = level_m, look.fog.height_falloff_m
         _set(self.water, u_water=tuple(look.water.color))
 
     def draw(
@@ -138,6 +136,9 @@ class MarinePass:
             self._water(label_vao, stencil=False)
         else:
             self._copy_depth(fbo, viewport)
+            at_eye = tuple(np.exp(-(eye[2] - self._level_m) / np.array([self._fog_height_m, HAZE_HEIGHT_M])))
+            for prog in (self.sky, self.fog, self.water):
+                _set(prog, u_at_eye=at_eye)
             for prog in (self.sky, self.fog):
                 _set(prog, u_cam=tuple(eye), u_inv_view_proj=inv)
             for prog in (self.fog, self.water):
@@ -218,6 +219,7 @@ class MarinePass:
         self._geo.use(TEXTURE_UNITS["u_geo"])
         self._slope.use(TEXTURE_UNITS["u_slope"])
         self._sky.use(TEXTURE_UNITS["u_sky"])
+        self._noise.use(TEXTURE_UNITS["u_noise"])
 
     def release(self) -> None:
         grids = [obj for entry in self._grids.values() for obj in (entry[:2] + entry[3:])]

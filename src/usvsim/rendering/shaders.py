@@ -12,6 +12,8 @@ uniform vec3 u_sun_dir, u_sun_color, u_ambient, u_haze_color, u_fog_color;
 uniform float u_level;
 uniform sampler2D u_sky;  // sky radiance over the upper hemisphere, indexed by (x, y) / (1 + z) (no trigonometry)
 uniform vec4 u_fog;  // fog extinction at sea level (1/m), fog scale height (m), haze extinction, haze height
+uniform vec2 u_at_eye;  // fog and haze density at the camera's height relative to sea level: exp(-(z - level) / H)
+uniform sampler2D u_noise;  // 64 x 64 random values (fixed seed): foam texture
 
 vec3 sky(vec3 dir) {  // as seen through the clear-air haze (also in reflections, so sea and sky meet at the horizon)
     vec3 c = texture(u_sky, dir.xy / (1.0 + max(dir.z, 0.0)) * 0.5 + 0.5).rgb;
@@ -20,31 +22,23 @@ vec3 sky(vec3 dir) {  // as seen through the clear-air haze (also in reflections
 
 float layer_depth(vec3 dir, float dist, float sigma, float height) {
     // optical depth of an exponential layer sigma·exp(-(z - level)/height) from the camera along dir
-    float a = (u_cam.z - u_level) / height, dz = dir.z * dist / height;
+    float dz = dir.z * dist / height;
     float path = abs(dz) > 1e-4 ? (1.0 - exp(-dz)) / dz : 1.0 - 0.5 * dz;
-    return sigma * dist * exp(-a) * path;
+    return sigma * dist * path;  // times the density at the eye (u_at_eye), applied by the callers
 }
 
 vec3 fogged(vec3 color, vec3 dir, float dist) {
-    float fog = u_fog.x > 0.0 ? exp(-layer_depth(dir, dist, u_fog.x, u_fog.y)) : 1.0;
+    float fog = u_fog.x > 0.0 ? exp(-u_at_eye.x * layer_depth(dir, dist, u_fog.x, u_fog.y)) : 1.0;
     return mix(u_fog_color, color, fog);
 }
 
 vec3 atmosphere(vec3 color, vec3 dir, float dist) {
-    return fogged(mix(u_haze_color, color, exp(-layer_depth(dir, dist, u_fog.z, u_fog.w))), dir, dist);
+    return fogged(mix(u_haze_color, color, exp(-u_at_eye.y * layer_depth(dir, dist, u_fog.z, u_fog.w))), dir, dist);
 }
 
-vec3 display(vec3 c) { return pow(max(c, 0.0), vec3(1.0 / 2.2)); }  // linear radiance → display (MuJoCo's space)
+vec3 display(vec3 c) { return sqrt(max(c, 0.0)); }  // linear radiance → display (MuJoCo's space), gamma 2
 
-float hash(vec2 p) {  // arithmetic hash (no sine: cheap on a CPU rasterizer)
-    vec3 q = fract(vec3(p.xyx) * 0.1031);
-    q += dot(q, q.yzx + 33.33);
-    return fract((q.x + q.y) * q.z);
-}
-float noise(vec2 p) {
-    vec2 i = floor(p), f = fract(p), u = f * f * (3.0 - 2.0 * f);
-    return mix(mix(hash(i), hash(i + vec2(1, 0)), u.x), mix(hash(i + vec2(0, 1)), hash(i + vec2(1, 1)), u.x), u.y);
-}
+float noise(vec2 p) { return texture(u_noise, p / 64.0).r; }  // smooth (bilinear) value noise, period 64
 """
 
 FULLSCREEN_VS = """
@@ -98,8 +92,8 @@ void main() {
     vec3 dir = ray_dir(v_ndc);
     vec4 fwd = u_inv_view_proj * vec4(0.0, 0.0, 0.5, 1.0);
     float dist = d / max(dot(dir, normalize(fwd.xyz / fwd.w - u_cam)), 1e-3);
-    float haze = exp(-layer_depth(dir, dist, u_fog.z, u_fog.w));
-    float fog = exp(-layer_depth(dir, dist, u_fog.x, u_fog.y));
+    float haze = exp(-u_at_eye.y * layer_depth(dir, dist, u_fog.z, u_fog.w));
+    float fog = exp(-u_at_eye.x * layer_depth(dir, dist, u_fog.x, u_fog.y));
     // blended as dst·alpha + src: the geom's colour attenuated, the in-scattered light added
     f_color = vec4(display(u_fog_color) * (1.0 - fog) + display(u_haze_color) * (1.0 - haze) * fog, haze * fog);
 }
@@ -196,7 +190,8 @@ void main() {
     if (dot(n, v) < 0.02) n = normalize(n + (0.02 - dot(n, v)) * v);
     vec3 r = reflect(-v, n);
     float cos_v = clamp(dot(n, v), 0.0, 1.0);
-    float fresnel = 0.02 + 0.98 * pow(1.0 - cos_v, 5.0);
+    float m = 1.0 - cos_v, m2 = m * m;
+    float fresnel = 0.02 + 0.98 * m2 * m2 * m;  // Schlick
     vec3 reflected = sky(vec3(r.xy, abs(r.z)));
     // sun glint: a Beckmann-like lobe widened with distance (unresolved ripples)
     float rough = 0.015 + 0.06 * clamp(v_spacing / 4.0, 0.0, 1.0);
