@@ -24,11 +24,7 @@ def test_bad_values_name_the_key():
 
 def test_updated_merges_and_switches_between_time_and_angles():
     look = Rendering().updated({"fog": {"visibility_m": 300.0}, "sun": {"elevation_deg": 5.0}})
-    assert (
-        look.fog.visibility_m == 300.0
-        and look.fog.color == Rendering().fog.color
-        and look.sun.elevation_deg == 5.0
-    )
+    assert look.fog.visibility_m == 300.0 and look.fog.color == Rendering().fog.color and look.sun.elevation_deg == 5.0
     timed = look.updated({"sun": {"utc": "2025-06-21T04:00:00Z"}})
     assert timed.sun.utc is not None and timed.fog.visibility_m == 300.0
     assert timed.updated({"sun": {"azimuth_deg": 10.0}}).sun.utc is None
