@@ -65,6 +65,7 @@ def shader_window(out: str) -> None:
     from usvsim.viewer.app import run_viewer
 
     sim = Simulation.from_scenario("harbor")
+    sim.look = sim.look.updated({"renderer": "shader"})
     stats = run_viewer(sim, max_seconds=0.2, screenshot=out, gamepad=False)
     print(json.dumps(stats))
 

@@ -84,9 +84,10 @@ class CameraLook(Section):
 
 class Rendering(Section):
     """`renderer: shader` draws sky, water, fog and camera effects with GLSL shaders around MuJoCo's geoms;
-    `renderer: mujoco` is MuJoCo's plain fixed-function look (flat painted sky, tinted height field)."""
+    `renderer: mujoco` (the default while the shader is 3-8x slower on a CPU, docs/rendering.md) is MuJoCo's
+    plain fixed-function look (flat painted sky, tinted height field)."""
 
-    renderer: Literal["shader", "mujoco"] = "shader"
+    renderer: Literal["shader", "mujoco"] = "mujoco"
     sun: Sun = Sun()
     sky: Sky = Sky()
     fog: Fog = Fog()

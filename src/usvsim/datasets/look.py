@@ -1,7 +1,7 @@
 """Applies a look (the `rendering:` section, docs/rendering.md) to a camera frame: the one adapter between
 the randomization and the renderer.
 
-With `renderer: shader` (the default) the camera draws the look itself (sun, sky, haze, fog, water, exposure,
+With `renderer: shader` the camera draws the look itself (sun, sky, haze, fog, water, exposure,
 vignetting, blur: usvsim.rendering) and only the look's noise is added here. With `renderer: mujoco` this
 module approximates it with MuJoCo's plain renderer: the sun is the model's directional light
 (direction from azimuth/elevation, colour warmer when low, scaled by `intensity`), fog is blended into the

@@ -33,7 +33,7 @@ def scenario_dict(sea_state: int, look: dict, width: int = 640, height: int = 48
     raw = yaml.safe_load((files("usvsim.scenarios") / "harbor_sensors.yaml").read_text())
     raw["environment"] = {"sea": {"type": "sea_state", "code": sea_state}}
     raw["vessels"][0]["sensors"] = [{**CAMERA, "width": width, "height": height}]
-    raw["rendering"] = look
+    raw["rendering"] = {"renderer": "shader", **look}
     return raw
 
 

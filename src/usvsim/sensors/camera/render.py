@@ -15,7 +15,7 @@ empty. Planes are compiled with a coarse render grid (MuJoCo's default grid of u
 plane cost more than the rest of the scene; the plane is uniformly lit, so the image is unchanged), and the
 offscreen buffer is only as large as the largest camera, without MSAA.
 
-With `sim.look.renderer == "shader"` (the default, docs/rendering.md) MuJoCo draws only the geoms, lit by the
+With `sim.look.renderer == "shader"` (docs/rendering.md) MuJoCo draws only the geoms, lit by the
 look's sun and sky; `usvsim.rendering.MarinePass`, attached to this same GL context, then draws fog, sky and the
 ocean into the same framebuffer and depth buffer (and the water, in its id colour, into the label pass), and the
 kernels keep the drawn colours instead of painting the sky.
