@@ -108,20 +108,28 @@ class CommandInbox:
             ok = self._execute(kind, vessel, thruster, value)
             self._count("applied" if ok else "rejected")
 
+    def reset(self, clear_queue: bool = True) -> None:
+        """A new episode: cmd_vel timers stop, controllers created for cmd_vel go, scenario controllers get
+        back their reference; queued commands are dropped unless `clear_queue` is False (a `/reset`
+        command keeps what was sent after it). `stats` keep counting."""
+        self._velocity_deadline_ns.clear()
+        for name in self._created_loops:
+            self._controllers.pop(name, None)
+        self._created_loops.clear()
+        for name, reference in self._held_references.items():
+            self._controllers[name].reference = reference
+        self._held_references.clear()
+        if clear_queue:
+            with self._lock:
+                self._queue.clear()
+
     def _execute(self, kind: str, vessel: str, thruster: str | None, value: Any) -> bool:
         world, controllers = self._world, self._controllers
         if kind == "reset":
-            self._velocity_deadline_ns.clear()
-            for name in self._created_loops:
-                controllers.pop(name, None)
-            self._created_loops.clear()
-            for name, reference in self._held_references.items():
-                controllers[name].reference = reference
-            self._held_references.clear()
             self._reset()
             return True
-        if kind == "thrust":
-            return world.vessels[vessel].thrusters[thruster].command(value)
+        if kind == "thrust":  # a network source: the vessel's watchdog applies
+            return world.vessels[vessel].thrusters[thruster].command(value, hold=False)
         if kind == "angle":
             return world.vessels[vessel].thrusters[thruster].command_angle(value)
         loop = controllers.get(vessel)

@@ -1,4 +1,9 @@
-"""Ground-truth outputs of the simulation: /clock, /tf_static, /tf and per-vessel odometry.
+"""Ground-truth outputs of the simulation: /clock, /tf_static, /tf, per-vessel odometry, the episode marker.
+
+Episodes: `Simulation.reset` starts a new episode at t = 0. Its first messages are `/usvsim/episode`
+(std_msgs/String, JSON `{"episode": k, "seed": s}`, stamp 0, latched like /tf_static), then /tf_static and
+the t = 0 messages. `/clock` and every stamp restart at 0 in each episode (simulation time is per
+episode); the MCAP recorder keeps its log times increasing across episodes (see io/mcap_recorder.py).
 
 Frames (REP 105): `world` is ENU at the geodetic origin; `<vessel>/odom` is fixed in the world at the
 vessel's initial pose (static TF `world → <vessel>/odom`); `<vessel>/base_link` is the body frame
@@ -7,12 +12,13 @@ vessel's initial pose (static TF `world → <vessel>/odom`); `<vessel>/base_link
 
 from __future__ import annotations
 
+import json
 from typing import TYPE_CHECKING
 
 from usvsim.core.clock import steps_per_period
 from usvsim.core.transforms import matrix_from_quat, quat_conjugate, quat_multiply
 from usvsim.messages import ros
-from usvsim.messages.envelope import Envelope
+from usvsim.messages.envelope import EPISODE_TOPIC, Envelope
 
 if TYPE_CHECKING:
     from usvsim.world.world import World
@@ -33,6 +39,12 @@ class GroundTruth:
                       for name, (pos, quat) in self.odom_origin.items() if self.tf.world_to_odom]  # fmt: skip
         transforms += list(extra)
         return [Envelope("/tf_static", 0, ros.tf_message(transforms))] if transforms else []
+
+    @staticmethod
+    def episode(index: int, seed: int) -> Envelope:
+        """The episode marker (stamp 0: the episode's start)."""
+        text = json.dumps({"episode": index, "seed": seed})
+        return Envelope(EPISODE_TOPIC, 0, ros.msg_class("std_msgs/msg/String")(data=text))
 
     def due(self, steps: int, stamp_ns: int) -> list[Envelope]:
         """Messages due at physics step count `steps` (time `stamp_ns`)."""

@@ -8,18 +8,21 @@ Step: queued commands (usvsim.commands) → vessel controllers (at their rates) 
 from __future__ import annotations
 
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Iterable, Iterator, Mapping
+from contextlib import contextmanager
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
 from usvsim.commands import CommandInbox
 from usvsim.config.loader import load_scenario
 from usvsim.config.scenario import Scenario
-from usvsim.control.factory import control_loop
+from usvsim.control.factory import control_loop, initial_reference
 from usvsim.ground_truth import GroundTruth
 from usvsim.messages.envelope import Envelope
 from usvsim.sensors import SensorSuite
+from usvsim.sensors.readings import Reading
 from usvsim.traffic import Traffic, kinematic_bodies
 from usvsim.world.state import BodyState
 from usvsim.world.world import World
@@ -33,15 +36,18 @@ class Simulation:
     def __init__(self, scenario: Scenario, seed: int = 0):
         self.world = world = World(scenario, seed, kinematic_bodies(scenario))  # traffic ships: mocap bodies
         scenario = world.scenario  # with a real place's parts resolved (geo/)
-        self.controllers = {v.name: control_loop(world, v.name, v.controller)
-                            for v in scenario.vessels if v.controller is not None}  # fmt: skip
+        self._controller_configs = {v.name: v.controller for v in scenario.vessels if v.controller is not None}
+        self.controllers = {name: control_loop(world, name, c) for name, c in self._controller_configs.items()}
         rec = scenario.outputs.recording
         self.ground_truth = GroundTruth(world, rec.clock_rate_hz, rec.ground_truth_rate_hz)
         self.traffic = Traffic(world, self.controllers)  # other ships: tracks, pilots, awareness, AIS
         self.sensors = SensorSuite(world)
-        self.commands = CommandInbox(world, self.controllers, self.reset)
+        for name, vessel in world.vessels.items():
+            vessel.sensors = self.sensors.of_vessel(name)
+        self.commands = CommandInbox(world, self.controllers, lambda: self._new_episode(None, None, False))
+        self.episode = 0  # index of the current episode: 0 at construction, +1 at every reset
         self._subscribers: list[Callable[[Envelope], None]] = []
-        self._announced = False  # /tf_static and the t = 0 messages go out before the first step
+        self._announced = False  # the episode marker, /tf_static and the t = 0 messages go before the first step
 
     @classmethod
     def from_scenario(cls, name_or_path: str | Path, seed: int = 0) -> Simulation:
@@ -104,8 +110,7 @@ class Simulation:
         world = self.world
         if not self._announced and self._subscribers:
             self._announced = True
-            static = self.ground_truth.static_transforms(self.sensors.static_transforms())
-            self._emit(static + self.ground_truth.due(0, 0))
+            self._emit([*self._latched(), *self.ground_truth.due(0, 0)])
         self.commands.apply()
         self.traffic.before_step(world)
         for loop in self.controllers.values():
@@ -115,13 +120,26 @@ class Simulation:
         if self._subscribers:
             self._emit(self.ground_truth.due(world.clock.steps, world.clock.now_ns) + measurements)
 
-    def reset(self) -> None:
-        """Back to the scenario's initial state at t = 0 (bodies, thrusters, clock); subscribers stay."""
-        self.world.reset()
-        self.traffic.reset(self.world)
-        self.sensors.reset()
-        for loop in self.controllers.values():
+    def reset(self, seed: int | None = None, poses: Mapping[str, Any] | None = None) -> None:
+        """A new episode from t = 0 that is bit for bit a fresh `Simulation(scenario, seed)` (seed None: the
+        current seed), with `poses` (body name → pose, see `Vessel.teleport`) placing bodies at rest. Every
+        stateful part restarts: the world (random streams, ocean, wind and current processes, MuJoCo data,
+        thrusters, marine models), sensors, scenario controllers (station keeping re-targets the start
+        pose), the command inbox (queued commands dropped). Subscribers stay; the episode marker goes out
+        first (see ground_truth.py)."""
+        self._new_episode(seed, poses, True)
+
+    def _new_episode(self, seed: int | None, poses: Mapping[str, Any] | None, clear_queue: bool) -> None:
+        world = self.world
+        world.reset(seed, poses)
+        self.traffic.reset(world)
+        self.commands.reset(clear_queue)
+        self.sensors.reset(world)
+        for name, loop in self.controllers.items():  # the scenario's, and traffic pilots' (their pilots reset)
             loop.reset()
+            if name in self._controller_configs:
+                loop.reference, loop.force = initial_reference(world, name, self._controller_configs[name]), None
+        self.episode += 1
         self._announced = False
 
     def run(
@@ -141,10 +159,43 @@ class Simulation:
                     time.sleep(ahead)
 
     # -- outputs ------------------------------------------------------------------------------
+    def observe(self) -> dict[str, Reading | None]:
+        """The latest reading of every sensor as arrays, keyed `<vessel>/<name>` (see sensors/readings.py)."""
+        return self.sensors.observe()
+
     def subscribe(self, callback: Callable[[Envelope], None]) -> Callable[[], None]:
         """Receive every message the simulation emits; returns a function that unsubscribes."""
         self._subscribers.append(callback)
         return lambda: self._subscribers.remove(callback)
+
+    @contextmanager
+    def record(self, path: str | Path, topics: Iterable[str] | None = None, compression: str = "zstd") -> Iterator[Any]:
+        """Record to an MCAP file while the block runs: the file `usvsim run --record` writes (rosbag2
+        layout), limited to `topics` if given. Started after the first step, it first writes the latched
+        messages (episode marker, /tf_static). Yields the `McapRecorder`; the file is complete at exit."""
+        from usvsim.io.mcap_recorder import McapRecorder
+
+        recorder = McapRecorder(path, compression=compression)  # type: ignore[arg-type]
+        wanted = None if topics is None else set(topics)
+
+        def write(envelope: Envelope) -> None:
+            if wanted is None or envelope.topic in wanted:
+                recorder.write(envelope)
+
+        if self._announced:
+            for envelope in self._latched():
+                write(envelope)
+        unsubscribe = self.subscribe(write)
+        try:
+            yield recorder
+        finally:
+            unsubscribe()
+            recorder.close()
+
+    def _latched(self) -> list[Envelope]:
+        """The episode marker and /tf_static: what a subscriber joining mid-episode has missed."""
+        gt = self.ground_truth
+        return [gt.episode(self.episode, self.world.seed), *gt.static_transforms(self.sensors.static_transforms())]
 
     def close(self) -> None:
         """Release sensor resources (render contexts, thread pools)."""

@@ -2,13 +2,14 @@
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Protocol
+from typing import TYPE_CHECKING, Any, Protocol
 
 import numpy as np
 from pydantic import TypeAdapter
 
 from usvsim.config.vessel import Buoyancy, Hydrodynamics
 from usvsim.core.transforms import rpy_from_quat
+from usvsim.hydro.thrusters import HOLD_NS
 
 if TYPE_CHECKING:
     from usvsim.hydro.hydrostatics import HullSet, HydrostaticsResult
@@ -34,6 +35,8 @@ class World(Protocol):
 
     def origin_velocity(self, i: int) -> np.ndarray: ...
 
+    def teleport(self, index: int, pose, twist) -> None: ...
+
 
 class Thruster:
     """One thruster of a vessel. Commands: normalized thrust u in [-1, 1], azimuth angle in rad (REP 103)."""
@@ -41,9 +44,12 @@ class Thruster:
     def __init__(self, world: World, index: int, name: str):
         self._world, self._i, self.name = world, index, name
 
-    def command(self, thrust: float, angle_rad: float | None = None) -> bool:
-        """Set the command; returns False (and counts it) if rejected: NaN/inf or |thrust| > 1."""
-        return self._world.thrusters.command(self._i, float(thrust), angle_rad, self._world.clock_ns)
+    def command(self, thrust: float, angle_rad: float | None = None, hold: bool = True) -> bool:
+        """Set the command; returns False (and counts it) if rejected: NaN/inf or |thrust| > 1. A command
+        from Python holds until changed; `hold=False` (what network sources use) lets the vessel's
+        `command_timeout_s` watchdog zero it when no new command comes."""
+        stamp_ns = HOLD_NS if hold else self._world.clock_ns
+        return self._world.thrusters.command(self._i, float(thrust), angle_rad, stamp_ns)
 
     def command_angle(self, angle_rad: float) -> bool:
         """Set only the azimuth command (rad, REP 103); False (counted) if not finite."""
@@ -102,6 +108,12 @@ class Body:
         """Waterline segments (k, 2, 3), world ENU m, from the last step."""
         return self._world.hulls.waterline(self.index)
 
+    def teleport(self, pose, twist=0) -> None:
+        """Move the body now: `pose` as in `usvsim.world.poses.pose_arrays` (a scenario pose dict, 6 numbers
+        x, y, z m + roll, pitch, yaw rad, or 7 with a (w, x, y, z) quaternion); `twist` 0 or 6 numbers
+        (u, v, w m/s, p, q, r rad/s) in base_link (FLU)."""
+        self._world.teleport(self.index, pose, twist)
+
     @property
     def hydrodynamics(self):
         """The active hydrodynamics model (a config section: state_space, kerner or fossen)."""
@@ -134,8 +146,10 @@ class Vessel(Body):
     def __init__(self, world: World, index: int, name: str, model: BodyModel, thrusters: dict[str, Thruster]):
         super().__init__(world, index, name, model)
         self.thrusters = thrusters
+        self.sensors: dict[str, Any] = {}  # short name → Sensor, filled in by the Simulation
 
-    def command(self, thrust: float, angle_rad: float | None = None) -> bool:
-        """The same command to every thruster; True if all accepted."""
-        accepted = [t.command(thrust, angle_rad) for t in self.thrusters.values()]  # every thruster, no short cut
+    def command(self, thrust: float, angle_rad: float | None = None, hold: bool = True) -> bool:
+        """The same command to every thruster (holds until changed, see `Thruster.command`); True if all
+        accepted."""
+        accepted = [t.command(thrust, angle_rad, hold) for t in self.thrusters.values()]  # every one, no short cut
         return all(accepted)

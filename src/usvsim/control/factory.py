@@ -46,15 +46,21 @@ def check_rate(config: cfg.VelocityController, step_ns: int, source: str, key: s
 
 
 def control_loop(world, vessel_name: str, config: cfg.VelocityController) -> ControlLoop:
-    """A ControlLoop for one scenario vessel: velocity controllers start at rest (reference 0), station
-    keeping holds its `target` or the vessel's pose at construction."""
+    """A ControlLoop for one scenario vessel, its reference the `initial_reference`."""
     vessel = world.vessels[vessel_name]
     loop = ControlLoop(world, vessel_name, build_controller(config, vessel.model), config.rate_hz)
-    if isinstance(config, cfg.StationKeeping):
-        t = config.target
-        if t is None:
-            x, y, _ = vessel.position
-            loop.reference = Pose2D(float(x), float(y), float(vessel.rpy[2]))
-        else:
-            loop.reference = Pose2D(t.position[0], t.position[1], math.radians(t.yaw_deg))
+    loop.reference = initial_reference(world, vessel_name, config)
     return loop
+
+
+def initial_reference(world, vessel_name: str, config: cfg.VelocityController):
+    """Velocity controllers start at rest (reference 0); station keeping holds its `target`, or the vessel's
+    pose now (at construction, or at the start of an episode)."""
+    if not isinstance(config, cfg.StationKeeping):
+        return (0.0, 0.0, 0.0)
+    t = config.target
+    if t is None:
+        vessel = world.vessels[vessel_name]
+        x, y, _ = vessel.position
+        return Pose2D(float(x), float(y), float(vessel.rpy[2]))
+    return Pose2D(t.position[0], t.position[1], math.radians(t.yaw_deg))

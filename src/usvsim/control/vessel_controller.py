@@ -103,9 +103,10 @@ class VesselController:
 
 
 def send(vessel, allocation: Allocation) -> None:
-    """Command each thruster of `vessel` (normalized thrust, azimuth angle)."""
+    """Command each thruster of `vessel` (normalized thrust, azimuth angle), stamped for the watchdog: a
+    controller is a periodic source, and when it stops the thrusters stop after `command_timeout_s`."""
     for i, name in enumerate(allocation.names):
-        vessel.thrusters[name].command(float(allocation.u[i]), float(allocation.angle_rad[i]))
+        vessel.thrusters[name].command(float(allocation.u[i]), float(allocation.angle_rad[i]), hold=False)
 
 
 class ControlLoop:

@@ -19,8 +19,20 @@ class RngStreams:
     def get(self, name: str) -> np.random.Generator:
         gen = self._streams.get(name)
         if gen is None:
-            digest = hashlib.sha256(name.encode()).digest()
-            key = [int.from_bytes(digest[i : i + 4], "little") for i in range(0, 16, 4)]
-            gen = np.random.Generator(np.random.PCG64(np.random.SeedSequence([self.seed, *key])))
-            self._streams[name] = gen
+            gen = self._streams[name] = self._fresh(name)
         return gen
+
+    def reseed(self, seed: int) -> None:
+        """Every stream back to its first number under `seed`, in place: holders of a generator keep it and
+        draw what a fresh `RngStreams(seed)` would give. (`get` after this also returns fresh generators,
+        whose `spawn` children match a fresh run's.)"""
+        self.seed = int(seed)
+        for name, gen in self._streams.items():
+            fresh = self._fresh(name)
+            gen.bit_generator.state = fresh.bit_generator.state
+            self._streams[name] = fresh
+
+    def _fresh(self, name: str) -> np.random.Generator:
+        digest = hashlib.sha256(name.encode()).digest()
+        key = [int.from_bytes(digest[i : i + 4], "little") for i in range(0, 16, 4)]
+        return np.random.Generator(np.random.PCG64(np.random.SeedSequence([self.seed, *key])))

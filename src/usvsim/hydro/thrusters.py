@@ -17,6 +17,7 @@ from numba import njit
 from usvsim.config.vessel import Thruster
 
 MAP_CODES = {"linear": 0, "quadratic": 1, "glf": 2}
+HOLD_NS = 2**62  # the stamp of a command that holds until changed: the watchdog never expires it
 # VRX (classic) generalized logistic fits of measured thruster data: (A, K, B, nu, C, M).
 GLF_FORWARD = (0.01, 59.82, 5.0, 0.38, 0.56, 0.28)
 GLF_REVERSE = (-199.13, -0.09, 8.84, 5.34, 0.99, -0.57)
@@ -112,8 +113,9 @@ class ThrusterBank:
         self.rejected = 0
 
     def command(self, i: int, u: float, angle_rad: float | None, now_ns: int) -> bool:
-        """Set thruster i's command. Rejects (returns False, counts) non-finite values and |u| > 1;
-        angles outside the azimuth limits are clamped to them; fixed thrusters ignore the angle."""
+        """Set thruster i's command, stamped `now_ns` for the watchdog (HOLD_NS: no watchdog). Rejects
+        (returns False, counts) non-finite values and |u| > 1; angles outside the azimuth limits are
+        clamped to them; fixed thrusters ignore the angle."""
         ok = math.isfinite(u) and abs(u) <= 1.0 and (angle_rad is None or math.isfinite(angle_rad))
         if not ok:
             self.rejected += 1

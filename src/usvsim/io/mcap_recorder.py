@@ -5,7 +5,9 @@ Layout (what rosbag2_storage_mcap writes and reads, ros2-interop.md §5):
   data = the full concatenated `.msg` definition; channels with message_encoding `cdr` and metadata
   `offered_qos_profiles` (metadata-version-8 YAML string) and `topic_type_hash` (RIHS01);
 - messages carry the envelope's CDR bytes unchanged, logTime = publishTime = the envelope's `publish_ns`
-  (the simulation time it was emitted, never before its header stamp);
+  (the simulation time it was emitted, never before its header stamp) plus an episode offset: each
+  episode marker (`/usvsim/episode`, sent at a reset) after the first moves the offset to 1 ns past the
+  last log time, so log times keep increasing while stamps and /clock restart at 0;
 - at close, a metadata record `rosbag2` with `serialized_metadata` (the bag information YAML), then
   the summary and footer.
 
@@ -33,7 +35,7 @@ import yaml
 from mcap.writer import CompressionType, Writer
 
 from usvsim.core.errors import UsvsimError
-from usvsim.messages.envelope import Envelope, QosProfile
+from usvsim.messages.envelope import EPISODE_TOPIC, Envelope, QosProfile
 from usvsim.messages.ros import message_definition, typestore
 
 METADATA_VERSION = 8
@@ -100,6 +102,7 @@ class McapRecorder:
         self._end_ns = 0
         self._flush_interval_ns, self._flushed_ns = int(flush_interval_s * 1e9), 0
         self._closed = self._failed = False
+        self._offset_ns = 0  # added to stamps: log times increase across episodes
         self._file = self.path.open("wb")
         try:
             self._writer = Writer(self._file, chunk_size=chunk_size, compression=_COMPRESSION[compression])
@@ -119,7 +122,10 @@ class McapRecorder:
             raise ValueError(
                 f"topic {envelope.topic} was recorded as {topic.msgtype}, got {envelope.msgtype}"
             )
-        self._append(topic, envelope.publish_ns, envelope.cdr)  # serialized (once) before touching any state
+        data = envelope.cdr  # serialize (once) before touching any state
+        if envelope.topic == EPISODE_TOPIC and self._start_ns is not None:
+            self._offset_ns = self._end_ns + 1 - envelope.publish_ns
+        self._append(topic, envelope.publish_ns + self._offset_ns, data)
 
     def _append(self, topic: _Topic, stamp: int, data: bytes) -> None:
         topic.count += 1

@@ -34,11 +34,13 @@ SENSOR_QOS = QosProfile()  # reliable serves best-effort readers too (slam_toolb
 TF_QOS = QosProfile(depth=100)  # tf2 DynamicListenerQoS
 TF_STATIC_QOS = QosProfile(durability="transient_local", depth=1)  # tf2 StaticBroadcasterQoS
 CLOCK_QOS = QosProfile(depth=1)
-_TOPIC_QOS = {"/tf_static": TF_STATIC_QOS, "/tf": TF_QOS, "/clock": CLOCK_QOS}
+EPISODE_TOPIC = "/usvsim/episode"  # the episode marker (usvsim.ground_truth), latched like /tf_static
+_TOPIC_QOS = {"/tf_static": TF_STATIC_QOS, "/tf": TF_QOS, "/clock": CLOCK_QOS, EPISODE_TOPIC: TF_STATIC_QOS}
 
 
 def qos_for_topic(topic: str) -> QosProfile:
-    """Default offered QoS of `topic`: `/tf_static` transient_local depth 1, everything else volatile."""
+    """Default offered QoS of `topic`: `/tf_static` and the episode marker transient_local depth 1, everything
+    else volatile."""
     return _TOPIC_QOS.get(topic, SENSOR_QOS)
 
 

@@ -20,6 +20,7 @@ from usvsim.core.clock import steps_per_period
 from usvsim.core.transforms import matrix_from_quat, quat_from_rpy, quat_multiply
 from usvsim.messages import ros
 from usvsim.messages.envelope import Envelope
+from usvsim.sensors.readings import Reading, reading
 
 if TYPE_CHECKING:
     from usvsim.config.sensors import SensorBase
@@ -51,7 +52,9 @@ class Sensor:
         self.mount_quat = quat_from_rpy(*(math.radians(a) for a in (m.roll_deg, m.pitch_deg, m.yaw_deg)))
         self.mount_rot = matrix_from_quat(self.mount_quat)
         self.rng = sim.rng.get(f"sensor/{self.name}")
-        self.latest: list[Envelope] = []
+        self.released: list[Envelope] = []  # the messages of the last sample released to subscribers
+        self._reading: tuple[list[Envelope] | None, Reading | None] = (None, None)  # (of which sample, reading)
+        self._read_of: list[Envelope] | None = None
         self._pending: deque[tuple[int, list[Envelope]]] = deque()
 
     # -- scheduling -------------------------------------------------------------------------------
@@ -65,20 +68,40 @@ class Sensor:
             for env in envs:
                 env.publish_ns = now_ns  # a LiDAR sweep stamped at its start is published at its end
             if self.latency_steps == 0:
-                self.latest = envs
+                self.released = envs
                 return envs
             self._pending.append((steps + self.latency_steps, envs))
         out: list[Envelope] = []
         while self._pending and self._pending[0][0] <= steps:
-            self.latest = self._pending.popleft()[1]
-            for env in self.latest:
+            self.released = self._pending.popleft()[1]
+            for env in self.released:
                 env.publish_ns = now_ns
-            out += self.latest
+            out += self.released
         return out
 
-    def reset(self) -> None:
+    def reset(self, sim: World) -> None:
+        """Back to the state at construction (the world has been reset, random streams included).
+        Subclasses with state of their own extend this."""
         self._pending.clear()
-        self.latest = []
+        self.released = []
+        self._reading, self._read_of = (None, None), None
+
+    # -- data as arrays (sensors/readings.py) ---------------------------------------------------
+    @property
+    def latest(self) -> Reading | None:
+        """The last released sample as arrays (None before the first); converted once, on first access."""
+        of, value = self._reading
+        if of is not self.released:
+            value = reading(self.released)
+            self._reading = (self.released, value)
+        return value
+
+    def read(self) -> Reading | None:
+        """The sample released since the previous `read()`, or None: poll it after every step."""
+        if self._read_of is self.released:
+            return None
+        self._read_of = self.released
+        return self.latest
 
     def observe(self, sim: World) -> None:  # pragma: no cover - overridden where used
         pass

@@ -38,9 +38,13 @@ class Imu(Sensor):
         self.topic = cfg.topic or f"/{vessel}/{cfg.name}/data"
         self.dt = sim.clock.dt
         self.gravity = np.array([0.0, 0.0, -sim.g])
+        self.reset(sim)
+
+    def reset(self, sim: World) -> None:
+        super().reset(sim)
         dt_sample = self.every * self.dt
-        self.gyro = TriadNoise(cfg.gyro_noise(), dt_sample, self.rng)
-        self.accel = TriadNoise(cfg.accel_noise(), dt_sample, self.rng)
+        self.gyro = TriadNoise(self.cfg.gyro_noise(), dt_sample, self.rng)  # turn-on biases drawn anew
+        self.accel = TriadNoise(self.cfg.accel_noise(), dt_sample, self.rng)
         self._v_prev = self._v_now = self._mount_velocity(sim)
 
     def _mount_velocity(self, sim: World) -> np.ndarray:

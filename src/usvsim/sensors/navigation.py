@@ -41,8 +41,12 @@ def _cov6(linear_var: float, angular_var: float) -> np.ndarray:
 class Odometry(Sensor):
     def __init__(self, cfg, vessel: str, sim: World):
         super().__init__(cfg, vessel, sim)
-        self.origin_pos, self.origin_quat = sim.odom_origin[vessel]
         self.odom_frame, self.child_frame = f"{vessel}/odom", f"{vessel}/base_link"
+        self.reset(sim)
+
+    def reset(self, sim: World) -> None:
+        super().reset(sim)
+        self.origin_pos, self.origin_quat = sim.odom_origin[self.vessel]
 
     def static_transforms(self) -> list:
         return []  # odometry refers to base_link itself; GroundTruth owns world → odom and odom → base_link
@@ -88,8 +92,8 @@ class Gnss(Sensor):
         self.error = kick if self.error is None else self.phi * self.error + math.sqrt(1.0 - self.phi**2) * kick
         return self.error
 
-    def reset(self) -> None:
-        super().reset()
+    def reset(self, sim: World) -> None:
+        super().reset(sim)
         self.error = None if self.sigma.any() else np.zeros(3)
 
     def sample(self, sim: World, stamp_ns: int) -> list[Envelope]:

@@ -16,6 +16,7 @@ from usvsim.messages.envelope import Envelope
 from usvsim.sensors.base import Sensor
 from usvsim.sensors.imu import Imu
 from usvsim.sensors.navigation import Gnss, GroundTruthPose, Odometry
+from usvsim.sensors.readings import Reading
 
 if TYPE_CHECKING:
     from usvsim.world.world import World
@@ -89,6 +90,20 @@ class SensorSuite:
     def __len__(self) -> int:
         return len(self.sensors)
 
+    def __iter__(self):
+        return iter(self.sensors)
+
+    def __contains__(self, name: object) -> bool:
+        return name in self.sensors
+
+    def of_vessel(self, vessel: str) -> dict[str, Sensor]:
+        """The sensors of one vessel, keyed by their short name (`lidar` for `wamv/lidar`)."""
+        return {s.cfg.name: s for s in self.sensors.values() if s.vessel == vessel}
+
+    def observe(self) -> dict[str, Reading | None]:
+        """Every sensor's latest reading (None before its first sample), keyed `<vessel>/<name>`."""
+        return {name: sensor.latest for name, sensor in self.sensors.items()}
+
     def on_step(self, sim: World) -> list[Envelope]:
         """Call after every physics step (after the clock tick): the messages due now, in sensor order."""
         out: list[Envelope] = []
@@ -105,9 +120,10 @@ class SensorSuite:
         transforms = self.static_transforms()
         return Envelope("/tf_static", 0, ros.tf_message(transforms)) if transforms else None
 
-    def reset(self) -> None:
+    def reset(self, world: World) -> None:
+        """A new episode: every sensor back to its state at construction (noise streams included)."""
         for sensor in self.sensors.values():
-            sensor.reset()
+            sensor.reset(world)
 
     def close(self) -> None:
         """Release thread pools and GL contexts."""

@@ -26,7 +26,7 @@ def pose_arrays(pose: PoseLike) -> tuple[np.ndarray, np.ndarray]:
     if isinstance(pose, Pose):
         rpy = (math.radians(a) for a in (pose.roll_deg, pose.pitch_deg, pose.yaw_deg))
         return np.array(pose.position, dtype=float), np.asarray(quat_from_rpy(*rpy), dtype=float)
-    if isinstance(pose, tuple | list) and len(pose) == 2:
+    if isinstance(pose, tuple | list) and len(pose) == 2 and not np.isscalar(pose[0]):
         pos, quat = np.asarray(pose[0], dtype=float), np.asarray(pose[1], dtype=float)
     else:
         flat = np.asarray(pose, dtype=float).reshape(-1)

@@ -13,6 +13,7 @@ body kinematics.
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping
 
 import mujoco
 import numpy as np
@@ -25,7 +26,7 @@ from usvsim.core.clock import Clock, period_ns
 from usvsim.core.errors import DivergenceError
 from usvsim.core.overlap import Overlap
 from usvsim.core.rng import RngStreams
-from usvsim.core.transforms import quat_from_rpy
+from usvsim.core.transforms import matrix_from_quat, quat_from_rpy
 from usvsim.geo.parts import GeoParts, geo_parts, set_clip_planes
 from usvsim.geo.resolve import load_place, resolve_geo, with_local_depth
 from usvsim.hydro.hydrostatics import HullSet
@@ -40,6 +41,7 @@ from usvsim.vessels.library import vessel_model
 from usvsim.world.builder import FloatingBody, KinematicBody, build_model
 from usvsim.world.divergence import DivergenceGuard
 from usvsim.world.obstacles import static_parts
+from usvsim.world.poses import PoseLike, pose_arrays, twist_array
 from usvsim.world.state import BodyState
 
 OVERLAP_MIN_FACES = 8000  # below this the thread hand-off costs more than overlapping the two kernels saves
@@ -78,9 +80,8 @@ class World:
         self._init_physics(floating)
         self._init_handles(floating)
         self._guard = DivergenceGuard(world.divergence, list(self.bodies), self.clock.dt)
-        self.odom_origin = {
-            name: (v.position, v.quat) for name, v in self.vessels.items()
-        }  # ground truth's odom
+        self.odom_origin: dict[str, tuple[np.ndarray, np.ndarray]] = {}  # each vessel's pose at the episode start
+        self._mark_odom_origin()
 
     # -- construction -------------------------------------------------------------------------
     def _floating_bodies(self) -> list[FloatingBody]:
@@ -118,8 +119,7 @@ class World:
             timeouts[i] = v.command_timeout_s
             entries += [(i, f"{v.name}/{t.name}", t) for t in floating[i].model.thrusters]
         self.thrusters = ThrusterBank(entries, n, timeouts)
-        self._patches = {i: WaterPatch(self.ocean, v.water_sampling.resolution, v.water_sampling.margin_m)
-                         for i, v in enumerate(self.scenario.vessels) if v.water_sampling.mode == "patch"}  # fmt: skip
+        self._patches = self._water_patches()
         self._direct_vertices = ~np.isin(self.hulls.vert_body, list(self._patches))
         vessels = self.scenario.vessels
         buoyancy = [v.buoyancy for v in vessels] + [TriangleBuoyancy()] * (n - len(vessels))
@@ -127,6 +127,7 @@ class World:
         hydro += [fb.model.drag for fb in floating[len(vessels) :]]
         self.marine = MarineModels([fb.model for fb in floating], buoyancy, hydro, self.hulls, self.model,
                                    self.qvel_adr, self.rho, self.g, self.rho_air)  # fmt: skip
+        self._scenario_models = (list(buoyancy), list(hydro))
         self._update_kinematics()
         self.hydrostatics = self._hydrostatics()
 
@@ -162,16 +163,62 @@ class World:
         self._update_kinematics()
         self._guard.check(self.state.vcom_world, self.state.omega_body, self.clock.seconds)
 
-    def reset(self) -> None:
-        """Back to the scenario's initial state at t = 0 (bodies, thrusters, clock)."""
+    def reset(self, seed: int | None = None, poses: Mapping[str, PoseLike] | None = None) -> None:
+        """Back to t = 0 exactly as a fresh `World(scenario, seed)` (seed None: keep this world's seed):
+        random streams, ocean with its wind and current processes, MuJoCo data, thrusters, marine models
+        (the scenario's, histories cleared). `poses` (body name → pose, see `world.poses.pose_arrays`)
+        places bodies at rest. No recompilation: the MuJoCo model is kept."""
+        unknown = sorted(set(poses or ()) - set(self.bodies))
+        if unknown:
+            raise KeyError(f"no body named {unknown}; bodies: {sorted(self.bodies)}")
+        self.seed = self.seed if seed is None else int(seed)
+        self.rng.reseed(self.seed)
+        self.ocean = build_ocean(self.scenario.environment, self.rng.get("ocean"), dt_s=self.clock.dt)
+        self._patches = self._water_patches()
         mujoco.mj_resetData(self.model, self.data)
         self.clock.reset()
         self.look = self.scenario.rendering
         self.thrusters.reset()
+        self._restore_scenario_models()
+        self.marine.reset()
+        self._guard.reset()
+        for name, pose in (poses or {}).items():
+            self._place(self.bodies[name].index, pose, 0)
+        self._update_kinematics()
+        self.hydrostatics = self._hydrostatics()
+        self._mark_odom_origin()
+
+    def teleport(self, index: int, pose: PoseLike, twist=0) -> None:
+        """Put body `index` at `pose` with body-frame `twist` (FLU: u, v, w m/s, p, q, r rad/s) now; the
+        marine models' histories restart (as after a model switch)."""
+        self._place(index, pose, twist)
         self.marine.reset()
         self._guard.reset()
         self._update_kinematics()
         self.hydrostatics = self._hydrostatics()
+
+    def _place(self, index: int, pose: PoseLike, twist) -> None:
+        pos, quat = pose_arrays(pose)
+        nu = twist_array(twist)
+        a, d = self.qpos_adr[index], self.qvel_adr[index]
+        self.data.qpos[a : a + 3], self.data.qpos[a + 3 : a + 7] = pos, quat
+        self.data.qvel[d : d + 3] = matrix_from_quat(quat) @ nu[:3]  # free joint: world-frame linear velocity
+        self.data.qvel[d + 3 : d + 6] = nu[3:]  # and body-frame angular velocity
+
+    def _restore_scenario_models(self) -> None:
+        buoyancy, hydro = self._scenario_models
+        for i, (b, h) in enumerate(zip(buoyancy, hydro)):
+            if self.marine.buoyancy[i] is not b:
+                self.marine.set_buoyancy(i, b)
+            if self.marine.hydrodynamics[i] is not h:
+                self.marine.set_hydrodynamics(i, h)
+
+    def _water_patches(self) -> dict[int, WaterPatch]:
+        return {i: WaterPatch(self.ocean, v.water_sampling.resolution, v.water_sampling.margin_m)
+                for i, v in enumerate(self.scenario.vessels) if v.water_sampling.mode == "patch"}  # fmt: skip
+
+    def _mark_odom_origin(self) -> None:
+        self.odom_origin.update({name: (v.position, v.quat) for name, v in self.vessels.items()})
 
     def close(self) -> None:
         self._overlap.close()

@@ -59,6 +59,10 @@ class Camera(Sensor):
             shared[GL_KEY] = RenderContext(sim.model, cfg.width, cfg.height)
         self.renderer = PinholeRenderer(sim.model, render_cam, cfg.near_m, cfg.far_m, cfg.shadows, cfg.fog, shared[GL_KEY])
         self.streams = set(cfg.streams)
+        self.segmentation_ids: dict[int, tuple[str, str]] = {}  # segmentation id → (object name, class)
+        if "segmentation" in self.streams:
+            objects = shared_objects(sim, shared)
+            self.segmentation_ids = {int(g) + 1: (o.name, o.label) for o in objects for g in o.geoms}
         self.boxes = None
         if cfg.detections is not None:  # 2D ground truth needs the segmentation pass, published or not
             objects = selected(shared_objects(sim, shared), cfg.detections, vessel)
