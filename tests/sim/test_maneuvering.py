@@ -131,12 +131,14 @@ def test_nan_command_rejected_and_counted(wamv):
 
 
 def test_watchdog_zeroes_thrust_after_silence(wamv):
-    t = wamv.vessels["wamv"].thrusters["rear_left"]
-    t.command(1.0)
+    """A watched command (what network sources send) stops after the timeout; a Python one holds."""
+    t, held = wamv.vessels["wamv"].thrusters["rear_left"], wamv.vessels["wamv"].thrusters["rear_right"]
+    t.command(1.0, hold=False)
+    held.command(1.0)
     wamv.run(0.9)
     assert t.thrust_n > 200.0
     wamv.run(2.0)  # timeout 1 s, then the 0.2 s lag decays
-    assert abs(t.thrust_n) < 1.0
+    assert abs(t.thrust_n) < 1.0 and held.thrust_n > 200.0
 
 
 def test_thrust_and_azimuth_dynamics(scenario_of):
