@@ -23,6 +23,7 @@ from usvsim.cli.sweep import sweep as sweep_command
 from usvsim.cli.task import task as task_command
 from usvsim.cli.traffic import imazu
 from usvsim.cli.traffic import print_report as print_traffic_report
+from usvsim.cli.schema import schema_command
 from usvsim.core.errors import UsvsimError
 
 app = typer.Typer(
@@ -272,6 +273,7 @@ app.command("task")(task_command)
 app.command("dataset")(dataset_command)
 app.add_typer(demo_app, name="demo")
 app.command("sweep")(sweep_command)
+app.command("schema")(schema_command)
 
 
 def main() -> None:

@@ -78,7 +78,9 @@ def _first_error(exc: ValidationError, source: str, data) -> ScenarioError:
     loc = _readable_path(err["loc"], data)
     msg = err["msg"]
     if err["type"] == "extra_forbidden":
-        msg = "unknown key (check spelling; see the scenario reference in the README)"
+        from usvsim.config.schema import allowed_keys, did_you_mean
+
+        msg = "unknown key" + did_you_mean(str(err["loc"][-1]), allowed_keys(err["loc"], data))
     elif err["type"] == "union_tag_invalid":
         msg = f"unknown type {safe_yaml.excerpt(err['input'].get('type'))}; expected one of {err['ctx']['expected_tags']}"
     elif err["type"].endswith("_type") or err["type"] in ("literal_error", "finite_number"):

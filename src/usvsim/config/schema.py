@@ -1,0 +1,153 @@
+"""The scenario file's JSON Schema, its Markdown reference, and "did you mean" for unknown keys.
+
+All three come from the pydantic models (config/*.py), so they cannot drift from what the loader accepts.
+`usvsim schema` prints the JSON Schema (for the YAML language server: `# yaml-language-server:
+$schema=scenario.schema.json` at the top of a scenario); `usvsim schema --reference` prints
+docs/scenario-reference.md (a test keeps the file in sync).
+"""
+
+from __future__ import annotations
+
+import difflib
+import json
+from functools import cache
+from typing import Any
+
+from usvsim.config.scenario import Scenario
+
+UNITS = {"_m": "m", "_mps": "m/s", "_s": "s", "_hz": "Hz", "_deg": "deg", "_rad": "rad", "_kg": "kg",
+         "_n": "N", "_pa": "Pa", "_m2": "m²", "_m3": "m³", "_kgpm3": "kg/m³", "_mps2": "m/s²",
+         "_deg_s": "deg/s", "_rad_s": "rad/s", "_radps": "rad/s", "_1ps": "1/s", "_n_s": "N/s"}  # fmt: skip
+
+
+@cache
+def scenario_schema() -> dict[str, Any]:
+    """JSON Schema (draft 2020-12) of a scenario file."""
+    schema = Scenario.model_json_schema()
+    return {"$schema": "https://json-schema.org/draft/2020-12/schema", **schema, "title": "usvsim scenario"}
+
+
+def schema_json() -> str:
+    return json.dumps(scenario_schema(), indent=2) + "\n"
+
+
+# -- did you mean ------------------------------------------------------------------------------------
+def allowed_keys(loc: tuple, data: Any) -> list[str]:
+    """The keys the section at pydantic error location `loc` (ending in the unknown key) accepts."""
+    defs = scenario_schema()["$defs"]
+    node, value = _branch(scenario_schema(), data, defs), data
+    for item in loc[:-1]:
+        if isinstance(item, int):
+            node = node.get("items", {})
+            value = value[item] if isinstance(value, list | tuple) and item < len(value) else None
+        elif item in node.get("properties", {}):
+            node = node["properties"][item]
+            value = value.get(item) if isinstance(value, dict) else None
+        else:
+            continue  # pydantic's name of a tagged-union branch: `_branch` chose it already
+        node = _branch(node, value, defs)
+    return list(node.get("properties", {}))
+
+
+def did_you_mean(key: str, allowed: list[str]) -> str:
+    """' (did you mean 'x'?)' for a close match, else ' (allowed: a, b, ...)'; '' when nothing is allowed."""
+    close = difflib.get_close_matches(key, allowed, n=1, cutoff=0.6)
+    if close:
+        return f" (did you mean {close[0]!r}?)"
+    return f" (allowed: {', '.join(allowed)})" if allowed else ""
+
+
+def _resolve(node: dict, defs: dict) -> dict:
+    while "$ref" in node:
+        node = defs[node["$ref"].rsplit("/", 1)[-1]]
+    return node
+
+
+def _branch(node: dict, value: Any, defs: dict) -> dict:
+    """The object schema that applies to `value`: refs resolved, a union's branch chosen by its tag."""
+    node = _resolve(node, defs)
+    options = node.get("oneOf") or node.get("anyOf")
+    if not options:
+        return node
+    mapping = node.get("discriminator", {}).get("mapping", {})
+    tag = value.get(node["discriminator"]["propertyName"]) if mapping and isinstance(value, dict) else None
+    if tag in mapping:
+        return _resolve({"$ref": mapping[tag]}, defs)
+    for option in options:
+        chosen = _branch(option, value, defs)
+        if "properties" in chosen or "items" in chosen:
+            return chosen
+    return node
+
+
+# -- Markdown reference --------------------------------------------------------------------------------
+def reference_markdown() -> str:
+    """docs/scenario-reference.md: every section, its keys, types, units, defaults, allowed values."""
+    schema = scenario_schema()
+    defs = schema["$defs"]
+    lines = ["# Scenario reference", "",
+             "Generated from the scenario models by `usvsim schema --reference`; do not edit by hand (a test",
+             "keeps it in sync). Units follow the key's suffix (`_m` metres, `_deg` degrees, `_hz` hertz, ...).",
+             "Unknown keys are errors, with a suggestion for a likely misspelling. `usvsim schema` prints the",
+             "JSON Schema for editor completion.", ""]  # fmt: skip
+    lines += _section("Scenario (top level)", schema, defs)
+    for name in sorted(defs):
+        if "properties" in defs[name]:
+            lines += _section(name, defs[name], defs)
+    return "\n".join(lines).rstrip() + "\n"
+
+
+def _section(title: str, node: dict, defs: dict) -> list[str]:
+    out = [f"## {title}", ""]
+    if node.get("description") and title != "Scenario (top level)":
+        out += [" ".join(node["description"].split()), ""]
+    required = set(node.get("required", ()))
+    out += ["| key | type | unit | default | description |", "|---|---|---|---|---|"]
+    for key, prop in node["properties"].items():
+        default = prop.get("default")
+        default = "required" if key in required else "(its defaults)" if isinstance(default, dict) else f"`{_cell(json.dumps(default))}`"
+        out.append(f"| `{key}` | {_type(prop, defs)} | {_unit(key)} | {default} | {_cell(_describe(prop))} |")
+    return [*out, ""]
+
+
+def _type(prop: dict, defs: dict) -> str:
+    if "$ref" in prop:
+        name = prop["$ref"].rsplit("/", 1)[-1]
+        return f"[{name}](#{name.lower()})"
+    if "const" in prop:
+        return f"`{json.dumps(prop['const'])}`"
+    if "enum" in prop:
+        return " \\| ".join(f"`{json.dumps(v)}`" for v in prop["enum"])
+    options = prop.get("oneOf") or prop.get("anyOf")
+    if options:
+        return " \\| ".join(_type(o, defs) for o in options)
+    kind = prop.get("type", "any")
+    if kind == "array":
+        items = prop.get("items") or {"anyOf": prop.get("prefixItems", [])}
+        return f"list of {_type(items, defs)}"
+    if kind == "object" and "additionalProperties" in prop and isinstance(prop["additionalProperties"], dict):
+        return f"map of {_type(prop['additionalProperties'], defs)}"
+    return kind
+
+
+def _describe(prop: dict) -> str:
+    text = " ".join(prop.get("description", "").split())
+    bounds = [f"{sym} {prop[k]}" for k, sym in (("minimum", "≥"), ("exclusiveMinimum", ">"), ("maximum", "≤"),
+                                                 ("exclusiveMaximum", "<")) if k in prop]  # fmt: skip
+    for option in prop.get("anyOf", ()):
+        bounds += [f"{sym} {option[k]}" for k, sym in (("minimum", "≥"), ("exclusiveMinimum", ">"),
+                                                         ("maximum", "≤"), ("exclusiveMaximum", "<")) if k in option]  # fmt: skip
+    if "pattern" in prop:
+        bounds.append(f"matches `{prop['pattern']}`")
+    return "; ".join(part for part in (text, ", ".join(bounds)) if part)
+
+
+def _unit(key: str) -> str:
+    for suffix in sorted(UNITS, key=len, reverse=True):
+        if key.endswith(suffix):
+            return UNITS[suffix]
+    return ""
+
+
+def _cell(text: str) -> str:
+    return text.replace("|", "\\|").replace("\n", " ")
