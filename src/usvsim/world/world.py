@@ -171,6 +171,7 @@ class World:
         unknown = sorted(set(poses or ()) - set(self.bodies))
         if unknown:
             raise KeyError(f"no body named {unknown}; bodies: {sorted(self.bodies)}")
+        placed = {self.bodies[name].index: pose_arrays(pose) for name, pose in (poses or {}).items()}  # checked first
         self.seed = self.seed if seed is None else int(seed)
         self.rng.reseed(self.seed)
         self.ocean = build_ocean(self.scenario.environment, self.rng.get("ocean"), dt_s=self.clock.dt)
@@ -182,8 +183,8 @@ class World:
         self._restore_scenario_models()
         self.marine.reset()
         self._guard.reset()
-        for name, pose in (poses or {}).items():
-            self._place(self.bodies[name].index, pose, 0)
+        for index, (pos, quat) in placed.items():
+            self._place(index, pos, quat, np.zeros(6))
         self._update_kinematics()
         self.hydrostatics = self._hydrostatics()
         self._mark_odom_origin()
@@ -191,15 +192,14 @@ class World:
     def teleport(self, index: int, pose: PoseLike, twist=0) -> None:
         """Put body `index` at `pose` with body-frame `twist` (FLU: u, v, w m/s, p, q, r rad/s) now; the
         marine models' histories restart (as after a model switch)."""
-        self._place(index, pose, twist)
+        pos, quat = pose_arrays(pose)
+        self._place(index, pos, quat, twist_array(twist))
         self.marine.reset()
         self._guard.reset()
         self._update_kinematics()
         self.hydrostatics = self._hydrostatics()
 
-    def _place(self, index: int, pose: PoseLike, twist) -> None:
-        pos, quat = pose_arrays(pose)
-        nu = twist_array(twist)
+    def _place(self, index: int, pos: np.ndarray, quat: np.ndarray, nu: np.ndarray) -> None:
         a, d = self.qpos_adr[index], self.qvel_adr[index]
         self.data.qpos[a : a + 3], self.data.qpos[a + 3 : a + 7] = pos, quat
         self.data.qvel[d : d + 3] = matrix_from_quat(quat) @ nu[:3]  # free joint: world-frame linear velocity
