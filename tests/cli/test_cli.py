@@ -72,7 +72,8 @@ def test_run_records_a_readable_mcap(tmp_path):
     for read in (read_with_mcap_ros2, read_with_rosbags):
         messages = read(out)
         topics = {t for t, _, _ in messages}
-        assert topics == {"/clock", "/tf", "/tf_static", "/wamv/ground_truth/odometry", "/otter/ground_truth/odometry"}
+        assert topics == {"/clock", "/tf", "/tf_static", "/wamv/ground_truth/odometry", "/otter/ground_truth/odometry",
+                          "/usvsim/episode"}  # fmt: skip
         assert count(messages, "/clock") == 301  # 100 Hz from t = 0 to 3 s inclusive
         assert count(messages, "/wamv/ground_truth/odometry") == 151  # 50 Hz
         last = [m for t, _, m in messages if t == "/clock"][-1]
