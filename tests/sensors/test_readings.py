@@ -47,7 +47,7 @@ def sim(tmp_path_factory):
 
 def test_every_sensor_type_meets_the_reading_contract(sim):
     sim.run(0.5)
-    first = {name: r for name, r in sim.observe().items()}
+    first = sim.observe()
     assert all(r is not None for r in first.values()), [n for n, r in first.items() if r is None]
     copies = {name: {k: np.array(a, copy=True) for k, a in r.items()} for name, r in first.items()}
     sim.run(0.5)

@@ -19,11 +19,11 @@ from usvsim.cli.errors import console, fail
 from usvsim.cli.geo_map import map_command
 from usvsim.cli.navigate import demo_app
 from usvsim.cli.recover import recover
+from usvsim.cli.schema import schema_command
 from usvsim.cli.sweep import sweep as sweep_command
 from usvsim.cli.task import task as task_command
 from usvsim.cli.traffic import imazu
 from usvsim.cli.traffic import print_report as print_traffic_report
-from usvsim.cli.schema import schema_command
 from usvsim.core.errors import UsvsimError
 
 app = typer.Typer(
