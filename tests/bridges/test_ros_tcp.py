@@ -82,7 +82,8 @@ def test_registers_and_publishes_every_topic_as_decodable_cdr(endpoint, connect)
     assert {"/wamv/lidar2d/scan", "/wamv/lidar/points", "/wamv/imu/data", "/clock", "/tf"} <= set(emitted)
     assert endpoint.subscribers == {t: m.replace("/msg/", "/") for t, m in sim.commands.topics.items()}
     assert bridge.endpoint_version == ("v0.7.0", "ROS2") and bridge.stats["handshakes"] == 1
-    assert bridge.request_topic_list()["types"][0] == "tf2_msgs/TFMessage"
+    listed = bridge.request_topic_list()
+    assert dict(zip(listed["topics"], listed["types"]))["/tf_static"] == "tf2_msgs/TFMessage"
 
 
 def test_keepalive_every_idle_period(endpoint, connect):
