@@ -45,7 +45,7 @@ def radar_and_camera(out: Path, turns: int) -> None:
     sim = Simulation(parse_scenario(data, "figure"))
     sim.run(turns * 2.5 + 0.1)  # 24 rpm: 2.5 s a turn
     radar = sim.sensors["wamv/radar"]
-    image = sim.sensors["wamv/camera"].latest[0].msg
+    image = sim.sensors["wamv/camera"].released[0].msg
     rgb = np.asarray(image.data).reshape(image.height, image.width, 3)
     tracks = radar.revolution.tracker.confirmed() if radar.revolution.tracker else []
     fig = plt.figure(figsize=(15, 5.2))

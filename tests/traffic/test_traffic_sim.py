@@ -99,7 +99,7 @@ def test_lidar_sees_a_traffic_ship(scenario_of):
              length_m=20, beam_m=6)]}})  # fmt: skip
     sim = Simulation(sc)
     sim.run(0.2)
-    scan = sim.sensors["wamv/scan"].latest[0].msg
+    scan = sim.sensors["wamv/scan"].released[0].msg
     ranges = np.asarray(scan.ranges)
     ahead = ranges[len(ranges) // 2 - 5 : len(ranges) // 2 + 5]  # angle 0 = forward (+x, east)
     assert np.all(np.abs(ahead - (40 - 3 - 0.701)) < 0.5)  # the ship's port side 3 m west of its centre
