@@ -9,7 +9,7 @@ stays valid after later steps. Fields (frames and units as in the messages):
 |---|---|
 | PointCloud2 | `points`: structured (N,) or (rings, columns) `x, y, z, intensity` float32 (m, sensor FLU), `ring` uint16, `time` float32 (s after the stamp) |
 | LaserScan | `ranges`, `intensities` float32 (m), `angles` float32 (rad) |
-| Image | `rgb` (H, W, 3) uint8, `depth` (H, W) float32 m, `segmentation` (H, W) uint16 (model geom id + 1, 0 = none; the camera's `segmentation_ids` maps id → (object name, class)) |
+| Image | `rgb` (H, W, 3) uint8, `depth` (H, W) float32 m, `segmentation` (H, W) uint16 (model geom id + 1, 0 = none; the camera's `segmentation_ids` maps id → (object name, class)); other encodings (a radar's mono8 PPI) as `image` |
 | CameraInfo | `K` (3, 3) float64 |
 | Imu | `orientation` (w, x, y, z), `angular_velocity` rad/s, `linear_acceleration` m/s² (sensor frame) |
 | Odometry | `position` m, `orientation` (w, x, y, z), `linear_velocity` m/s, `angular_velocity` rad/s |
@@ -27,11 +27,12 @@ from typing import Any
 import numpy as np
 
 from usvsim.messages.envelope import Envelope
+from usvsim.messages.ros import _IMAGE_ENCODINGS as _ENCODINGS  # encoding → (dtype, channels)
 
 POINTS_DTYPE = np.dtype({"names": ["x", "y", "z", "intensity", "ring", "time"],
                          "formats": ["<f4", "<f4", "<f4", "<f4", "<u2", "<f4"],
                          "offsets": [0, 4, 8, 12, 16, 20], "itemsize": 24})  # fmt: skip  the cloud's layout
-_IMAGES = {"rgb8": ("rgb", np.uint8, 3), "32FC1": ("depth", np.float32, 0), "16UC1": ("segmentation", np.uint16, 0)}
+_IMAGES = {"rgb8": ("rgb", np.uint8, 3), "32FC1": ("depth", np.float32, 1), "16UC1": ("segmentation", np.uint16, 1)}
 DETECTION_2D = np.dtype([("id", "U32"), ("class_id", "U32"), ("center", "<f8", (2,)), ("size", "<f8", (2,))])
 DETECTION_3D = np.dtype([("id", "U32"), ("class_id", "U32"), ("center", "<f8", (3,)), ("orientation", "<f8", (4,)),
                          ("size", "<f8", (3,))])  # fmt: skip
@@ -94,8 +95,11 @@ def _scan(msg) -> dict[str, np.ndarray]:
 
 
 def _image(msg) -> dict[str, np.ndarray]:
-    name, dtype, channels = _IMAGES[msg.encoding]
-    shape = (msg.height, msg.width, channels) if channels else (msg.height, msg.width)
+    """Camera streams by name; any other image (a radar's PPI, mono8) as `image`."""
+    name, dtype, channels = _IMAGES.get(msg.encoding) or ("image", *_ENCODINGS.get(msg.encoding, (None, 0)))
+    if dtype is None:
+        return {}
+    shape = (msg.height, msg.width, channels) if channels > 1 else (msg.height, msg.width)
     return {name: _read_only(np.frombuffer(msg.data, dtype).reshape(shape))}
 
 

@@ -75,8 +75,8 @@ class Radar(Sensor):
             blind |= (angle >= a) & (angle <= b) if a <= b else (angle >= a) | (angle <= b)
         return blind
 
-    def reset(self) -> None:
-        super().reset()
+    def reset(self, world: World) -> None:
+        super().reset(world)
         self.emitted = 0
         self.revolution.reset()
 
