@@ -73,7 +73,9 @@ class Task:
         self.clear()
 
     def clear(self) -> None:
+        """Scorer and collisions back to the start (`self.scorer` is built by `sample`)."""
         self.collisions.reset()
+        self.scorer.reset()
         self._finished = False
 
     def pose(self) -> tuple[float, float, float]:
@@ -115,11 +117,14 @@ class Task:
         raise NotImplementedError
 
     def on_collision(self) -> None:
-        pass
+        """A counted collision: scorers with a penalty or a reset (`collide`) get it."""
+        collide = getattr(self.scorer, "collide", None)
+        if collide is not None:
+            collide()
 
     @property
     def score(self) -> float:
-        raise NotImplementedError
+        return self.scorer.score
 
     @property
     def finished(self) -> bool:

@@ -33,16 +33,11 @@ class StationKeeping(Task):
 
     def clear(self):
         super().clear()
-        self.scorer.reset()
         self._period_sum, self._period_n = 0.0, 0
 
     def score_step(self, x, y, yaw):
         self._period_sum += self.scorer.update(x, y, yaw)
         self._period_n += 1
-
-    @property
-    def score(self):
-        return self.scorer.score
 
     def features(self):
         return np.array(_goal_features(*self.pose(), self.goal))
@@ -74,15 +69,10 @@ class Wayfinding(Task):
 
     def clear(self):
         super().clear()
-        self.scorer.reset()
         self._last, self._target = None, 0
 
     def score_step(self, x, y, yaw):
         self.scorer.update(x, y, yaw)
-
-    @property
-    def score(self):
-        return self.scorer.score
 
     def features(self):
         x, y, yaw = self.pose()
@@ -135,19 +125,11 @@ class FollowPath(Task):
 
     def clear(self):
         super().clear()
-        self.scorer.reset()
         self._last = 0.0
 
     def score_step(self, x, y, yaw):
         self.scorer.update(x, y)
         self._finished = self.scorer.finished
-
-    def on_collision(self):
-        self.scorer.collide()
-
-    @property
-    def score(self):
-        return self.scorer.score
 
     def next_gate(self) -> Gate:
         return self.gates[min(self.scorer.last_crossed + 1, len(self.gates) - 1)]
@@ -197,19 +179,11 @@ class Wildlife(Task):
 
     def clear(self):
         super().clear()
-        self.scorer.reset()
-        self._last, self._plan = 0.0, None
+        self._last = 0.0
 
     def score_step(self, x, y, yaw):
         self.scorer.update(self.elapsed_s, x, y, [self.object_xy(n) for n in ANIMALS])
         self._finished = self.scorer.finished
-
-    def on_collision(self):
-        self.scorer.collide()
-
-    @property
-    def score(self):
-        return self.scorer.score
 
     def features(self):
         x, y, yaw = self.pose()
@@ -258,19 +232,11 @@ class Perception(Task):
         return [{"type": "buoy", "name": f"object_{i}", "position": [*xy, 0.0], "color": c}
                 for i, (_, _, xy, c) in enumerate(PERCEPTION_OBJECTS)]  # fmt: skip
 
-    def clear(self):
-        super().clear()
-        self.scorer.reset()
-
     def score_step(self, x, y, yaw):
         for i, o in enumerate(self.scorer.objects):  # the buoys drift a little: score against where they are
             o.x_m, o.y_m = self.object_xy(f"object_{i}")
         self.scorer.update(self.elapsed_s)
         self._finished = self.scorer.finished
-
-    @property
-    def score(self):
-        return self.scorer.score
 
     def reference_target(self):
         return Pose2D(0.0, 0.0, 0.0)

@@ -14,6 +14,8 @@ Reward: the task's shaping (station keeping: minus the mean VRX pose error of th
 
 from __future__ import annotations
 
+import math
+
 import gymnasium as gym
 import numpy as np
 from gymnasium import spaces
@@ -53,6 +55,7 @@ class TaskEnv(gym.Env):
         self.task.bind(self.sim)
         self.vessel = self.sim.vessels["wamv"]
         self._thrusters = list(self.vessel.thrusters.values())
+        self._thruster_ids = [t._i for t in self._thrusters]
         self._max_thrust = np.array([t.thrust.max_forward_n for t in self.vessel.model.thrusters])
         self._every = steps_per_period(control_rate_hz, self.sim.clock.step_ns)
         self._controller, self._renderer = None, None
@@ -128,9 +131,11 @@ class TaskEnv(gym.Env):
 
     def _observe(self) -> np.ndarray:
         s, i = self.sim.state, self.task.index
-        rot = s.rot[i]
-        vel_body = rot.T @ self.sim.origin_velocity(i)
-        roll, pitch = np.arctan2(rot[2, 1], rot[2, 2]), -np.arcsin(np.clip(rot[2, 0], -1.0, 1.0))
-        thrust = self.sim.thrusters.thrust[[t._i for t in self._thrusters]] / self._max_thrust
-        head = [vel_body[0], vel_body[1], s.omega_body[i, 2], roll, pitch]
-        return np.concatenate([head, thrust, self.task.features()]).astype(np.float32)
+        r = s.rot[i].tolist()  # body FLU → world ENU; plain floats are cheaper than tiny numpy ops
+        v = self.sim.origin_velocity(i).tolist()
+        u = r[0][0] * v[0] + r[1][0] * v[1] + r[2][0] * v[2]
+        w = r[0][1] * v[0] + r[1][1] * v[1] + r[2][1] * v[2]
+        roll, pitch = math.atan2(r[2][1], r[2][2]), -math.asin(min(1.0, max(-1.0, r[2][0])))
+        head = [u, w, float(s.omega_body[i, 2]), roll, pitch]
+        thrust = (self.sim.thrusters.thrust[self._thruster_ids] / self._max_thrust).tolist()
+        return np.array(head + thrust + self.task.features().tolist(), dtype=np.float32)
