@@ -8,7 +8,7 @@ Per sea (median of --repeats timings of --steps env steps, one core: numba 1 thr
 - sim loop:   the same 10 `Simulation.step()` calls per env step without the env (the env's own overhead = ratio);
 - bare MuJoCo: 10 `mujoco.mj_step` on the same model (a copy of its data) per env step, with the last applied
                 wrenches held: MuJoCo's own share of the cost, an upper bound on speed.
-Batch: 8 station-keeping runs (20 s each) with 1 and 2 worker processes (`usvsim.batch.run`).
+Batch: 8 station-keeping runs (120 s each) with 1 and 2 worker processes (`usvsim.batch.run`).
 The load average is recorded beside every figure (the machine is shared). Writes benchmarks/results/tasks.json.
 """
 
@@ -76,7 +76,7 @@ def bench_sea(sea_state: int | None, steps: int, repeats: int) -> dict:
 def bench_batch() -> dict:
     from usvsim.batch import expand, run
 
-    runs = expand({"task": "station_keeping", "seeds": {"start": 0, "count": 8}, "time_limit_s": 20.0})
+    runs = expand({"task": "station_keeping", "seeds": {"start": 0, "count": 8}, "time_limit_s": 120.0})
     out = {}
     for workers in (1, 2):
         start = time.perf_counter()
