@@ -223,3 +223,15 @@ def test_radar_sees_the_coast_at_its_range(place):
     stern = power[len(power) // 2]  # south: open water inside the 400 m range
     assert stern.max() < 0.1 * bow.max()
     sim.close()
+
+
+def test_map_draws_traffic_routes(tmp_path):
+    from PIL import Image
+    from typer.testing import CliRunner
+
+    from usvsim.cli.app import app
+
+    result = CliRunner().invoke(app, ["map", "imazu_05", "--out", str(tmp_path / "m.png")])
+    assert result.exit_code == 0, result.output
+    image = np.asarray(Image.open(tmp_path / "m.png").convert("RGB")).astype(int)
+    assert (np.abs(image - (0x7B, 0x3F, 0xA0)).sum(axis=2) < 30).sum() > 200  # the routes' dashed lines

@@ -1,5 +1,5 @@
 """A plan view of a scenario (world ENU, metres, north up): land, depth contours, structures, obstacles,
-buoys and vessels at their start poses. Used by `usvsim map` and the docs."""
+buoys, traffic routes and vessels at their start poses. Used by `usvsim map` and the docs."""
 
 from __future__ import annotations
 
@@ -26,7 +26,9 @@ def draw_plan(sim, path, size_in: float = 9.0, dpi: int = 110) -> None:
     if place is not None:
         _draw_place(ax, place)
     _draw_objects(ax, scenario, sim)
-    span = np.diff(ax.get_xlim())[0] if place is not None else 50.0
+    _draw_traffic(ax, scenario)
+    ax.autoscale_view()
+    span = max(np.ptp(ax.get_xlim()), np.ptp(ax.get_ylim()))
     for name, boat in sim.vessels.items():
         x, y, _ = boat.position
         yaw, arrow = boat.rpy[2], 0.04 * span
@@ -81,6 +83,29 @@ def _draw_objects(ax, scenario, sim) -> None:
                 _box(ax, part)
             else:
                 ax.plot([part.pos[0]], [part.pos[1]], "s", color=STRUCTURE, ms=3)
+
+
+TRAFFIC = "#7b3fa0"
+CONSTANT_COURSE_S = 300.0  # a constant-course ship is drawn over its first five minutes
+
+
+def _draw_traffic(ax, scenario) -> None:
+    """Traffic ships' routes (waypoints) and constant courses, labelled with the ship's name."""
+    traffic = getattr(scenario, "traffic", None)
+    for ship in traffic.ships if traffic is not None else ():
+        motion = ship.motion
+        if motion.type == "route":
+            xy = np.array([w.position for w in motion.waypoints])
+        elif motion.type == "constant":
+            course = math.radians(90.0 - motion.course_deg)  # compass → ENU angle
+            run = motion.speed_mps * CONSTANT_COURSE_S
+            start = np.asarray(motion.position)
+            xy = np.array([start, start + run * np.array([math.cos(course), math.sin(course)])])
+        else:
+            continue  # AIS replays are drawn by their own tools
+        ax.plot(xy[:, 0], xy[:, 1], "--", color=TRAFFIC, lw=1.2, zorder=5)
+        ax.plot(xy[:1, 0], xy[:1, 1], "s", color=TRAFFIC, ms=4, zorder=5)
+        ax.text(xy[0, 0], xy[0, 1], f"  {ship.name}", color=TRAFFIC, fontsize=7, va="top", zorder=5)
 
 
 def _box(ax, part) -> None:
