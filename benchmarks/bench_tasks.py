@@ -8,7 +8,7 @@ Per sea (median of --repeats timings of --steps env steps, one core: numba 1 thr
 - sim loop:   the same 10 `Simulation.step()` calls per env step without the env (the env's own overhead = ratio);
 - bare MuJoCo: 10 `mujoco.mj_step` on the same model (a copy of its data) per env step, with the last applied
                 wrenches held: MuJoCo's own share of the cost, an upper bound on speed.
-Batch: 8 station-keeping runs (120 s each) with 1 and 2 worker processes (`usvsim.batch.run`).
+Batch: 8 station-keeping runs (300 s each) on a pool of 1 and of 2 worker processes (`usvsim.batch.run_one`).
 The load average is recorded beside every figure (the machine is shared). Writes benchmarks/results/tasks.json.
 """
 
@@ -74,15 +74,22 @@ def bench_sea(sea_state: int | None, steps: int, repeats: int) -> dict:
 
 
 def bench_batch() -> dict:
-    from usvsim.batch import expand, run
+    """8 runs of 300 s on a pool of 1 and of 2 fresh worker processes (both pay the same start-up)."""
+    from concurrent.futures import ProcessPoolExecutor
 
-    runs = expand({"task": "station_keeping", "seeds": {"start": 0, "count": 8}, "time_limit_s": 120.0})
+    from usvsim.batch import expand
+    from usvsim.batch.runner import run_one
+
+    runs = expand({"task": "station_keeping", "seeds": {"start": 0, "count": 8}, "time_limit_s": 300.0})
     out = {}
     for workers in (1, 2):
         start = time.perf_counter()
-        run(runs, "process", workers=workers)
+        with ProcessPoolExecutor(max_workers=workers) as pool:
+            scores = [r["score"] for r in pool.map(run_one, runs)]
         out[f"workers_{workers}_s"] = time.perf_counter() - start
         out[f"load_avg_1min_{workers}"] = os.getloadavg()[0]
+        out[f"scores_{workers}"] = scores
+    out["identical"] = out["scores_1"] == out["scores_2"]
     out["speedup_1_to_2"] = out["workers_1_s"] / out["workers_2_s"]
     return out
 
