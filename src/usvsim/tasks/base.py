@@ -127,6 +127,11 @@ class Task:
         return self.scorer.score
 
     @property
+    def completed(self) -> bool:
+        """Done before the time limit (course completed, all animals circled, all objects shown)."""
+        return self._finished
+
+    @property
     def finished(self) -> bool:
         """Done (course completed) or out of time."""
         return self._finished or self._clock.steps >= self._end_step

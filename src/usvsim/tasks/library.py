@@ -11,7 +11,7 @@ from usvsim.control.station_keeping import Pose2D
 from usvsim.tasks.base import Task, body_offset
 from usvsim.tasks.gates import Gate, GateCourseScorer
 from usvsim.tasks.perception import PerceptionObject, PerceptionScorer
-from usvsim.tasks.pose_error import StationKeepingScorer, WayfindingScorer, heading_error, pose_error
+from usvsim.tasks.pose_error import StationKeepingScorer, WayfindingScorer, pose_error
 from usvsim.tasks.wildlife import WildlifeScorer
 
 
@@ -282,9 +282,7 @@ class Gymkhana(FollowPath):
     def reference_target(self):
         if not self.scorer.finished:
             return super().reference_target()
-        x, y, yaw = self.pose()
         return Pose2D(self.pinger[0], self.pinger[1], self.gates[-1].yaw_rad)
 
 
 TASKS: dict[str, type[Task]] = {t.name: t for t in (StationKeeping, Wayfinding, Perception, FollowPath, Wildlife, Gymkhana)}
-__all__ = ["TASKS", "heading_error"]

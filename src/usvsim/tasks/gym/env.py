@@ -78,7 +78,7 @@ class TaskEnv(gym.Env):
             self.task.update()
             if self.task.finished:
                 break
-        terminated = bool(self.task._finished)
+        terminated = self.task.completed
         truncated = not terminated and self.task.finished
         return self._observe(), float(self.task.reward()), terminated, truncated, self.task.info()
 
