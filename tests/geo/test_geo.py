@@ -235,3 +235,27 @@ def test_map_draws_traffic_routes(tmp_path):
     assert result.exit_code == 0, result.output
     image = np.asarray(Image.open(tmp_path / "m.png").convert("RGB")).astype(int)
     assert (np.abs(image - (0x7B, 0x3F, 0xA0)).sum(axis=2) < 30).sum() > 200  # the routes' dashed lines
+
+
+def test_bathymetry_from_soundings_is_exact_at_them_and_linear_between(place, tmp_path):
+    xy = np.array([[-300.0, -300.0], [300.0, -300.0], [300.0, 80.0], [-300.0, 80.0], [0.0, -100.0]])
+    depth = np.array([12.0, 8.0, 3.0, 5.0, 9.5])
+    utm = to_utm(*xy.T)
+    crs = {"type": "name", "properties": {"name": "urn:ogc:def:crs:EPSG::25832"}}
+    (tmp_path / "soundings.geojson").write_text(json.dumps({"type": "FeatureCollection", "crs": crs, "features": [
+        {"type": "Feature", "properties": {"depth": float(d)}, "geometry": {"type": "Point", "coordinates": list(p)}}
+        for p, d in zip(utm.tolist(), depth)]}))
+    sim = Simulation(scenario(place, bathymetry={"file": str(tmp_path / "soundings.geojson"), "values": "depth"}))
+    at = sim.place.bathymetry.points  # the soundings in ENU (hull corners must be met exactly, not 1e-9 m off)
+    assert at == pytest.approx(xy, abs=1e-6)
+    assert sim.world.depth_at(at[:, 0], at[:, 1]) == pytest.approx(depth, abs=1e-9)
+    from scipy.spatial import Delaunay
+
+    tri = Delaunay(xy)
+    p = np.array([[-100.0, -200.0]])
+    s = tri.find_simplex(p)[0]
+    bary = tri.transform[s, :2] @ (p[0] - tri.transform[s, 2])
+    weights = np.r_[bary, 1 - bary.sum()]
+    assert sim.world.depth_at(*p.T)[0] == pytest.approx(weights @ depth[tri.simplices[s]], abs=1e-3)
+    assert sim.world.depth_at(0.0, -390.0)[0] == pytest.approx(20.0)  # outside the soundings: the default
+    sim.close()

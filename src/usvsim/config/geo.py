@@ -41,9 +41,12 @@ class Land(Source):
 
 
 class Bathymetry(Source):
-    """A raster of the seabed: `values: elevation` (z up, negative under water) or `depth` (positive down)."""
+    """The seabed: a raster (GeoTIFF), or soundings / depth contours (points or lines of a vector file, value in
+    `value_property`, interpolated linearly). `values: elevation` (z up, negative under water) or `depth`
+    (positive down)."""
 
-    band: int = Field(1, ge=1)
+    band: int = Field(1, ge=1, description="raster band")
+    value_property: str = Field("depth", description="property holding a sounding's or contour's value")
     values: Literal["elevation", "depth"] = "elevation"
 
 

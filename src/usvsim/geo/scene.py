@@ -24,6 +24,7 @@ from usvsim.config.geo import Geo
 from usvsim.geo import extrude
 from usvsim.geo.frame import GeoFrame
 from usvsim.geo.raster import Raster, read_raster
+from usvsim.geo.soundings import Soundings, is_raster, read_soundings
 from usvsim.geo.terrain import Terrain, land_mask, vertex_grid
 from usvsim.geo.vector import read_features
 from usvsim.vessels.parts import Mesh
@@ -41,7 +42,7 @@ class GeoScene:
     land: list[Mesh] = field(default_factory=list)  # one closed prism per land polygon
     land_polygons: list = field(default_factory=list)
     structures: list[tuple[str, Mesh, list[Mesh], str]] = field(default_factory=list)  # name, mesh, pieces, colour
-    bathymetry: Raster | None = None  # depth lookups on the raster's own grid
+    bathymetry: Raster | Soundings | None = None  # depth lookups on the source's own grid or soundings
     settings: Geo | None = None
 
     @classmethod
@@ -53,9 +54,8 @@ class GeoScene:
             scene = _build(geo, frame, base_dir)
             _write_cache(path, scene)
         scene.settings = geo
-        if geo.bathymetry is not None:  # lookups sample the raster itself (cheap to re-read)
-            b = geo.bathymetry
-            scene.bathymetry = read_raster(base_dir / b.file, b.band, b.crs, frame, geo.extent_m)
+        if geo.bathymetry is not None:  # lookups sample the source itself (cheap to re-read)
+            scene.bathymetry = _bathymetry(geo, frame, base_dir)
         return scene
 
     def labels(self) -> list[tuple[str, str]]:
@@ -65,8 +65,8 @@ class GeoScene:
     def depth_at(self, x_m, y_m) -> np.ndarray:
         """Water depth (m, positive down from still water) at ENU points; on land minus the land height.
 
-        Under water: the bathymetry raster's value (bilinear within a raster cell, exact at pixel centres;
-        at least `min_depth_m`), or the default depth where the raster has no data."""
+        Under water: the bathymetry's value (a raster: bilinear within a cell, exact at pixel centres; soundings:
+        linear between them, exact at each; at least `min_depth_m`), or the default depth where it has none."""
         x = np.atleast_1d(np.asarray(x_m, float))
         y = np.broadcast_to(np.asarray(y_m, float), x.shape)
         geo = self.settings
@@ -94,10 +94,8 @@ def _build(geo: Geo, frame: GeoFrame, base_dir: Path) -> GeoScene:
     xs = ys = vertex_grid(extent, geo.terrain_cell_m)
     seabed = np.full((len(ys), len(xs)), -geo.default_depth_m)
     if geo.bathymetry is not None:
-        b = geo.bathymetry
-        raster = read_raster(base_dir / b.file, b.band, b.crs, frame, extent)
-        values = raster.sample_grid(xs, ys)
-        values = values if b.values == "elevation" else -values
+        values = _bathymetry(geo, frame, base_dir).sample_grid(xs, ys)
+        values = values if geo.bathymetry.values == "elevation" else -values
         seabed = np.where(np.isnan(values), seabed, values)
     seabed = np.minimum(seabed, -geo.min_depth_m)
     bottom = float(seabed.min()) - BOTTOM_MARGIN_M
@@ -106,6 +104,13 @@ def _build(geo: Geo, frame: GeoFrame, base_dir: Path) -> GeoScene:
         z, land, polygons = _land(geo, frame, base_dir, xs, ys, seabed, bottom)
     structures = _structures(geo, frame, base_dir, bottom)
     return GeoScene(Terrain(xs, ys, z), land, polygons, structures)
+
+
+def _bathymetry(geo: Geo, frame: GeoFrame, base_dir: Path):
+    b, path = geo.bathymetry, base_dir / geo.bathymetry.file
+    if is_raster(path):
+        return read_raster(path, b.band, b.crs, frame, geo.extent_m)
+    return read_soundings(path, b.layer, b.crs, frame, geo.extent_m, b.value_property)
 
 
 def _land(geo: Geo, frame: GeoFrame, base_dir: Path, xs, ys, seabed, bottom):

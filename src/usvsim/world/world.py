@@ -23,7 +23,7 @@ from usvsim.config.objects import Buoy
 from usvsim.config.scenario import Scenario
 from usvsim.config.vessel import TriangleBuoyancy
 from usvsim.core.clock import Clock, period_ns
-from usvsim.core.errors import DivergenceError
+from usvsim.core.errors import DivergenceError, ScenarioError
 from usvsim.core.overlap import Overlap
 from usvsim.core.rng import RngStreams
 from usvsim.core.transforms import matrix_from_quat, quat_from_rpy
@@ -70,6 +70,8 @@ class World:
         self.look = scenario.rendering  # the current look (config/rendering.py); cameras read it every frame
         self.ocean = build_ocean(scenario.environment, self.rng.get("ocean"), dt_s=self.clock.dt)
         floating = self._floating_bodies()
+        if not floating:
+            raise ScenarioError(source_of(scenario), "vessels", "nothing floats: add a vessel or a buoy")
         static = static_parts(scenario.objects, base_dir(scenario), source_of(scenario))
         geo = geo_parts(self.place) if self.place else GeoParts([], [])
         self.model = build_model(floating, static, self.clock.dt, self.g, geo.visual, geo.collision, kinematic)
