@@ -18,8 +18,10 @@ Channels:
   on `/<vessel>/cmd_vel`), as `cdr` or `json`; everything is validated and counted by the command inbox.
 
 Non-blocking: `channel.log` only queues; the SDK's server threads send. Each client has a bounded queue
-(`backlog` messages): the oldest data message is dropped when it is full, and a client that stops reading
-altogether is disconnected once its control queue (the time broadcasts) fills. Errors inside the bridge are
+(`backlog` messages): the oldest data message is dropped when it is full. The SDK server listens on an
+internal loopback port; users connect to `host:port`, served by a front proxy (foxglove_proxy.py) that admits
+at most `max_clients` connections (one more gets HTTP 503) and drops a client whose unsent bytes exceed
+`max_client_buffer_bytes` (counted in `stats`). Errors inside the bridge are
 counted in `stats["errors"]` and never reach the simulation loop.
 """
 
@@ -37,6 +39,7 @@ from foxglove.channels import SceneUpdateChannel
 from foxglove.websocket import Capability
 
 from usvsim.bridges import foxglove_logs
+from usvsim.bridges.foxglove_proxy import FoxgloveProxy
 from usvsim.bridges.foxglove_scene import SceneBuilder, scene_period_ns
 from usvsim.messages.ros import message_definition
 
@@ -49,7 +52,8 @@ SCENE_TOPIC, WATER_TOPIC = "/usvsim/scene", "/usvsim/water"
 SDK_SEND_LOGGER = "foxglove.websocket.connected_client.poller"
 TIME_PERIOD_NS = 50_000_000  # server time broadcast every 50 ms of simulation time
 STAT_KEYS = ("messages", "bytes", "skipped", "latched_resent", "scene_updates", "water_updates", "errors",
-             "client_messages", "client_accepted", "client_refused")  # fmt: skip
+             "client_messages", "client_accepted", "client_refused",
+             "connections_accepted", "connections_refused", "connections_dropped")  # fmt: skip
 
 
 class _OncePerClient(logging.Filter):
@@ -103,6 +107,8 @@ class FoxgloveBridge:
         water_points: int = 31,
         backlog: int = 256,
         client_publish: bool = True,
+        max_clients: int = 16,
+        max_client_buffer_bytes: int = 16 << 20,
     ) -> None:
         self.sim = sim
         self.stats = dict.fromkeys(STAT_KEYS, 0)
@@ -120,11 +126,17 @@ class FoxgloveBridge:
         capabilities = [Capability.Time] + ([Capability.ClientPublish] if client_publish else [])
         try:
             self._server = foxglove.start_server(
-                name="usvsim", host=host, port=port, capabilities=capabilities, server_listener=_Listener(self),
+                name="usvsim", host="127.0.0.1", port=0, capabilities=capabilities, server_listener=_Listener(self),
                 supported_encodings=["cdr", "json"] if client_publish else None, context=self._context,
                 message_backlog_size=backlog,
             )  # fmt: skip
         except RuntimeError as exc:  # the SDK reports bind failures (port taken, bad address) this way
+            raise OSError(f"cannot start the Foxglove server on {host}:{port}: {str(exc)[:160]}") from None
+        try:
+            self._proxy = FoxgloveProxy(host, port, self._server.port, max_clients=max_clients,
+                                        max_buffer_bytes=max_client_buffer_bytes, count=self._count)  # fmt: skip
+        except OSError as exc:  # port taken, bad address
+            self._server.stop()
             raise OSError(f"cannot start the Foxglove server on {host}:{port}: {str(exc)[:160]}") from None
         _quiet_send_errors()
         self._latch_static_transforms()
@@ -133,7 +145,7 @@ class FoxgloveBridge:
 
     @property
     def port(self) -> int:
-        return self._server.port
+        return self._proxy.port
 
     @property
     def url(self) -> str:
@@ -148,6 +160,7 @@ class FoxgloveBridge:
             self._unsubscribe()
         except ValueError:
             pass
+        self._proxy.close()
         self._server.stop()
         for ch in [*(t.channel for t in self._topics.values()), self._scene_channel, self._water_channel]:
             ch.close()

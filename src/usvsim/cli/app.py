@@ -87,6 +87,7 @@ def run(
     ] = False,
     foxglove_host: Annotated[str, typer.Option(help="address the Foxglove server binds")] = "127.0.0.1",
     foxglove_port: Annotated[int, typer.Option(help="Foxglove server port", min=0, max=65535)] = 8765,
+    foxglove_max_clients: Annotated[int, typer.Option(help="Foxglove connections at once", min=1, max=1024)] = 16,
     force: Annotated[bool, typer.Option("--force", help="overwrite an existing recording")] = False,
     screenshot: Annotated[Path | None, typer.Option(help="with --view: save the last frame as PNG")] = None,
     video: Annotated[Path | None, typer.Option(help="with --view: record every frame to a video (.mp4, .avi)")] = None,
@@ -95,7 +96,7 @@ def run(
     from usvsim.cli.bridges import BridgeOptions
 
     options = BridgeOptions(ros2, domain_id, ros2_interface, ros_tcp, ros_tcp_profile, ros_tcp_vessel, foxglove,
-                            foxglove_host, foxglove_port)  # fmt: skip
+                            foxglove_host, foxglove_port, foxglove_max_clients)  # fmt: skip
     if not 0 <= duration <= 1e7:
         fail(UsvsimError(f"--duration must be a finite number of seconds in [0, 1e7], got {duration}"))
     if view:  # camera sensors then render in hidden GLFW windows beside the viewer's (an EGL context beside

@@ -1,0 +1,150 @@
+"""Connection limit in front of the Foxglove server: a TCP pump that owns the user-facing host:port.
+
+foxglove-sdk 0.30 has no hook to refuse or drop a client, so the bridge binds the SDK server on an internal
+loopback port and puts this proxy on the address users connect to. It runs an asyncio loop in one daemon
+thread and, per connection, copies bytes both ways unchanged (the WebSocket handshake included):
+- at most `max_clients` connections at once; one more gets `HTTP/1.1 503` to its upgrade request and is closed;
+- server → client bytes are written without waiting for the client; a client whose unsent bytes exceed
+  `max_buffer_bytes` (a client that stopped reading) is dropped, i.e. both of its connections are aborted, so
+  the SDK forgets it too. Memory for clients is thus bounded by `max_clients * max_buffer_bytes`;
+- client → server bytes wait for the server (backpressure to the client).
+Counters go through `count(key)` (`connections_accepted`, `connections_refused`, `connections_dropped`);
+refusals and drops are logged at most once per kind and 10 s, with the totals.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import contextlib
+import logging
+import threading
+import time
+from collections.abc import Callable
+
+log = logging.getLogger(__name__)
+REFUSAL = b"HTTP/1.1 503 Service Unavailable\r\nContent-Type: text/plain\r\nContent-Length: 28\r\n" \
+          b"Connection: close\r\n\r\ntoo many Foxglove clients\r\n\r\n"  # fmt: skip
+READ_BYTES = 1 << 18
+LOG_PERIOD_S = 10.0
+REQUEST_TIMEOUT_S = 2.0  # how long a refused client may take to send its upgrade request
+
+
+class FoxgloveProxy:
+    """Listens on host:port (port 0: a free one, see `port`) and forwards to 127.0.0.1:`upstream_port`."""
+
+    def __init__(
+        self,
+        host: str,
+        port: int,
+        upstream_port: int,
+        *,
+        max_clients: int = 16,
+        max_buffer_bytes: int = 16 << 20,
+        count: Callable[[str], None] = lambda key: None,
+    ) -> None:
+        if max_clients < 1 or max_buffer_bytes < 1:
+            raise ValueError(f"max_clients and max_buffer_bytes must be >= 1, got {max_clients}, {max_buffer_bytes}")
+        self.max_clients, self.max_buffer_bytes = max_clients, max_buffer_bytes
+        self._upstream_port, self._count = upstream_port, count
+        self._totals = {"connections_refused": 0, "connections_dropped": 0}
+        self._last_log: dict[str, float] = {}
+        self._clients: set[asyncio.Task] = set()
+        self._loop = asyncio.new_event_loop()
+        try:
+            self._server = self._loop.run_until_complete(asyncio.start_server(self._serve, host, port))
+        except BaseException:
+            self._loop.close()
+            raise
+        self.port: int = self._server.sockets[0].getsockname()[1]
+        self._thread = threading.Thread(target=self._loop.run_forever, name="foxglove-proxy", daemon=True)
+        self._thread.start()
+
+    @property
+    def clients(self) -> int:
+        """Connections being served now."""
+        return len(self._clients)
+
+    def close(self) -> None:
+        """Stop listening, abort every connection, stop the loop thread."""
+        if self._thread is None:
+            return
+        thread, self._thread = self._thread, None
+        with contextlib.suppress(Exception):
+            asyncio.run_coroutine_threadsafe(self._shutdown(), self._loop).result(timeout=5.0)
+        self._loop.call_soon_threadsafe(self._loop.stop)
+        thread.join(timeout=5.0)
+        if not thread.is_alive():
+            self._loop.close()
+
+    async def _shutdown(self) -> None:
+        self._server.close()
+        for task in list(self._clients):
+            task.cancel()
+        await asyncio.gather(*self._clients, return_exceptions=True)
+
+    # -- loop thread ------------------------------------------------------------------------------
+    async def _serve(self, reader: asyncio.StreamReader, writer: asyncio.StreamWriter) -> None:
+        if len(self._clients) >= self.max_clients:
+            await self._refuse(reader, writer)
+            return
+        task = asyncio.current_task()
+        self._clients.add(task)
+        up_writer = None
+        try:
+            up_reader, up_writer = await asyncio.open_connection("127.0.0.1", self._upstream_port)
+            self._count("connections_accepted")
+            to_server = asyncio.ensure_future(self._to_server(reader, up_writer))
+            try:  # the connection lasts until the server closes its side (it does when the client closes)
+                await self._to_client(up_reader, writer, up_writer)
+            finally:
+                to_server.cancel()
+        except (OSError, asyncio.TimeoutError):
+            pass  # a reset by either side, or a client that never takes the last bytes, ends the connection
+        finally:
+            self._clients.discard(task)
+            for w in (writer, up_writer):
+                if w is not None:
+                    w.transport.abort()
+
+    async def _refuse(self, reader: asyncio.StreamReader, writer: asyncio.StreamWriter) -> None:
+        self._note("connections_refused", f"refused a client: {self.max_clients} connected (the limit)")
+        with contextlib.suppress(Exception):  # read the request first, so that closing does not reset it
+            await asyncio.wait_for(reader.readuntil(b"\r\n\r\n"), REQUEST_TIMEOUT_S)
+        with contextlib.suppress(Exception):
+            writer.write(REFUSAL)
+            writer.close()
+            await asyncio.wait_for(writer.wait_closed(), REQUEST_TIMEOUT_S)
+        writer.transport.abort()
+
+    async def _to_client(self, src: asyncio.StreamReader, dst: asyncio.StreamWriter, upstream) -> None:
+        """Server → client, never waiting for the client; drops a client whose backlog exceeds the bound."""
+        while data := await src.read(READ_BYTES):
+            if dst.transport.is_closing():
+                return
+            dst.write(data)
+            if dst.transport.get_write_buffer_size() > self.max_buffer_bytes:
+                self._note("connections_dropped", f"dropped a client that stopped reading "
+                           f"(more than {self.max_buffer_bytes} bytes unsent)")  # fmt: skip
+                dst.transport.abort()
+                upstream.transport.abort()
+                return
+        await asyncio.wait_for(dst.drain(), REQUEST_TIMEOUT_S)  # the server closed: flush, then close
+        dst.write_eof()
+
+    @staticmethod
+    async def _to_server(src: asyncio.StreamReader, dst: asyncio.StreamWriter) -> None:
+        """Client → server; the client's end of stream (or reset) is passed on, so the server closes too."""
+        with contextlib.suppress(OSError):
+            while data := await src.read(READ_BYTES):
+                dst.write(data)
+                await dst.drain()
+        with contextlib.suppress(OSError):
+            dst.write_eof()
+
+    def _note(self, key: str, text: str) -> None:
+        self._count(key)
+        self._totals[key] += 1
+        now = time.monotonic()
+        if now - self._last_log.get(key, -LOG_PERIOD_S) >= LOG_PERIOD_S:
+            self._last_log[key] = now
+            log.warning("foxglove: %s; %d so far", text, self._totals[key])
