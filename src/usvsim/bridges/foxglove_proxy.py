@@ -43,7 +43,9 @@ class FoxgloveProxy:
         count: Callable[[str], None] = lambda key: None,
     ) -> None:
         if max_clients < 1 or max_buffer_bytes < 1:
-            raise ValueError(f"max_clients and max_buffer_bytes must be >= 1, got {max_clients}, {max_buffer_bytes}")
+            raise ValueError(
+                f"max_clients and max_buffer_bytes must be >= 1, got {max_clients}, {max_buffer_bytes}"
+            )
         self.max_clients, self.max_buffer_bytes = max_clients, max_buffer_bytes
         self._upstream_port, self._count = upstream_port, count
         self._totals = {"connections_refused": 0, "connections_dropped": 0}
@@ -98,8 +100,10 @@ class FoxgloveProxy:
                 await self._to_client(up_reader, writer, up_writer)
             finally:
                 to_server.cancel()
-        except (OSError, asyncio.TimeoutError):
+        except (OSError, TimeoutError):
             pass  # a reset by either side, or a client that never takes the last bytes, ends the connection
+        except asyncio.CancelledError:
+            pass  # close(): asyncio's start_server callback would report a cancelled handler as an error
         finally:
             self._clients.discard(task)
             for w in (writer, up_writer):

@@ -87,7 +87,9 @@ def run(
     ] = False,
     foxglove_host: Annotated[str, typer.Option(help="address the Foxglove server binds")] = "127.0.0.1",
     foxglove_port: Annotated[int, typer.Option(help="Foxglove server port", min=0, max=65535)] = 8765,
-    foxglove_max_clients: Annotated[int, typer.Option(help="Foxglove connections at once", min=1, max=1024)] = 16,
+    foxglove_max_clients: Annotated[
+        int, typer.Option(help="Foxglove connections at once", min=1, max=1024)
+    ] = 16,
     force: Annotated[bool, typer.Option("--force", help="overwrite an existing recording")] = False,
     screenshot: Annotated[Path | None, typer.Option(help="with --view: save the last frame as PNG")] = None,
     video: Annotated[Path | None, typer.Option(help="with --view: record every frame to a video (.mp4, .avi)")] = None,

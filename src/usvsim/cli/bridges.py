@@ -55,8 +55,14 @@ def open_bridges(sim, options: BridgeOptions) -> list:
             bridges.append(RosTcpBridge(sim, host, port, options.ros_tcp_profile, options.ros_tcp_vessel))
         if options.foxglove:
             fox = _extra("usvsim.bridges.foxglove", "ros2")
-            bridges.append(fox.FoxgloveBridge(sim, host=options.foxglove_host, port=options.foxglove_port,
-                                              max_clients=options.foxglove_max_clients))
+            bridges.append(
+                fox.FoxgloveBridge(
+                    sim,
+                    host=options.foxglove_host,
+                    port=options.foxglove_port,
+                    max_clients=options.foxglove_max_clients,
+                )
+            )
     except ValueError as exc:  # a bad option value (profile, vessel name, port)
         close_all(bridges)
         raise UsvsimError(str(exc)) from None
