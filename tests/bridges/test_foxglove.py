@@ -45,10 +45,10 @@ def store_from_schema(channel: dict):
     return store
 
 
-def receive(client, sim, topics, seconds=0.4, settle=0.3) -> dict[str, list[tuple[int, bytes]]]:
+def receive(client, sim, topics, seconds=0.4, settle=0.3, realtime=False) -> dict[str, list[tuple[int, bytes]]]:
     subs = {t: client.subscribe(t) for t in topics}
     client.pump(0.1)
-    sim.run(seconds)
+    sim.run(seconds, realtime=realtime)
     client.pump(settle)
     return {t: client.messages.get(s, []) for t, s in subs.items()}
 
@@ -229,10 +229,12 @@ def test_scene_restarts_after_a_simulation_reset():
     c = FoxgloveClient(bridge.url)
     try:
         assert c.wait_for(lambda: c.channel(WATER_TOPIC) is not None)
-        got = receive(c, sim, [WATER_TOPIC, SCENE_TOPIC], seconds=0.3)
+        # paced to the wall clock: the scene goes out at most 5 times per wall second, so a fast machine
+        # running 0.3 simulated seconds flat out sends a single water message
+        got = receive(c, sim, [WATER_TOPIC, SCENE_TOPIC], seconds=0.6, realtime=True)
         before = len(got[WATER_TOPIC])
         sim.reset()
-        sim.run(0.3)
+        sim.run(0.6, realtime=True)
         c.pump(0.3)
         times = [t for t, _ in got[WATER_TOPIC]]
         assert before >= 2 and len(times) >= before + 2 and times[before] < times[before - 1]
