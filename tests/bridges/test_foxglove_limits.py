@@ -44,9 +44,10 @@ def test_one_client_more_than_the_limit_is_refused_and_a_freed_slot_admits_again
         sim.close()
 
 
-def test_a_client_that_never_reads_is_dropped_and_a_reading_client_keeps_receiving():
+@pytest.mark.parametrize("bound", [{"max_client_buffer_bytes": 256 << 10}, {"client_stall_s": 0.5}])
+def test_a_client_that_never_reads_is_dropped_and_a_reading_client_keeps_receiving(bound):
     sim = make_sim()
-    bridge = make_bridge(sim, max_client_buffer_bytes=256 << 10)
+    bridge = make_bridge(sim, **bound)
     try:
         sim.run(0.1)
         ids = channel_ids(bridge)

@@ -21,7 +21,7 @@ Non-blocking: `channel.log` only queues; the SDK's server threads send. Each cli
 (`backlog` messages): the oldest data message is dropped when it is full. The SDK server listens on an
 internal loopback port; users connect to `host:port`, served by a front proxy (foxglove_proxy.py) that admits
 at most `max_clients` connections (one more gets HTTP 503) and drops a client whose unsent bytes exceed
-`max_client_buffer_bytes` (counted in `stats`). Errors inside the bridge are
+`max_client_buffer_bytes` or that reads nothing for `client_stall_s` while behind (counted in `stats`). Errors inside the bridge are
 counted in `stats["errors"]` and never reach the simulation loop.
 """
 
@@ -109,6 +109,7 @@ class FoxgloveBridge:
         client_publish: bool = True,
         max_clients: int = 16,
         max_client_buffer_bytes: int = 16 << 20,
+        client_stall_s: float = 10.0,
     ) -> None:
         self.sim = sim
         self.stats = dict.fromkeys(STAT_KEYS, 0)
@@ -134,7 +135,8 @@ class FoxgloveBridge:
             raise OSError(f"cannot start the Foxglove server on {host}:{port}: {str(exc)[:160]}") from None
         try:
             self._proxy = FoxgloveProxy(host, port, self._server.port, max_clients=max_clients,
-                                        max_buffer_bytes=max_client_buffer_bytes, count=self._count)  # fmt: skip
+                                        max_buffer_bytes=max_client_buffer_bytes, stall_s=client_stall_s,
+                                        count=self._count)  # fmt: skip
         except OSError as exc:  # port taken, bad address
             self._server.stop()
             raise OSError(f"cannot start the Foxglove server on {host}:{port}: {str(exc)[:160]}") from None

@@ -4,9 +4,11 @@ foxglove-sdk 0.30 has no hook to refuse or drop a client, so the bridge binds th
 loopback port and puts this proxy on the address users connect to. It runs an asyncio loop in one daemon
 thread and, per connection, copies bytes both ways unchanged (the WebSocket handshake included):
 - at most `max_clients` connections at once; one more gets `HTTP/1.1 503` to its upgrade request and is closed;
-- server → client bytes are written without waiting for the client; a client whose unsent bytes exceed
-  `max_buffer_bytes` (a client that stopped reading) is dropped, i.e. both of its connections are aborted, so
-  the SDK forgets it too. Memory for clients is thus bounded by `max_clients * max_buffer_bytes`;
+- server → client: while more than PAUSE_BYTES wait for a client, the proxy stops reading its server side,
+  so the SDK's bounded per-client queue drops the oldest data (a slow client gets the newest, not everything);
+  a client whose unsent bytes exceed `max_buffer_bytes`, or that takes nothing for `stall_s` seconds while
+  paused (it stopped reading), is dropped: both of its connections are aborted, so the SDK forgets it too.
+  Memory for clients is thus bounded by `max_clients * max_buffer_bytes`;
 - client → server bytes wait for the server (backpressure to the client).
 Counters go through `count(key)` (`connections_accepted`, `connections_refused`, `connections_dropped`);
 refusals and drops are logged at most once per kind and 10 s, with the totals.
@@ -25,6 +27,7 @@ log = logging.getLogger(__name__)
 REFUSAL = b"HTTP/1.1 503 Service Unavailable\r\nContent-Type: text/plain\r\nContent-Length: 28\r\n" \
           b"Connection: close\r\n\r\ntoo many Foxglove clients\r\n\r\n"  # fmt: skip
 READ_BYTES = 1 << 18
+PAUSE_BYTES = 1 << 20  # a client this far behind pauses its server side (the SDK then drops its oldest data)
 LOG_PERIOD_S = 10.0
 REQUEST_TIMEOUT_S = 2.0  # how long a refused client may take to send its upgrade request
 
@@ -40,13 +43,14 @@ class FoxgloveProxy:
         *,
         max_clients: int = 16,
         max_buffer_bytes: int = 16 << 20,
+        stall_s: float = 10.0,
         count: Callable[[str], None] = lambda key: None,
     ) -> None:
         if max_clients < 1 or max_buffer_bytes < 1:
             raise ValueError(
                 f"max_clients and max_buffer_bytes must be >= 1, got {max_clients}, {max_buffer_bytes}"
             )
-        self.max_clients, self.max_buffer_bytes = max_clients, max_buffer_bytes
+        self.max_clients, self.max_buffer_bytes, self.stall_s = max_clients, max_buffer_bytes, stall_s
         self._upstream_port, self._count = upstream_port, count
         self._totals = {"connections_refused": 0, "connections_dropped": 0}
         self._last_log: dict[str, float] = {}
@@ -121,19 +125,25 @@ class FoxgloveProxy:
         writer.transport.abort()
 
     async def _to_client(self, src: asyncio.StreamReader, dst: asyncio.StreamWriter, upstream) -> None:
-        """Server → client, never waiting for the client; drops a client whose backlog exceeds the bound."""
+        """Server → client; pauses while the client is behind, drops it past the byte bound or the stall time."""
         while data := await src.read(READ_BYTES):
             if dst.transport.is_closing():
                 return
             dst.write(data)
             if dst.transport.get_write_buffer_size() > self.max_buffer_bytes:
-                self._note("connections_dropped", f"dropped a client that stopped reading "
-                           f"(more than {self.max_buffer_bytes} bytes unsent)")  # fmt: skip
-                dst.transport.abort()
-                upstream.transport.abort()
-                return
+                return self._drop(dst, upstream, f"more than {self.max_buffer_bytes} bytes unsent")
+            if dst.transport.get_write_buffer_size() > PAUSE_BYTES:  # the SDK's queue drops the oldest data
+                try:
+                    await asyncio.wait_for(dst.drain(), self.stall_s)
+                except TimeoutError:
+                    return self._drop(dst, upstream, f"nothing read for {self.stall_s} s")
         await asyncio.wait_for(dst.drain(), REQUEST_TIMEOUT_S)  # the server closed: flush, then close
         dst.write_eof()
+
+    def _drop(self, dst: asyncio.StreamWriter, upstream: asyncio.StreamWriter, why: str) -> None:
+        self._note("connections_dropped", f"dropped a client that stopped reading ({why})")
+        dst.transport.abort()
+        upstream.transport.abort()
 
     @staticmethod
     async def _to_server(src: asyncio.StreamReader, dst: asyncio.StreamWriter) -> None:
