@@ -24,8 +24,9 @@ import time
 from collections.abc import Callable
 
 log = logging.getLogger(__name__)
-REFUSAL = b"HTTP/1.1 503 Service Unavailable\r\nContent-Type: text/plain\r\nContent-Length: 28\r\n" \
-          b"Connection: close\r\n\r\ntoo many Foxglove clients\r\n\r\n"  # fmt: skip
+REFUSAL_BODY = b"too many Foxglove clients\n"
+REFUSAL = b"HTTP/1.1 503 Service Unavailable\r\nContent-Type: text/plain\r\nConnection: close\r\n" \
+          b"Content-Length: %d\r\n\r\n%s" % (len(REFUSAL_BODY), REFUSAL_BODY)  # fmt: skip
 READ_BYTES = 1 << 18
 PAUSE_BYTES = 1 << 20  # a client this far behind pauses its server side (the SDK then drops its oldest data)
 LOG_PERIOD_S = 10.0
