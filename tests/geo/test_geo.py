@@ -259,3 +259,16 @@ def test_bathymetry_from_soundings_is_exact_at_them_and_linear_between(place, tm
     assert sim.world.depth_at(*p.T)[0] == pytest.approx(weights @ depth[tri.simplices[s]], abs=1e-3)
     assert sim.world.depth_at(0.0, -390.0)[0] == pytest.approx(20.0)  # outside the soundings: the default
     sim.close()
+
+
+def test_a_vessel_driven_at_the_coast_stops_at_it(place):
+    start = {"position": [-200.0, COAST_Y - 20.0, 0.0], "yaw_deg": 90.0}  # bow toward the land, 17.5 m off
+    sim = Simulation(scenario(place, [{"name": "wamv", "model": "wamv", "pose": start}], structures=[], marks=[]))
+    boat = sim.vessels["wamv"]
+    boat.command(1.0)
+    sim.run(25.0)
+    bow = boat.position[1] + 2.5
+    cell = 2.0  # the solid coastline is the terrain grid's: within one cell of the drawn one
+    assert COAST_Y - 1.5 * cell < bow < COAST_Y + 0.5
+    assert any({a, b} == {"wamv", "world"} for a, b, _ in sim.contacts())
+    sim.close()
