@@ -272,3 +272,16 @@ def test_a_vessel_driven_at_the_coast_stops_at_it(place):
     assert COAST_Y - 1.5 * cell < bow < COAST_Y + 0.5
     assert any({a, b} == {"wamv", "world"} for a, b, _ in sim.contacts())
     sim.close()
+
+
+def test_map_draws_a_tasks_goals(tmp_path):
+    from PIL import Image
+    from typer.testing import CliRunner
+
+    from usvsim.cli.app import app
+
+    result = CliRunner().invoke(app, ["map", "wayfinding", "--task", "--out", str(tmp_path / "m.png")])
+    assert result.exit_code == 0, result.output
+    image = np.asarray(Image.open(tmp_path / "m.png").convert("RGB")).astype(int)
+    assert (np.abs(image - (0xE0, 0x7B, 0x00)).sum(axis=2) < 30).sum() > 100  # the three waypoints
+    assert CliRunner().invoke(app, ["map", "nope", "--task"]).exit_code == 2

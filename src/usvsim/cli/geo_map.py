@@ -1,4 +1,5 @@
-"""`usvsim map`: a plan view of a scenario (coast, depth contours, structures, objects, vessels) as PNG."""
+"""`usvsim map`: a plan view of a scenario or a task (coast, depth contours, structures, objects, traffic
+routes, task goals, vessels) as PNG."""
 
 from __future__ import annotations
 
@@ -9,20 +10,40 @@ import typer
 
 
 def map_command(
-    scenario: Annotated[str, typer.Argument(help="built-in scenario name or YAML file")],
+    scenario: Annotated[str, typer.Argument(help="built-in scenario name, YAML file, or with --task a task name")],
     out: Annotated[Path, typer.Option(help="PNG file to write")] = Path("map.png"),
+    task: Annotated[bool, typer.Option("--task", help="SCENARIO names a task (usvsim task): draw its goals")] = False,
+    difficulty: Annotated[int, typer.Option(help="task difficulty 0-2 (with --task)", min=0, max=2)] = 0,
+    seed: Annotated[int, typer.Option(help="task layout seed (with --task)")] = 0,
 ) -> None:
-    """Draw a plan view of a scenario (land, depth contours, structures, objects, vessels) to a PNG."""
+    """Draw a plan view (land, depth contours, structures, objects, traffic routes, task goals) to a PNG."""
     from usvsim.cli.errors import fail as _fail
     from usvsim.core.errors import UsvsimError
     from usvsim.geo.plan import draw_plan
     from usvsim.simulation import Simulation
 
     try:
-        sim = Simulation.from_scenario(scenario)
-        draw_plan(sim, out)
+        goals = []
+        if task:
+            sim, goals = _task_simulation(scenario, difficulty, seed)
+        else:
+            sim = Simulation.from_scenario(scenario)
+        draw_plan(sim, out, goals=goals)
     except UsvsimError as exc:
         _fail(exc)
     except OSError as exc:
         _fail(f"cannot write {out}: {exc.strerror}")
     typer.echo(str(out))
+
+
+def _task_simulation(name: str, difficulty: int, seed: int):
+    """The task's scenario as a simulation and its goal poses (x, y m ENU, yaw rad)."""
+    from usvsim.core.errors import UsvsimError
+    from usvsim.simulation import Simulation
+    from usvsim.tasks import TASKS
+
+    if name not in TASKS:
+        raise UsvsimError(f"no task '{name}' (tasks: {', '.join(TASKS)})")
+    task = TASKS[name](difficulty, seed)
+    goal = getattr(task, "goal", None)
+    return Simulation(task.scenario(), seed=seed), ([goal] if goal else list(getattr(task, "waypoints", [])))

@@ -1,5 +1,5 @@
 """A plan view of a scenario (world ENU, metres, north up): land, depth contours, structures, obstacles,
-buoys, traffic routes and vessels at their start poses. Used by `usvsim map` and the docs."""
+buoys, traffic routes, task goals and vessels at their start poses. Used by `usvsim map` and the docs."""
 
 from __future__ import annotations
 
@@ -13,8 +13,9 @@ from usvsim.world.obstacles import static_parts
 LAND, WATER, STRUCTURE = "#8a9a6b", "#d8e8f0", "#9a9a96"
 
 
-def draw_plan(sim, path, size_in: float = 9.0, dpi: int = 110) -> None:
-    """Write the plan view of a built simulation (its scenario and place) to a PNG file."""
+def draw_plan(sim, path, size_in: float = 9.0, dpi: int = 110, goals=()) -> None:
+    """Write the plan view of a built simulation (its scenario and place) to a PNG file; `goals` are poses
+    (x, y m ENU, yaw rad) drawn as numbered targets (a task's station or waypoints)."""
     import matplotlib
 
     matplotlib.use("Agg")
@@ -27,6 +28,9 @@ def draw_plan(sim, path, size_in: float = 9.0, dpi: int = 110) -> None:
         _draw_place(ax, place)
     _draw_objects(ax, scenario, sim)
     _draw_traffic(ax, scenario)
+    _draw_goals(ax, goals)
+    if place is None:
+        ax.margins(0.12)
     ax.autoscale_view()
     span = max(np.ptp(ax.get_xlim()), np.ptp(ax.get_ylim()))
     for name, boat in sim.vessels.items():
@@ -106,6 +110,15 @@ def _draw_traffic(ax, scenario) -> None:
         ax.plot(xy[:, 0], xy[:, 1], "--", color=TRAFFIC, lw=1.2, zorder=5)
         ax.plot(xy[:1, 0], xy[:1, 1], "s", color=TRAFFIC, ms=4, zorder=5)
         ax.text(xy[0, 0], xy[0, 1], f"  {ship.name}", color=TRAFFIC, fontsize=7, va="top", zorder=5)
+
+
+GOAL = "#e07b00"
+
+
+def _draw_goals(ax, goals) -> None:
+    for k, (x, y, yaw) in enumerate(goals):
+        ax.plot([x], [y], marker=(3, 0, math.degrees(yaw) - 90.0), color=GOAL, ms=11, zorder=6)
+        ax.text(x, y, f"  goal {k + 1}" if len(goals) > 1 else "  goal", color=GOAL, fontsize=8, zorder=6)
 
 
 def _box(ax, part) -> None:
