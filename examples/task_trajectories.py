@@ -8,10 +8,10 @@ import sys
 import matplotlib
 
 matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
+import matplotlib.pyplot as plt
 
-from usvsim.tasks import TASKS, TaskTiming  # noqa: E402
-from usvsim.tasks.solutions import run_trial  # noqa: E402
+from usvsim.tasks import TASKS, TaskTiming
+from usvsim.tasks.solutions import run_trial
 
 COLOURS = {"red": "tab:red", "green": "tab:green", "black": "k", "orange": "tab:orange", "yellow": "gold"}
 

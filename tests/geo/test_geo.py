@@ -133,7 +133,9 @@ def _write(path, text):
 def test_bad_geodata_is_one_clear_error_naming_the_file(place, tmp_path, case):
     ring = to_utm([0, 100, 0, 100], [200, 300, 300, 200]).tolist()  # a bow tie
     square = to_utm([0, 100, 100, 0], [200, 200, 300, 300]).tolist()
-    poly = lambda r: {"type": "Feature", "properties": {}, "geometry": {"type": "Polygon", "coordinates": [r + [r[0]]]}}
+    def poly(r):
+        return {"type": "Feature", "properties": {}, "geometry": {"type": "Polygon", "coordinates": [r + [r[0]]]}}
+
     crs = {"type": "name", "properties": {"name": "urn:ogc:def:crs:EPSG::25832"}}
     geo = {}
     if case == "no_crs":  # a shapefile without its .prj
