@@ -1,10 +1,12 @@
 """The simulation side of test_dds_ros2.py; runs inside a loopback-only network namespace.
 
 1. harbor_sensors + DdsBridge; /tf_static goes out before any subscriber exists (late joiner).
-2. The rclpy peer (Fast DDS with 4 MiB socket buffers, type propagation off: see docs/ros2.md) (`accept`) subscribes to everything and drives the boats; the sim steps paced to the
-   wall clock until the peer is done.
+2. The rclpy peer (`accept`: Kilted's Fast DDS with 4 MiB socket buffers for the images and clouds, type
+   propagation at its default, see docs/ros2.md) subscribes to everything and drives the boats; the sim steps
+   paced to the wall clock until the peer is done.
 3. Two `noisy` peers are started and killed (SIGKILL) in turn while they send garbage; the step times
-   of this phase are compared with phase 2. Prints one JSON object.
+   of this phase are compared with phase 2.
+4. A second `accept` peer with Kilted's default settings only (no profile at all). Prints one JSON object.
 """
 
 from __future__ import annotations
@@ -27,8 +29,6 @@ FASTDDS_PROFILE = """<?xml version="1.0" encoding="UTF-8" ?>
     <sendBufferSize>4194304</sendBufferSize><receiveBufferSize>4194304</receiveBufferSize>
   </transport_descriptor></transport_descriptors>
   <participant profile_name="usvsim_test" is_default_profile="true"><rtps>
-    <propertiesPolicy><properties><property><name>fastdds.type_propagation</name><value>disabled</value>
-    </property></properties></propertiesPolicy>
     <userTransports><transport_id>udp</transport_id></userTransports>
     <useBuiltinTransports>false</useBuiltinTransports>
   </rtps></participant>
@@ -36,11 +36,14 @@ FASTDDS_PROFILE = """<?xml version="1.0" encoding="UTF-8" ?>
 """
 
 
-def peer(mode: str, *args: str) -> subprocess.Popen:
-    profile = Path(os.environ.get("TMPDIR", "/tmp")) / f"usvsim_fastdds_{os.getpid()}.xml"
-    profile.write_text(FASTDDS_PROFILE)
-    env = dict(os.environ, RMW_IMPLEMENTATION="rmw_fastrtps_cpp", FASTDDS_DEFAULT_PROFILES_FILE=str(profile),
-               PYTHONPATH=str(HERE), ROS_DOMAIN_ID="0")  # fmt: skip
+def peer(mode: str, *args: str, buffers: bool = True) -> subprocess.Popen:
+    """An rclpy peer; `buffers`: Fast DDS with 4 MiB socket buffers, else Kilted's default settings."""
+    env = dict(os.environ, RMW_IMPLEMENTATION="rmw_fastrtps_cpp", PYTHONPATH=str(HERE), ROS_DOMAIN_ID="0")
+    env.pop("FASTDDS_DEFAULT_PROFILES_FILE", None)
+    if buffers:
+        profile = Path(os.environ.get("TMPDIR", "/tmp")) / f"usvsim_fastdds_{os.getpid()}.xml"
+        profile.write_text(FASTDDS_PROFILE)
+        env["FASTDDS_DEFAULT_PROFILES_FILE"] = str(profile)
     cmd = [sys.executable, str(HERE / "dds_rclpy_peer.py"), mode, *args]
     return subprocess.Popen(cmd, env=env, stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, text=True)
 
@@ -83,10 +86,14 @@ def main(seconds: float) -> dict:
             noisy.kill()
             noisy.wait()
         after = step_while(sim, lambda: True, 1.0)
+        defaults = peer("accept", "3.0", buffers=False)
+        step_while(sim, lambda: defaults.poll() is None, 200.0)
+        defaults_result = json.loads(defaults.stdout.read() or "{}")
     finally:
         bridge.close()
         sim.close()
-    return {"peer": result, "moved_m": moved, "bridge": bridge.stats, "commands": dict(sim.commands.stats),
+    return {"peer": result, "defaults_peer": defaults_result, "moved_m": moved, "bridge": bridge.stats,
+            "commands": dict(sim.commands.stats),
             "step_s": {"accept_median": statistics.median(steps), "noisy_median": statistics.median(noisy_steps),
                        "accept_max": max(steps), "noisy_max": max(noisy_steps), "after_steps": len(after),
                        "after_sim_s": len(after) * sim.clock.dt}}  # fmt: skip

@@ -7,6 +7,7 @@ The independent-stack (rclpy / Fast DDS) acceptance test is test_dds_ros2.py.
 
 from __future__ import annotations
 
+import socket
 import time
 
 import numpy as np
@@ -17,6 +18,7 @@ pytest.importorskip("cyclonedds")
 from usvsim.bridges import dds_types
 from usvsim.bridges.dds import DdsBridge, _qos
 from usvsim.bridges.dds_config import cyclone_config
+from usvsim.bridges.dds_domain import socket_fds
 from usvsim.messages.envelope import Envelope, QosProfile
 from usvsim.messages.ros import clock_msg, msg_class, typestore
 from usvsim.simulation import Simulation
@@ -142,6 +144,30 @@ def test_default_configuration_keeps_traffic_on_loopback():
     assert '<Peer address="127.0.0.1"/>' in xml
     wide = cyclone_config("eth0")
     assert '<NetworkInterface name="eth0"/>' in wide and "AllowMulticast" not in wide and "Peer" not in wide
+
+
+def test_udp_sockets_of_a_loopback_domain_accept_only_loopback_traffic(sim):
+    """Cyclone binds 0.0.0.0 whatever its interface; the bridge binds those sockets to the `lo` device."""
+    before = socket_fds()
+    with DdsBridge(sim, domain_id=37):  # a domain of its own: its sockets are opened now
+        new = [socket.socket(fileno=fd) for fd in sorted(socket_fds() - before)]
+        try:
+            udp = [s for s in new if s.type == socket.SOCK_DGRAM]
+            assert udp and all(s.getsockname()[0] == "127.0.0.1" or _device(s) == "lo" for s in udp)
+            assert any(s.getsockname()[0] == "0.0.0.0" for s in udp)  # the wildcard ones were there to pin
+        finally:
+            for s in new:
+                s.detach()
+
+
+def _device(sock: socket.socket) -> str:
+    return sock.getsockopt(socket.SOL_SOCKET, socket.SO_BINDTODEVICE, 16).rstrip(b"\0").decode()
+
+
+def test_fast_dds_endpoints_are_matched_by_type_name():
+    """Kilted's Fast DDS type information is ignored (Cyclone would reject it for types with fixed arrays);
+    test_dds_ros2.py shows a default-settings Kilted peer receiving every type."""
+    assert "<IgnoreTypeInformation>1.15</IgnoreTypeInformation>" in cyclone_config()
 
 
 def test_unknown_cyclonedds_version_fails_clearly(monkeypatch):

@@ -15,7 +15,8 @@ In: one reader per topic of `sim.commands.topics` (thrusters, cmd_vel, /reset); 
 
 Threads: the step loop only serializes (once, shared with other consumers) and appends to a bounded
 queue; a sender thread writes to DDS; when it falls behind, the oldest queued message is dropped and
-counted (`stats["dropped"]`). A receiver thread waits on the command readers. Neither ever blocks the step.
+counted (`stats["dropped"]`); after each large sample it pauses briefly (`PACE_BYTES_PER_S`) so that receivers with
+default socket buffers keep up. A receiver thread waits on the command readers. Neither ever blocks the step.
 `mode="inline"` writes from the step loop instead (lowest latency, for light topic sets).
 
 Network: see `dds_config.py` (loopback by default; `interface="eth0"` for a real network).
@@ -29,7 +30,7 @@ from collections import deque
 from typing import TYPE_CHECKING, Any, Literal
 
 from usvsim.bridges import dds_types
-from usvsim.bridges.dds_config import cyclone_config
+from usvsim.bridges.dds_config import LOOPBACK_NAMES, cyclone_config
 from usvsim.bridges.dds_domain import acquire_domain, release_domain
 from usvsim.core import queues
 from usvsim.messages.envelope import Envelope, QosProfile
@@ -41,6 +42,11 @@ if TYPE_CHECKING:
 QUEUE_LIMIT = 256  # envelopes waiting for the sender thread; the oldest is dropped beyond this
 MAX_BLOCKING_MS = 20  # a reliable writer whose history is full waits at most this long (sender thread)
 COMMAND_DEPTH = 10
+# After a large sample (an image, a cloud) the sender pauses for len / PACE_BYTES_PER_S, so that back-to-back
+# samples do not overflow a receiver's socket buffer: a default Fast DDS reader listens with the kernel's
+# default 208 KiB and loses best-effort fragments of an RGB + depth pair sent without a gap.
+PACE_ABOVE_BYTES = 128 * 1024
+PACE_BYTES_PER_S = 400e6
 STAT_KEYS = ("published", "bytes", "dropped", "write_errors", "queue_high_water", "writers",
              "commands_received", "commands_refused")  # fmt: skip
 
@@ -72,7 +78,8 @@ class DdsBridge:
         self._queue: deque[Envelope] = queues.bounded(queue_limit)
         self._wake = threading.Event()
         self._closed = threading.Event()
-        self._domain = acquire_domain(domain_id, config or cyclone_config(interface))
+        device = "lo" if config is None and interface in LOOPBACK_NAMES else None
+        self._domain = acquire_domain(domain_id, config or cyclone_config(interface), device)
         self.participant = DomainParticipant(domain_id)
         self._readers = [self._command_reader(topic, t) for topic, t in sim.commands.topics.items()]
         self._threads = [threading.Thread(target=self._receive_loop, name="usvsim-dds-rx", daemon=True)]
@@ -106,6 +113,8 @@ class DdsBridge:
                 except IndexError:  # dropped by the simulation thread meanwhile
                     break
                 self._publish(envelope)
+                if len(envelope.cdr) > PACE_ABOVE_BYTES:  # let the receivers drain their sockets
+                    self._closed.wait(len(envelope.cdr) / PACE_BYTES_PER_S)
 
     def _publish(self, envelope: Envelope) -> None:
         entry = self._writers.get(envelope.topic)

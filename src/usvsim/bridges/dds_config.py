@@ -25,6 +25,7 @@ LOOPBACK_NAMES = ("lo", "lo0", "127.0.0.1", "localhost")
 SOCKET_BUFFER = "8MiB"
 WHC_HIGH = "16MiB"
 MAX_PARTICIPANT_INDEX = 32  # unicast discovery reaches this many participants per host and domain
+NAME_MATCHED_VENDORS = "1.15"  # eProsima Fast DDS: match its endpoints by type name, ignore its XTypes data
 SPDP_INTERVAL = "1s"  # without multicast, a node started after the bridge is found at the next announcement
 
 
@@ -51,6 +52,7 @@ def cyclone_config(interface: str | None = "lo", *, socket_buffer: str = SOCKET_
     )
     return (
         '<CycloneDDS><Domain id="any">'
+        f"<Compatibility><IgnoreTypeInformation>{NAME_MATCHED_VENDORS}</IgnoreTypeInformation></Compatibility>"
         f"<General>{general}</General>{discovery}{internal}"
         "</Domain></CycloneDDS>"
     )

@@ -4,10 +4,9 @@ Types: `idl_type("sensor_msgs/msg/Image")` builds (once) a final (XCDR1) cyclone
 `sensor_msgs::msg::dds_::Image_` from the rosbags typestore's field definitions, nested types with their
 own mangled names (ros2-interop.md §2.1). The classes exist so that topics carry the right type name and
 final extensibility and XTypes type information (cyclonedds-python 11 requires it); samples are never
-built from them: the bridge writes and takes CDR bytes. Known limit: Fast DDS 3.x (ROS 2 Kilted) announces
-type objects that Cyclone 11 rejects as invalid for messages with arrays (Imu, Odometry, Image, ...), and
-the writer then never matches such a reader; Kilted subscribers need `fastdds.type_propagation=disabled`
-(docs: DdsBridge). Jazzy/Humble rmw_fastrtps and rmw_cyclonedds announce no type objects and match by name.
+built from them: the bridge writes and takes CDR bytes. Fast DDS 3.x (ROS 2 Kilted) announces type objects that Cyclone 11
+rejects for messages with arrays; `dds_config` tells Cyclone to match Fast DDS endpoints by type name instead,
+as Jazzy/Humble RMWs (which announce no type objects) are matched anyway.
 
 Raw I/O: cyclonedds-python has no public API to write or take serialized samples; `DataWriter.write`
 serializes sequence[uint8] element by element (~50 ms for a VGA image). `write_cdr` hands the bytes to
