@@ -13,12 +13,8 @@ from usvsim.tasks.solutions import run_trial
 
 def hold(sim, index, x, y, yaw):
     """Put body `index` at (x, y, yaw) (world ENU) at rest: the scripted trajectory."""
-    world = sim.world
-    a, v = world.qpos_adr[index], world.qvel_adr[index]
-    sim.data.qpos[a : a + 7] = [x, y, 0.0, math.cos(yaw / 2), 0.0, 0.0, math.sin(yaw / 2)]
-    sim.data.qvel[v : v + 6] = 0.0
+    sim.world.teleport(index, ((x, y, 0.0), (math.cos(yaw / 2), 0.0, 0.0, math.sin(yaw / 2))))
     mujoco.mj_forward(sim.model, sim.data)
-    world._update_kinematics()
 
 
 def test_station_keeping_scripted_offsets_give_vrx_formula():

@@ -1,7 +1,8 @@
 """Per-step kinematics of the floating bodies and assembly of their marine wrenches (numba kernels).
 
-MuJoCo free joints: qpos = (position of the body frame origin, world; quaternion w, x, y, z body→world),
-qvel = (linear velocity of the body origin, world frame; angular velocity, body frame).
+MuJoCo free joints: qpos = (position of the MuJoCo body frame origin, world; quaternion w, x, y, z body→world),
+qvel = (linear velocity of that origin, world frame; angular velocity, body frame). Floating bodies have their
+MuJoCo frame at the centre of mass (world/builder.py), axes along base_link: base_link = CoM - R com_body.
 """
 
 from __future__ import annotations
@@ -11,7 +12,8 @@ from numba import njit
 
 @njit(cache=True)
 def body_kinematics(qpos, qvel, qpos_adr, qvel_adr, com_body, pos, rot, com_world, vcom_world, omega_body):
-    """Pose, rotation matrix, CoM position and CoM velocity (world) and body angular velocity of each body."""
+    """Pose of base_link, rotation matrix, CoM position and CoM velocity (world) and body angular velocity of each
+    body (the free joint's origin is the CoM)."""
     for i in range(qpos_adr.shape[0]):
         a, b = qpos_adr[i], qvel_adr[i]
         w, x, y, z = qpos[a + 3], qpos[a + 4], qpos[a + 5], qpos[a + 6]
@@ -26,20 +28,14 @@ def body_kinematics(qpos, qvel, qpos_adr, qvel_adr, com_body, pos, rot, com_worl
         rot[i, 2, 0] = 2 * (x * z - w * y)
         rot[i, 2, 1] = 2 * (y * z + w * x)
         rot[i, 2, 2] = 1 - 2 * (x * x + y * y)
-        for k in range(3):
-            pos[i, k] = qpos[a + k]
-            omega_body[i, k] = qvel[b + 3 + k]
         cx = com_body[i, 0] * rot[i, 0, 0] + com_body[i, 1] * rot[i, 0, 1] + com_body[i, 2] * rot[i, 0, 2]
         cy = com_body[i, 0] * rot[i, 1, 0] + com_body[i, 1] * rot[i, 1, 1] + com_body[i, 2] * rot[i, 1, 2]
         cz = com_body[i, 0] * rot[i, 2, 0] + com_body[i, 1] * rot[i, 2, 1] + com_body[i, 2] * rot[i, 2, 2]
-        com_world[i, 0], com_world[i, 1], com_world[i, 2] = pos[i, 0] + cx, pos[i, 1] + cy, pos[i, 2] + cz
-        # omega_world = R omega_body; v_com = v_origin + omega_world x (R c)
-        ox = rot[i, 0, 0] * omega_body[i, 0] + rot[i, 0, 1] * omega_body[i, 1] + rot[i, 0, 2] * omega_body[i, 2]
-        oy = rot[i, 1, 0] * omega_body[i, 0] + rot[i, 1, 1] * omega_body[i, 1] + rot[i, 1, 2] * omega_body[i, 2]
-        oz = rot[i, 2, 0] * omega_body[i, 0] + rot[i, 2, 1] * omega_body[i, 1] + rot[i, 2, 2] * omega_body[i, 2]
-        vcom_world[i, 0] = qvel[b + 0] + oy * cz - oz * cy
-        vcom_world[i, 1] = qvel[b + 1] + oz * cx - ox * cz
-        vcom_world[i, 2] = qvel[b + 2] + ox * cy - oy * cx
+        for k in range(3):
+            com_world[i, k] = qpos[a + k]
+            vcom_world[i, k] = qvel[b + k]
+            omega_body[i, k] = qvel[b + 3 + k]
+        pos[i, 0], pos[i, 1], pos[i, 2] = com_world[i, 0] - cx, com_world[i, 1] - cy, com_world[i, 2] - cz
 
 
 @njit(cache=True)

@@ -21,7 +21,7 @@ import numpy as np
 
 from usvsim.config.loader import base_dir, source_of
 from usvsim.config.objects import Buoy
-from usvsim.world.builder import VISUAL_GROUP
+from usvsim.world.builder import VISUAL_GROUP, base_offset
 from usvsim.world.obstacles import static_parts
 
 if TYPE_CHECKING:
@@ -97,7 +97,7 @@ def _floating(sim: World, name: str, category: str, label: str) -> TrackedObject
     m = sim.model
     body = mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_BODY, name)
     geoms = np.flatnonzero((m.geom_bodyid == body) & (m.geom_group == VISUAL_GROUP))
-    center, size = _box_of(m, geoms, np.zeros(3), np.eye(3))
+    center, size = _box_of(m, geoms, -base_offset(m, body), np.eye(3))  # in base_link (MuJoCo's frame is at the CoM)
     return TrackedObject(name, category, label, geoms, body - 1, np.zeros(3), np.eye(3), center, size)
 
 

@@ -202,9 +202,12 @@ class World:
         self.hydrostatics = self._hydrostatics()
 
     def _place(self, index: int, pos: np.ndarray, quat: np.ndarray, nu: np.ndarray) -> None:
+        """base_link at `pos` with orientation `quat` and body-frame twist `nu` (of base_link's origin)."""
         a, d = self.qpos_adr[index], self.qvel_adr[index]
-        self.data.qpos[a : a + 3], self.data.qpos[a + 3 : a + 7] = pos, quat
-        self.data.qvel[d : d + 3] = matrix_from_quat(quat) @ nu[:3]  # free joint: world-frame linear velocity
+        rot = matrix_from_quat(quat)
+        com = rot @ self._com_body[index]  # the free joint's origin is the CoM (world/builder.py)
+        self.data.qpos[a : a + 3], self.data.qpos[a + 3 : a + 7] = pos + com, quat
+        self.data.qvel[d : d + 3] = rot @ nu[:3] + np.cross(rot @ nu[3:], com)  # world-frame CoM velocity
         self.data.qvel[d + 3 : d + 6] = nu[3:]  # and body-frame angular velocity
 
     def _restore_scenario_models(self) -> None:
@@ -285,9 +288,10 @@ class World:
         return q / np.linalg.norm(q)
 
     def origin_velocity(self, i: int) -> np.ndarray:
-        """World-frame velocity of body i's frame origin (m/s)."""
-        a = self.qvel_adr[i]
-        return self.data.qvel[a : a + 3].copy()
+        """World-frame velocity of body i's frame (base_link) origin (m/s)."""
+        s = self.state
+        omega_world = s.rot[i] @ s.omega_body[i]
+        return s.vcom_world[i] - np.cross(omega_world, s.com_world[i] - s.pos[i])
 
     def depth_at(self, x_m, y_m) -> np.ndarray:
         """Water depth (m, positive down from still water) at ENU points: the place's seabed (geo/; minus the

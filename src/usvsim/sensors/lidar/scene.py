@@ -20,6 +20,7 @@ from embreex import rtcore_scene as rtcs
 from embreex.mesh_construction import TriangleMesh
 
 from usvsim.core.transforms import matrix_from_quat
+from usvsim.world.builder import base_offset
 
 TOL_M = 0.004  # max distance of tessellated primitives from the true surface
 NO_HIT = -1
@@ -60,9 +61,10 @@ def geom_triangles(model: mujoco.MjModel, g: int) -> np.ndarray | None:
 
 
 def geom_triangles_body(model: mujoco.MjModel, g: int) -> np.ndarray | None:
-    """Triangles (n, 3, 3) of geom g in its body's frame (the world frame for static geoms), m."""
+    """Triangles (n, 3, 3) of geom g in its body's frame (base_link; the world frame for static geoms), m."""
     tris = geom_triangles(model, g)
-    return None if tris is None else tris @ matrix_from_quat(model.geom_quat[g]).T + model.geom_pos[g]
+    offset = base_offset(model, model.geom_bodyid[g])  # MuJoCo's frame of a floating body sits at its CoM
+    return None if tris is None else tris @ matrix_from_quat(model.geom_quat[g]).T + model.geom_pos[g] + offset
 
 
 @dataclass(frozen=True)
