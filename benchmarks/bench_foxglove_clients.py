@@ -4,7 +4,9 @@
 (undisturbed): the bridge on, no client; phase 2 (loaded): a client process makes 200 connection attempts;
 every admitted connection subscribes to every channel; odd ones read everything, even ones never read (they
 are dropped at the buffer bound). The step rate of phase 2 is reported as a ratio to phase 1 of the same run
-(medians of `--rounds` chunks of `--seconds` simulated seconds), the RSS as the maximum sampled after each chunk.
+(medians of `--rounds` chunks of `--seconds` simulated seconds), the RSS as the maximum sampled after each chunk
+(the simulation's process; the proxy process's RSS is added when it is found). The client process runs on the
+same 2 cores at normal priority: it reads ~100 MB/s in Python, so the ratio includes that contention.
 
     python benchmarks/bench_foxglove_clients.py [--seconds 1] [--rounds 5] [--attempts 200]
 Writes benchmarks/results/foxglove_clients.json (`--max-clients M`: foxglove_clients_M.json).
@@ -77,8 +79,11 @@ def client_main(url: str, attempts: int) -> None:
     print(json.dumps(counts), flush=True)
 
 
-def rss_mb() -> float:
-    return int(Path("/proc/self/statm").read_text().split()[1]) * os.sysconf("SC_PAGE_SIZE") / 2**20
+def rss_mb(pid: int | str = "self") -> float:
+    try:
+        return int(Path(f"/proc/{pid}/statm").read_text().split()[1]) * os.sysconf("SC_PAGE_SIZE") / 2**20
+    except OSError:
+        return 0.0
 
 
 def timed(sim, seconds: float) -> float:
@@ -105,7 +110,7 @@ def main() -> None:
     sim.run(0.5)  # warm: numba, render context; every topic advertised
     load = [os.getloadavg()[0]]
     base = [timed(sim, args.seconds) for _ in range(args.rounds)]
-    rss_base = rss_mb()
+    rss_base = rss_mb() + rss_mb(bridge._proxy._child.pid)
     cmd = [sys.executable, __file__, "--client", bridge.url, "--attempts", str(args.attempts)]
     client = subprocess.Popen(cmd, stdin=subprocess.PIPE, stdout=subprocess.PIPE, text=True)
     loaded, rss = [], [rss_base]
@@ -115,7 +120,7 @@ def main() -> None:
         not done.is_set() or len(loaded) < args.rounds
     ):  # chunks while the attempts go on, then `rounds` more
         loaded.append(timed(sim, args.seconds))
-        rss.append(rss_mb())
+        rss.append(rss_mb() + rss_mb(bridge._proxy._child.pid))
     out_text, _ = client.communicate("", timeout=60)
     load.append(os.getloadavg()[0])
     stats = dict(bridge.stats)

@@ -2,6 +2,7 @@
 
     python dds_rclpy_peer.py accept SECONDS   # subscribe to everything, check, then drive the boats; JSON out
     python dds_rclpy_peer.py noisy            # subscribe to the heavy topics, send garbage commands, until killed
+    python dds_rclpy_peer.py match N          # subscribe to one topic of each message type; until N of each
 
 Run only inside a loopback-only network namespace (test_dds_ros2.py does). Nothing from usvsim is imported.
 """
@@ -135,6 +136,16 @@ def accept(seconds: float) -> dict:
             "frames": {k: sorted(v) for k, v in peer.frames.items()}, "speed": peer.speed}  # fmt: skip
 
 
+def match(n: int, wall_s: float = 120.0) -> dict:
+    """Until `n` messages of every topic (or `wall_s`): which types match, and are they valid."""
+    peer = Peer(TOPICS)
+    need = {topic: 1 if topic == "/tf_static" else n for topic in TOPICS}  # /tf_static: one latched message
+    deadline = time.monotonic() + wall_s
+    while time.monotonic() < deadline and any(len(peer.stamps[t]) < k for t, k in need.items()):
+        rclpy.spin_once(peer, timeout_sec=0.05)
+    return {"counts": {t: len(v) for t, v in peer.stamps.items()}, "problems": peer.problems}
+
+
 def noisy() -> None:
     peer = Peer(["/clock", "/wamv/camera/image_raw", "/wamv/lidar/points"])
     thrust = peer.create_publisher(Float64, "/wamv/thrusters/rear_left/thrust", 10)
@@ -155,5 +166,7 @@ if __name__ == "__main__":
     rclpy.init()
     if sys.argv[1] == "accept":
         print(json.dumps(accept(float(sys.argv[2]))), flush=True)
+    elif sys.argv[1] == "match":
+        print(json.dumps(match(int(sys.argv[2]))), flush=True)
     else:
         noisy()

@@ -6,7 +6,8 @@
    paced to the wall clock until the peer is done.
 3. Two `noisy` peers are started and killed (SIGKILL) in turn while they send garbage; the step times
    of this phase are compared with phase 2.
-4. A second `accept` peer with Kilted's default settings only (no profile at all). Prints one JSON object.
+4. A `match` peer with Kilted's default settings only (no profile at all) takes a few messages of every topic.
+Prints one JSON object.
 """
 
 from __future__ import annotations
@@ -86,8 +87,8 @@ def main(seconds: float) -> dict:
             noisy.kill()
             noisy.wait()
         after = step_while(sim, lambda: True, 1.0)
-        defaults = peer("accept", "3.0", buffers=False)
-        step_while(sim, lambda: defaults.poll() is None, 200.0)
+        defaults = peer("match", "3", buffers=False)
+        step_while(sim, lambda: defaults.poll() is None, 150.0)
         defaults_result = json.loads(defaults.stdout.read() or "{}")
     finally:
         bridge.close()

@@ -29,8 +29,6 @@ RATES_HZ = {  # harbor_sensors.yaml (sensors) and its outputs.recording (clock 1
     "/wamv/lidar2d/scan": 5, "/wamv/imu/data": 50, "/wamv/odometry": 50, "/wamv/gps/fix": 10,
     "/wamv/ground_truth/odometry": 50, "/otter/ground_truth/odometry": 50,
 }  # fmt: skip
-BEST_EFFORT = {"/wamv/camera/depth/image_raw", "/wamv/camera/depth/camera_info", "/wamv/lidar/points",
-               "/wamv/lidar2d/scan"}  # the peer subscribes to these with sensor-data QoS  # fmt: skip
 STATIC_FRAMES = {"world>wamv/odom", "world>otter/odom", "wamv/base_link>wamv/lidar",
                  "wamv/base_link>wamv/camera", "wamv/camera>wamv/camera_optical", "wamv/base_link>wamv/imu"}  # fmt: skip
 
@@ -68,23 +66,14 @@ def test_every_topic_arrives_at_its_rate_in_sim_time(exchange):
 
 def test_kilted_with_default_settings_matches_every_type(exchange):
     """Kilted's Fast DDS (no profile) announces XTypes type information that Cyclone 11 would reject for types
-    with fixed arrays (Imu, Odometry, CameraInfo...); the bridge matches Fast DDS endpoints by type name
-    instead. Reliable topics arrive at their rate; best-effort ones (depth image, clouds, scans) at least
-    once: with the kernel's default 208 KiB socket buffers a best-effort reader may lose MB-size samples."""
+    with fixed arrays (Imu, Odometry, CameraInfo, NavSatFix...); the bridge matches Fast DDS endpoints by type
+    name instead, so every topic reaches a default Kilted node, valid. (Rates are checked above with larger
+    socket buffers: with the kernel's default 208 KiB a best-effort reader may lose MB-size samples.)"""
     peer = exchange["defaults_peer"]
     assert peer, "the default-settings rclpy peer reported nothing"
-    # the window opens once every topic has matched (discovery of each endpoint takes its own time)
-    t0 = max(min(peer["stamps"][topic], default=peer["window_ns"][1]) for topic in RATES_HZ)
-    t1 = peer["window_ns"][1]
-    window_s = (t1 - t0) / 1e9
-    assert window_s >= 1.0
-    for topic, rate in RATES_HZ.items():
-        got = sum(1 for stamp in peer["stamps"][topic] if t0 <= stamp < t1)
-        if topic in BEST_EFFORT:
-            assert got >= 1, f"{topic}: nothing arrived with Kilted's default settings"
-        else:
-            assert abs(got - rate * window_s) <= 1, f"{topic}: {got} messages in {window_s} s, expected {rate}/s"
-    assert peer["problems"] == [] and len(peer["stamps"]["/tf_static"]) == 1
+    assert peer["problems"] == []
+    missing = {topic: n for topic, n in peer["counts"].items() if n < (1 if topic == "/tf_static" else 3)}
+    assert not missing, f"too few messages with Kilted's default settings: {missing}"
 
 
 def test_messages_are_valid_and_tf_static_reaches_a_late_joiner(exchange):

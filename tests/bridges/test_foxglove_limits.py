@@ -3,7 +3,11 @@ stops reading is dropped once its unsent bytes pass the bound while a normal cli
 
 from __future__ import annotations
 
+import socket
+import subprocess
+import sys
 import time
+from pathlib import Path
 
 import pytest
 from foxglove_client import FoxgloveClient, raw_connect
@@ -31,7 +35,8 @@ def test_one_client_more_than_the_limit_is_refused_and_a_freed_slot_admits_again
         with pytest.raises(InvalidStatus) as refused:
             FoxgloveClient(bridge.url)
         assert refused.value.response.status_code == 503
-        assert bridge.stats["connections_refused"] == 1 and bridge.stats["connections_accepted"] == 2
+        # the proxy process reports its counters asynchronously
+        assert wait(lambda: bridge.stats["connections_refused"] == 1 and bridge.stats["connections_accepted"] == 2)
         assert second.wait_for(lambda: second.server_info is not None)  # the admitted ones are served
         first.close()
         assert wait(lambda: bridge._proxy.clients == 1)
@@ -62,7 +67,7 @@ def test_a_client_that_never_reads_is_dropped_and_a_reading_client_keeps_receivi
                 break
             sim.run(0.1)
             reader.pump(0.0)
-        assert bridge.stats["connections_dropped"] == 1
+        assert wait(lambda: bridge.stats["connections_dropped"] == 1)
         before = len(reader.messages.get(sub, []))
         sim.run(0.3)
         assert reader.wait_for(lambda: len(reader.messages.get(sub, [])) >= before + 2, seconds=10)
@@ -73,6 +78,48 @@ def test_a_client_that_never_reads_is_dropped_and_a_reading_client_keeps_receivi
     finally:
         bridge.close()
         sim.close()
+
+
+def test_idle_connections_never_take_a_slot_and_are_closed_after_the_handshake_time():
+    sim = make_sim(sensors=False)
+    bridge = make_bridge(sim, max_clients=1, client_handshake_s=0.5)
+    idle = [socket.create_connection(("127.0.0.1", bridge.port), timeout=10) for _ in range(3)]  # say nothing
+    try:
+        sim.run(0.05)
+        client = FoxgloveClient(bridge.url)  # admitted although three connections came first
+        assert client.wait_for(lambda: client.server_info is not None)
+        for sock in idle:
+            assert sock.recv(1) == b""  # closed by the proxy, without a byte
+        assert wait(lambda: bridge.stats["connections_dropped"] == 3 and bridge.stats["connections_refused"] == 0)
+        client.close()
+    finally:
+        for sock in idle:
+            sock.close()
+        bridge.close()
+        sim.close()
+
+
+def test_the_proxy_process_ends_with_the_simulation_process():
+    code = (
+        "import sys; sys.path.insert(0, sys.argv[1]); from foxglove_rig import make_bridge, make_sim;"
+        "b = make_bridge(make_sim(sensors=False)); print(b._proxy._child.pid, flush=True); sys.stdin.read()"
+    )
+    parent = subprocess.Popen([sys.executable, "-c", code, str(Path(__file__).parent)], stdin=subprocess.PIPE,
+                              stdout=subprocess.PIPE, text=True)  # fmt: skip
+    try:
+        child = int(parent.stdout.readline())
+        parent.kill()  # SIGKILL: no close(), no atexit
+        parent.wait()
+        assert wait(lambda: not Path(f"/proc/{child}").exists() or "zombie" in _state(child))
+    finally:
+        parent.kill()
+
+
+def _state(pid: int) -> str:
+    try:
+        return Path(f"/proc/{pid}/status").read_text().split("State:")[1].split("\n")[0].lower()
+    except (OSError, IndexError):
+        return "zombie"
 
 
 def test_a_taken_port_and_bad_limits_are_errors():

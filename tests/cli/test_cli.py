@@ -3,10 +3,12 @@
 from __future__ import annotations
 
 import os
+import shutil
 import signal
 import subprocess
 import sys
 import time
+from pathlib import Path
 
 import pytest
 from readers import read_with_mcap_ros2, read_with_rosbags
@@ -133,6 +135,36 @@ def test_sensor_messages_are_recorded(tmp_path):
 )
 def test_bad_bridge_options_fail_with_one_line(args, words):
     assert_one_line_error(usvsim("run", "--duration", "0.1", *args), *words)
+
+
+@pytest.mark.skipif(shutil.which("ss") is None, reason="needs iproute2's ss")
+def test_live_bridges_listen_only_on_loopback():
+    """`ss -lntup` during `usvsim run --ros2 --foxglove`: every socket of the run (and of its Foxglove proxy
+    process) is bound to 127.0.0.1 or to the loopback device (Cyclone's wildcard sockets: `0.0.0.0%lo`)."""
+    run = subprocess.Popen([*USVSIM, "run", "--duration", "60", "--realtime", "--ros2", "--foxglove",
+                            "--foxglove-port", "0"], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)  # fmt: skip
+    try:
+        deadline, ours = time.monotonic() + 120, []
+        while time.monotonic() < deadline and len({ln.split()[0] for ln in ours}) < 2:  # udp (DDS) and tcp
+            time.sleep(0.5)
+            pids = {str(run.pid), *_children(run.pid)}
+            table = subprocess.run(["ss", "-lntupH"], capture_output=True, text=True).stdout.splitlines()
+            ours = [ln for ln in table if any(f"pid={pid}," in ln for pid in pids)]
+        assert {ln.split()[0] for ln in ours} == {"udp", "tcp"}, ours
+        for line in ours:
+            local = line.split()[4]
+            assert local.startswith("127.0.0.1:") or "%lo:" in local, line
+    finally:
+        run.send_signal(signal.SIGINT)
+        run.communicate(timeout=60)
+
+
+def _children(pid: int) -> set[str]:
+    found = set()
+    for task in Path(f"/proc/{pid}/task").glob("*/children"):
+        for child in task.read_text().split():
+            found |= {child, *_children(int(child))}
+    return found
 
 
 def test_run_with_live_bridges_reports_their_counts():

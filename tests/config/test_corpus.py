@@ -81,3 +81,7 @@ def test_cli_validate_warns_for_a_hull_that_cannot_float(corpus):
     result = CliRunner().invoke(app, ["validate", str(path)])
     assert result.exit_code == 0 and result.stdout.startswith("OK")
     assert "warning:" in result.stderr and "sink" in result.stderr
+    strict = CliRunner().invoke(app, ["validate", "--strict", str(path)])
+    assert strict.exit_code == 1 and strict.stdout.startswith("NOT OK (--strict)") and "sink" in strict.stderr
+    clean = CliRunner().invoke(app, ["validate", "--strict", "harbor"])
+    assert clean.exit_code == 0 and clean.stdout.startswith("OK")

@@ -19,9 +19,11 @@ Channels:
 
 Non-blocking: `channel.log` only queues; the SDK's server threads send. Each client has a bounded queue
 (`backlog` messages): the oldest data message is dropped when it is full. The SDK server listens on an
-internal loopback port; users connect to `host:port`, served by a front proxy (foxglove_proxy.py) that admits
-at most `max_clients` connections (one more gets HTTP 503) and drops a client whose unsent bytes exceed
-`max_client_buffer_bytes` or that reads nothing for `client_stall_s` while behind (counted in `stats`). Errors inside the bridge are
+internal loopback port; users connect to `host:port`, served by a front proxy (foxglove_proxy.py, in a child
+process: its byte copying never takes the simulation's GIL) that admits at most `max_clients` connections (one
+more gets HTTP 503), closes connections that send no WebSocket upgrade within `client_handshake_s`, and drops a client whose
+unsent bytes exceed `max_client_buffer_bytes` or that reads nothing for `client_stall_s` while behind (counted
+in `stats`, asynchronously: the child reports them). Errors inside the bridge are
 counted in `stats["errors"]` and never reach the simulation loop.
 """
 
@@ -39,7 +41,7 @@ from foxglove.channels import SceneUpdateChannel
 from foxglove.websocket import Capability
 
 from usvsim.bridges import foxglove_logs
-from usvsim.bridges.foxglove_proxy import FoxgloveProxy
+from usvsim.bridges.foxglove_proxy_process import ProxyProcess
 from usvsim.bridges.foxglove_scene import SceneBuilder, scene_period_ns
 from usvsim.messages.ros import message_definition
 
@@ -110,6 +112,7 @@ class FoxgloveBridge:
         max_clients: int = 16,
         max_client_buffer_bytes: int = 16 << 20,
         client_stall_s: float = 10.0,
+        client_handshake_s: float = 5.0,
     ) -> None:
         self.sim = sim
         self.stats = dict.fromkeys(STAT_KEYS, 0)
@@ -134,9 +137,9 @@ class FoxgloveBridge:
         except RuntimeError as exc:  # the SDK reports bind failures (port taken, bad address) this way
             raise OSError(f"cannot start the Foxglove server on {host}:{port}: {str(exc)[:160]}") from None
         try:
-            self._proxy = FoxgloveProxy(host, port, self._server.port, max_clients=max_clients,
+            self._proxy = ProxyProcess(host, port, self._server.port, max_clients=max_clients,
                                         max_buffer_bytes=max_client_buffer_bytes, stall_s=client_stall_s,
-                                        count=self._count)  # fmt: skip
+                                        handshake_s=client_handshake_s, count=self._count)  # fmt: skip
         except OSError as exc:  # port taken, bad address
             self._server.stop()
             raise OSError(f"cannot start the Foxglove server on {host}:{port}: {str(exc)[:160]}") from None

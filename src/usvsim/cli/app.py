@@ -218,7 +218,10 @@ def _run_viewer(sim, duration: float, screenshot: Path | None = None, video: Pat
 
 
 @app.command()
-def validate(file: Annotated[str, typer.Argument(help="scenario YAML file or built-in name")]) -> None:
+def validate(
+    file: Annotated[str, typer.Argument(help="scenario YAML file or built-in name")],
+    strict: Annotated[bool, typer.Option(help="exit with status 1 when there are warnings (for CI)")] = False,
+) -> None:
     """Check a scenario: schema, files, meshes, rates; builds the world without running it and warns about
     set-ups that cannot work (a hull too heavy to float, bodies overlapping, hulls far from the water)."""
     from usvsim.simulation import Simulation
@@ -228,11 +231,16 @@ def validate(file: Annotated[str, typer.Argument(help="scenario YAML file or bui
         sim = Simulation.from_scenario(file)
     except UsvsimError as exc:
         fail(exc)
-    for warning in setup_warnings(sim.world):
+    warnings = setup_warnings(sim.world)
+    for warning in warnings:
         console.print(f"usvsim: warning: {warning}", highlight=False, soft_wrap=True)
     sim.close()
     sc = sim.scenario
-    typer.echo(f"OK: {file}: scenario '{sc.name}', {len(sc.vessels)} vessel(s), {len(sc.objects)} object(s)")
+    summary = f"{file}: scenario '{sc.name}', {len(sc.vessels)} vessel(s), {len(sc.objects)} object(s)"
+    if strict and warnings:
+        typer.echo(f"NOT OK (--strict): {summary}, {len(warnings)} warning(s)")
+        raise typer.Exit(1)
+    typer.echo(f"OK: {summary}")
 
 
 app.command()(recover)
