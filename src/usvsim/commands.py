@@ -10,6 +10,10 @@ Command topics (absolute ROS names; `<v>` a vessel, `<t>` one of its thrusters):
 | `/<v>/cmd_vel` | geometry_msgs/msg/Twist | base_link velocity, body FLU: linear.x, linear.y (m/s), angular.z (rad/s) |
 | `/reset` | std_msgs/msg/Empty | back to the scenario's initial state |
 
+More topics can be added with `register(topic, msgtype, parse, apply)` before the bridges open (e.g. a task's
+`/vrx/perception/landmark`, VRX's thruster topics): `parse(msg)` runs in the bridge's thread and returns a
+value or None (rejected), `apply(value)` runs in the simulation thread before the next step.
+
 Bridges call `post_cdr` (raw CDR from the wire) or `post` (a decoded message with the ROS fields) from
 their own threads. Nothing touches the simulation there: commands are validated, counted and queued
 (bounded, drop-oldest), and `apply` (called by `Simulation.step`, in the simulation thread) executes them
@@ -61,6 +65,16 @@ class CommandInbox:
         self._velocity_deadline_ns: dict[str, int] = {}  # vessels driven by cmd_vel → when it goes stale
         self._created_loops: set[str] = set()
         self._held_references: dict[str, Any] = {}  # a scenario controller's reference before cmd_vel
+        self._handlers: dict[str, tuple[Callable[[Any], Any], Callable[[Any], Any]]] = {}  # registered topics
+
+    def register(self, topic: str, msgtype: str, parse: Callable[[Any], Any], apply: Callable[[Any], Any]) -> None:
+        """Accept `topic` (ROS type `msgtype`) from every bridge opened afterwards: `parse(msg)` (bridge thread;
+        None rejects, AttributeError/TypeError/ValueError count as malformed) → `apply(value)` (simulation
+        thread; a False result counts as rejected)."""
+        if topic in self.topics and topic not in self._handlers:
+            raise ValueError(f"{topic} is a built-in command topic")
+        self.topics[topic], self._targets[topic] = msgtype, ("custom", topic, None)
+        self._handlers[topic] = (parse, apply)
 
     # -- any thread ---------------------------------------------------------------------------
     def post_cdr(self, topic: str, data: bytes | bytearray | memoryview) -> bool:
@@ -81,7 +95,7 @@ class CommandInbox:
             return self._count("unknown")
         kind, vessel, thruster = target
         try:
-            value = _value(kind, msg)
+            value = self._handlers[vessel][0](msg) if kind == "custom" else _value(kind, msg)
         except (AttributeError, TypeError, ValueError):
             return self._count("malformed")
         if value is None:
@@ -128,6 +142,8 @@ class CommandInbox:
         if kind == "reset":
             self._reset()
             return True
+        if kind == "custom":
+            return self._handlers[vessel][1](value) is not False
         if kind == "thrust":  # a network source: the vessel's watchdog applies
             return world.vessels[vessel].thrusters[thruster].command(value, hold=False)
         if kind == "angle":

@@ -108,9 +108,7 @@ class Simulation:
     def step(self) -> None:
         """Advance one physics step."""
         world = self.world
-        if not self._announced and self._subscribers:
-            self._announced = True
-            self._emit([*self._latched(), *self.ground_truth.due(0, 0)])
+        self._announce()
         self.commands.apply()
         self.traffic.before_step(world)
         for loop in self.controllers.values():
@@ -162,6 +160,20 @@ class Simulation:
     def observe(self) -> dict[str, Reading | None]:
         """The latest reading of every sensor as arrays, keyed `<vessel>/<name>` (see sensors/readings.py)."""
         return self.sensors.observe()
+
+    def publish(self, envelopes: Iterable[Envelope]) -> None:
+        """Send extra messages (a task's topics, an app's own) to every subscriber now: the recorder, the DDS,
+        ROS-TCP and Foxglove bridges and callbacks get them like the simulation's own. Stamp them with
+        simulation time (`clock_ns`); each `Envelope`'s QoS is what the bridges offer."""
+        if self._subscribers:
+            self._announce()
+            self._emit(list(envelopes))
+
+    def _announce(self) -> None:
+        """The episode marker, /tf_static and the t = 0 messages, once per episode before anything else."""
+        if not self._announced and self._subscribers:
+            self._announced = True
+            self._emit([*self._latched(), *self.ground_truth.due(0, 0)])
 
     def subscribe(self, callback: Callable[[Envelope], None]) -> Callable[[], None]:
         """Receive every message the simulation emits; returns a function that unsubscribes."""

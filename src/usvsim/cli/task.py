@@ -1,4 +1,5 @@
-"""`usvsim task NAME`: run a VRX task with the built-in reference solution; print scores, write a JSON report."""
+"""`usvsim task NAME`: run a VRX task with the built-in reference solution, or live over ROS 2 (`--ros2`, with
+`--external` for a team's own stack driving the boat); print scores, write a JSON report."""
 
 from __future__ import annotations
 
@@ -21,18 +22,36 @@ def task(
     trials: Annotated[int, typer.Option(help="number of trials", min=1)] = 1,
     time_limit: Annotated[float, typer.Option(help="running time limit, s (VRX: 300)", min=1.0)] = 300.0,
     report: Annotated[Path, typer.Option(help="JSON report path")] = Path("out/task_report.json"),
+    ros2: Annotated[bool, typer.Option("--ros2", help="publish the task's VRX topics and every sensor over DDS")] = False,
+    external: Annotated[bool, typer.Option("--external", help="with --ros2: no built-in solution, the boat obeys "
+                                           "ROS 2 commands (VRX thruster topics); paced to the wall clock")] = False,
+    domain_id: Annotated[int | None, typer.Option(help="ROS domain id (default $ROS_DOMAIN_ID or 0)")] = None,
+    ros2_interface: Annotated[str, typer.Option(help="DDS network interface (lo: this machine only)")] = "lo",
+    landmark_type: Annotated[str, typer.Option(help="/vrx/perception/landmark type: pose (geometry_msgs/"
+                                               "PoseStamped, VRX on Gazebo Sim) or geopose (geographic_msgs/GeoPoseStamped)")] = "pose",
+    ready_s: Annotated[float, typer.Option(help="seconds before the task starts running (VRX: 20)", min=0.0)] = 0.0,
+    record: Annotated[Path | None, typer.Option(help="MCAP recording of the (last) trial, task topics included")] = None,
 ) -> None:
-    """Run a task with the reference solution (our station-keeping controller); prints the score per trial."""
+    """Run a task with the reference solution (our station-keeping controller) or live over ROS 2; prints the
+    score per trial."""
     from usvsim.tasks import TASKS, TaskTiming
     from usvsim.tasks.solutions import run_trial
 
     try:
         if name not in TASKS:
             raise UsvsimError(f"unknown task {name!r}; choose one of: {', '.join(TASKS)}")
-        results = []
+        if external and not ros2:
+            raise UsvsimError("--external needs --ros2 (the boat's commands come over ROS 2)")
+        if landmark_type not in ("pose", "geopose"):
+            raise UsvsimError(f"--landmark-type must be pose or geopose, got {landmark_type!r}")
+        timing, results = TaskTiming(ready_s=ready_s, running_s=time_limit), []
         for k in range(trials):
             with console.status(f"{name} difficulty {difficulty}, trial {k + 1}/{trials} (seed {seed + k})"):
-                results.append(run_trial(name, difficulty, seed + k, TaskTiming(running_s=time_limit)))
+                if ros2 or record is not None:
+                    results.append(_live(name, difficulty, seed + k, timing, ros2, external, domain_id, ros2_interface,
+                                         landmark_type, record))  # fmt: skip
+                else:
+                    results.append(run_trial(name, difficulty, seed + k, timing))
     except UsvsimError as exc:
         fail(exc)
     table = Table("trial", "seed", "score", "collisions", "sim time s", "wall s", box=None)
@@ -46,3 +65,13 @@ def task(
     report.parent.mkdir(parents=True, exist_ok=True)
     report.write_text(json.dumps(summary, indent=2, default=float))
     typer.echo(f"{name}: mean score {summary['mean_score']:.4g} over {trials} trial(s); wrote {report}")
+
+
+def _live(name, difficulty, seed, timing, ros2, external, domain_id, interface, landmark_type, record) -> dict:
+    from usvsim.cli.bridges import BridgeOptions, open_bridges
+    from usvsim.tasks.live import run_live
+
+    options = BridgeOptions(ros2=ros2, domain_id=domain_id, ros2_interface=interface, ros_tcp=None,
+                            ros_tcp_profile="", ros_tcp_vessel=None, foxglove=False, foxglove_host="", foxglove_port=0)  # fmt: skip
+    return run_live(name, difficulty, seed, timing, bridges=lambda sim: open_bridges(sim, options),
+                    external=external, landmark_type=landmark_type, record=record)  # fmt: skip

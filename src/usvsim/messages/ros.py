@@ -58,14 +58,22 @@ ROS_GZ_MSGS = {
     "Float32Array": "float32[] data\n",
 }
 
+# geographic_msgs (ros-geographic-info/geographic_info, ros2): a VRX perception report may be a GeoPoseStamped
+GEOGRAPHIC_MSGS = {
+    "GeoPoint": "float64 latitude\nfloat64 longitude\nfloat64 altitude\n",
+    "GeoPose": "geographic_msgs/GeoPoint position\ngeometry_msgs/Quaternion orientation\n",
+    "GeoPoseStamped": "std_msgs/Header header\ngeographic_msgs/GeoPose pose\n",
+}
+
 
 @functools.cache
 def typestore() -> Any:
     """The ROS 2 Jazzy typestore (message classes, CDR (de)serializer, message definitions) + vision_msgs
-    + the ros_gz_interfaces types of VRX's task topics."""
+    + the ros_gz_interfaces types of VRX's task topics + geographic_msgs' GeoPoseStamped."""
     store = get_typestore(Stores.ROS2_JAZZY)
     types: dict = {}
-    for package, msgs in (("vision_msgs", VISION_MSGS), ("ros_gz_interfaces", ROS_GZ_MSGS)):
+    for package, msgs in (("vision_msgs", VISION_MSGS), ("ros_gz_interfaces", ROS_GZ_MSGS),
+                          ("geographic_msgs", GEOGRAPHIC_MSGS)):
         for name, text in msgs.items():
             types |= get_types_from_msg(text, f"{package}/msg/{name}")
     for name, text in MARINE_MSGS.items():  # radar, NMEA sentences, traffic awareness (messages/marine.py)

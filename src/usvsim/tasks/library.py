@@ -224,13 +224,15 @@ class Perception(Task):
     (MuJoCo models are fixed); they count only during their window."""
 
     name, vrx_name = "perception", "perception"
+    schedule = PERCEPTION_OBJECTS  # (appearance s, class, (x, y) m, colour); `duration_s` each
+    duration_s = 5.0
 
     def sample(self, rng):
-        self.scorer = PerceptionScorer([PerceptionObject(k, t, *xy) for t, k, xy, _ in PERCEPTION_OBJECTS])
+        self.scorer = PerceptionScorer([PerceptionObject(k, t, *xy, self.duration_s) for t, k, xy, _ in self.schedule])
 
     def objects(self):
         return [{"type": "buoy", "name": f"object_{i}", "position": [*xy, 0.0], "color": c}
-                for i, (_, _, xy, c) in enumerate(PERCEPTION_OBJECTS)]  # fmt: skip
+                for i, (_, _, xy, c) in enumerate(self.schedule)]  # fmt: skip
 
     def score_step(self, x, y, yaw):
         for i, o in enumerate(self.scorer.objects):  # the buoys drift a little: score against where they are

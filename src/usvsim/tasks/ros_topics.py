@@ -5,8 +5,11 @@
 - `/vrx/stationkeeping/goal` (geometry_msgs/PoseStamped: latitude, longitude in position.x/.y, yaw as a
   quaternion), `/vrx/stationkeeping/pose_error`, `/vrx/stationkeeping/mean_pose_error` (std_msgs/Float32);
 - `/vrx/wayfinding/waypoints` (geometry_msgs/PoseArray, lat/lon/yaw like the goal),
-  `/vrx/wayfinding/min_errors` (ros_gz_interfaces/Float32Array), `/vrx/wayfinding/mean_error` (Float32).
-Positions go out geodetic (WGS-84 degrees) from the scenario's origin, as VRX publishes them.
+  `/vrx/wayfinding/min_errors` (ros_gz_interfaces/Float32Array), `/vrx/wayfinding/mean_error` (Float32);
+- `/vrx/wildlife/animal<i>/pose` (PoseStamped, class in header.frame_id), `/vrx/gymkhana_blackbox/goal`,
+  `.../pose_error`, `.../mean_pose_error`.
+Positions go out geodetic (WGS-84 degrees) from the scenario's origin, as VRX publishes them. QoS: reliable,
+volatile, keep last 10, what VRX's `ros_gz_bridge` parameter bridges offer (the envelope default).
 """
 
 from __future__ import annotations
@@ -61,4 +64,37 @@ def task_envelopes(task, stamp_ns: int) -> list[Envelope]:
                 Envelope("/vrx/wayfinding/min_errors", stamp_ns, msg_class("ros_gz_interfaces/msg/Float32Array")(
                     data=np.array(minima, dtype=np.float32))),
                 Envelope("/vrx/wayfinding/mean_error", stamp_ns, float32(data=sum(minima) / len(minima)))]  # fmt: skip
+    elif task.name == "wildlife":
+        out += animal_envelopes(task, stamp_ns)
+    elif task.name == "gymkhana":
+        out += blackbox_envelopes(task, stamp_ns)
     return out
+
+
+ANIMAL_CLASS = {"avoid": "crocodile", "circumnavigate_clockwise": "platypus", "circumnavigate_counterclockwise": "turtle"}
+
+
+def animal_envelopes(task, stamp_ns: int) -> list[Envelope]:
+    """VRX wildlife: `/vrx/wildlife/animal<i>/pose` (geometry_msgs/PoseStamped, lat/lon in position.x/.y, the
+    animal's world orientation, its class by goal in header.frame_id), at 1 Hz like VRX's scoring plugin."""
+    out, s = [], task.sim.state
+    for i, a in enumerate(task.scorer.animals):
+        k = task.object_index[a.name]
+        x, y = float(s.pos[k, 0]), float(s.pos[k, 1])
+        pose = _geo_pose(task, x, y, 0.0)
+        w, qx, qy, qz = task.sim.body_quat(k).tolist()
+        pose.orientation.x, pose.orientation.y, pose.orientation.z, pose.orientation.w = qx, qy, qz, w
+        msg = msg_class("geometry_msgs/msg/PoseStamped")(header=header(stamp_ns, ANIMAL_CLASS[a.goal]), pose=pose)
+        out.append(Envelope(f"/vrx/wildlife/animal{i}/pose", stamp_ns, msg))
+    return out
+
+
+def blackbox_envelopes(task, stamp_ns: int) -> list[Envelope]:
+    """VRX gymkhana: `/vrx/gymkhana_blackbox/goal` (PoseStamped), `pose_error` and `mean_pose_error` (Float32)."""
+    float32, box = msg_class("std_msgs/msg/Float32"), task.blackbox
+    goal = msg_class("geometry_msgs/msg/PoseStamped")(header=header(stamp_ns, ""), pose=_geo_pose(task, *task.pinger))
+    last = box.last_error if math.isfinite(box.last_error) else 0.0
+    mean = box.score if box.samples and math.isfinite(box.score) else 0.0
+    return [Envelope("/vrx/gymkhana_blackbox/goal", stamp_ns, goal),
+            Envelope("/vrx/gymkhana_blackbox/pose_error", stamp_ns, float32(data=float(last))),
+            Envelope("/vrx/gymkhana_blackbox/mean_pose_error", stamp_ns, float32(data=float(mean)))]  # fmt: skip

@@ -36,13 +36,16 @@ def run_trial(name: str, difficulty: int = 0, seed: int = 0, timing: TaskTiming 
         sim.close()
 
 
-def _drive(task, sim, controller, trace=None) -> dict:
+def _drive(task, sim, controller, trace=None, after_step=None, realtime: bool = False) -> dict:
+    """Step `sim` until the task finishes. `controller` None: the boat is left to commands arriving through
+    the bridges (an external stack); `after_step()` runs after every scored step; `realtime` paces to the wall
+    clock (what a stack on the other side of a bridge lives by)."""
     task.bind(sim)
     vessel = sim.vessels["wamv"]
     every = steps_per_period(CONTROL_RATE_HZ, sim.clock.step_ns)
     dt, wall = every * sim.clock.dt, time.perf_counter()
     while not task.finished:
-        if sim.clock.steps % every == 0 and task.state == "running":
+        if controller is not None and sim.clock.steps % every == 0 and task.state == "running":
             target = task.reference_target()
             if trace is not None:
                 trace.append((sim.time, *task.pose()))
@@ -56,6 +59,10 @@ def _drive(task, sim, controller, trace=None) -> dict:
                         task.scorer.report(o.kind, *task.object_xy(f"object_{i}"))
         sim.step()
         task.update()
+        if after_step is not None:
+            after_step()
+        if realtime and (ahead := sim.time - (time.perf_counter() - wall)) > 0:
+            time.sleep(ahead)
     return {"task": task.name, "difficulty": task.difficulty, "seed": task.seed, "score": task.score,
             "higher_is_better": task.higher_is_better, "sim_time_s": sim.time,
             "elapsed_time_s": task.elapsed_s, "num_collisions": task.collisions.count,
