@@ -88,15 +88,16 @@ def test_slamming_vectors_and_first_step():
     assert kk.slamming_force(*args, 2.0, 10.0)[2] == pytest.approx(2.6667, abs=5e-5)
     assert kk.slamming_force(*args, 2.0, 10.0)[2] == pytest.approx(80 * 2 * 2 * 0.05 / 6, rel=1e-14)
     # the first compute() has no previous step: no slamming
-    cfg = KernerHydrodynamics(viscous_scale=0.0, pressure_scale=0.0, air_scale=0.0, slamming_gamma_max_mps2=1.0)
+    cfg = KernerHydrodynamics(viscous_scale=0.0, pressure_scale=0.0, air_scale=0.0, slamming_speed_mps=0.01)
     assert np.abs(one_triangle(cfg, (0.0, 0.0, -2.0))[kk.SLAMMING]).max() == 0.0
 
 
 def test_slamming_through_the_kernel_on_a_cut_face():
     from usvsim.experiments.kerner_vectors import _slam
 
-    assert _slam(2.0, 1000.0) == pytest.approx(0.0031510, abs=5e-8)
-    assert _slam(2.0, 10.0) == pytest.approx(80 * 2 * 2 * 0.05 / 6, rel=1e-9)
+    # impulse form: ramp (v cos θ / v_slam)^p · cos θ · m v 2 ΔA / S over dt, ΔA = 0.05 - 0.03 m², dt = 0.02 s
+    assert _slam(2.0, 1.0) == pytest.approx(80 * 2 * 2 * 0.02 / 6 / 0.02, rel=1e-12)
+    assert _slam(2.0, 4.0) == pytest.approx(0.5**2 * 80 * 2 * 2 * 0.02 / 6 / 0.02, rel=1e-12)
 
 
 def test_cut_face_splits_area_and_dry_part_feels_the_wind():
@@ -224,3 +225,40 @@ def test_submerged_hull_drag_matches_per_face_reference_in_any_pose():
     for kind, f in ((kk.VISCOUS, visc), (kk.PRESSURE, press)):
         np.testing.assert_allclose(parts[kind], np.concatenate([f.sum(0), np.cross(r, f).sum(0)]), rtol=1e-12, atol=1e-9)
     assert (cos > 0).any() and (cos < 0).any()
+
+
+def test_slamming_is_time_step_independent_and_stops_the_share_of_momentum(tmp_path):
+    """A 410 kg, 2 x 1 x 0.5 m box dropped flat from 1 m (bottom at z = 1 m), Kerner slamming only.
+
+    Closed form: the flat bottom (A = 2 m² of S = 7 m²) wets in one step whatever the rate, so the slamming
+    impulse is ramp · m v (2 A / S) with v = sqrt(2 g h) = 4.429 m/s and ramp = (v / v_slam)² (v_slam = 5 m/s):
+    814 N s. It must be the same at 100, 200 and 400 Hz (within 3 %), as must the deepest immersion.
+    """
+    import trimesh
+
+    from usvsim.config.loader import parse_scenario
+    from usvsim.simulation import Simulation
+
+    box = trimesh.creation.box(extents=(2.0, 1.0, 0.5))
+    box.apply_translation((0.0, 0.0, 0.25))
+    box.export(tmp_path / "box.stl")
+    v = (2 * 9.81 * 1.0) ** 0.5
+    expected = (v / 5.0) ** 2 * 410.0 * v * 2 * 2.0 / 7.0
+    impulses, depths = [], []
+    for rate in (100.0, 200.0, 400.0):
+        vessel = {"name": "b", "model": "custom", "hull_mesh": "box.stl", "mass": {"mass_kg": 410.0,
+                  "com": [0.0, 0.0, 0.2]}, "pose": {"position": [0.0, 0.0, 1.0]},
+                  "hydrodynamics": {"type": "kerner", "viscous_scale": 0.0, "pressure_scale": 0.0, "air_scale": 0.0}}  # fmt: skip
+        scenario = parse_scenario({"version": 1, "world": {"physics_rate_hz": rate}, "vessels": [vessel]}, "t", tmp_path)
+        sim = Simulation(scenario)
+        impulse, lowest = 0.0, np.inf
+        for _ in range(int(rate)):
+            sim.step()
+            impulse += sim.world.marine._kerner._parts[0, kk.SLAMMING, 2] / rate
+            lowest = min(lowest, sim.vessels["b"].position[2])
+        impulses.append(impulse)
+        depths.append(lowest)
+        sim.close()
+    assert impulses == pytest.approx([expected] * 3, rel=0.03)
+    assert max(impulses) / min(impulses) < 1.03
+    assert max(depths) - min(depths) < 0.01  # m; the deepest point is about 0.62 m below the surface

@@ -36,7 +36,8 @@ class KernerHydrodynamics(Section):
 
     Viscous: ITTC-57 C_F(Rn), Rn = |v_rel,CoM| L / nu (L = hull length along x), times (1 + k).
     Pressure/suction: (C1 v/v_R + C2 (v/v_R)²) S |cos θ|^f along the normal (Pa at v_R head-on).
-    Slamming: ramp power p and Γ_max (m/s²); scale 0 disables. Air: C_air on dry faces.
+    Slamming: an impulse -ramp cos θ m v (2 ΔA / S) per face over each step (ΔA: area wetted during the
+    step), ramp = min(normal entry speed / slamming_speed_mps, 1)^p; time-step independent; scale 0 disables. Air: C_air on dry faces.
     """
 
     type: Literal["kerner"] = "kerner"
@@ -56,7 +57,9 @@ class KernerHydrodynamics(Section):
     reference_speed_mps: PositiveFloat = 1.0
     pressure_scale: NonNegativeFloat = 1.0
     slamming_power: PositiveFloat = 2.0
-    slamming_gamma_max_mps2: PositiveFloat = 1000.0
+    slamming_speed_mps: PositiveFloat = Field(
+        5.0, description="normal entry speed at which a face gets its full share of the stopping impulse"
+    )
     slamming_scale: NonNegativeFloat = 1.0
     air_drag_coefficient: NonNegativeFloat = 0.8
     air_scale: NonNegativeFloat = 1.0

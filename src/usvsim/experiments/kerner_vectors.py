@@ -2,8 +2,11 @@
 
 Triangle (0,0,-1), (0,1,-1), (1,0,-1) (outward normal -z, A = 0.5 m²) under flat water, rho = 1025,
 g = 9.81, nu = 1.0533e-6, L = 2 m, point velocity (2, 0, -0.5) m/s. Every figure is produced by the
-batched kernels (HullSet for the hydrostatic force, KernerForces for the rest); slamming uses a
-cut triangle of 0.08 m² with 0.05 m² submerged (water tilted across it) and a preset A'v'.
+batched kernels (HullSet for the hydrostatic force, KernerForces for the rest). Slamming is the kernel's
+time-step independent impulse form (kerner_terms._slam_scalar), not §1.10's per-step formula (that one is
+`kerner_terms.slamming_force`, checked against §1.10 in tests/hydro): a cut triangle of 0.08 m² with 0.05 m²
+submerged (water tilted across it), 0.03 m² on the previous step, v = (0, 0, -2) m/s, m = 80 kg, S = 6 m²,
+dt = 0.02 s: F_z = min(2 / v_slam, 1)^p · 2 m · 2 · 0.02 / (S · 0.02) = 53.333 · ramp N.
 """
 
 from __future__ import annotations
@@ -24,7 +27,7 @@ V_POINT = np.array([[2.0, 0.0, -0.5]])
 REFERENCE = {
     "hydrostatic_fz": 5027.625, "reynolds": 3.914465e6, "c_f": 0.0035557, "viscous_fx": -3.87243,
     "pressure_100_100_0.4": 179.0674, "pressure_10_10_0.5": 15.5415, "pressure_5_100_1.0": 52.7888,
-    "slam_p2_g1000": 0.0031510, "slam_p0.5_g1000": 0.49441, "slam_p2_g10": 2.6667,
+    "slam_p2_v1": 160.0 / 3.0, "slam_p2_v4": 40.0 / 3.0, "slam_p0.5_v4": 160.0 / 3.0 * 0.5**0.5,
 }  # fmt: skip
 
 
@@ -42,8 +45,8 @@ def _drag(c1, c2, f):
     return res.parts[0]
 
 
-def _slam(power, gamma_max):
-    """Horizontal 0.08 m² triangle, 0.05 m² below the (tilted) water, v = (0,0,-2), A'v' = 0.03·(0,0,-1.5)."""
+def _slam(power, speed):
+    """Horizontal 0.08 m² triangle, 0.05 m² below the (tilted) water (0.03 m² a step before), v = (0,0,-2)."""
     side = np.sqrt(0.16)
     tri = np.array([(0.0, 0.0, -1.0), (0.0, side, -1.0), (side, 0.0, -1.0)])
     t = np.sqrt(0.05 / 0.08)  # two vertices above: submerged fraction t_b t_c = t²
@@ -51,10 +54,10 @@ def _slam(power, gamma_max):
     eta = np.array([0.0, -1.0 - h_above, -1.0 - h_above])
     hulls = HullSet([(tri, FACE)])
     cfg = KernerHydrodynamics(viscous_scale=0.0, pressure_scale=0.0, air_scale=0.0, slamming_power=power,
-                              slamming_gamma_max_mps2=gamma_max)  # fmt: skip
+                              slamming_speed_mps=speed)  # fmt: skip
     k = _kerner(hulls, cfg)
     k.coef[0, kk.AREA] = 6.0  # S, the total hull area of the reference case
-    k.set_previous_swept(np.array([[0.0, 0.0, 0.03 * -1.5]]))
+    k.set_previous_areas(np.array([0.03]))
     z3 = np.zeros((1, 3))
     res = k.compute(tri, eta, np.zeros((3, 3)), np.array([[0.1, 0.1, -1.0]]), np.array([[0.0, 0.0, -2.0]]),
                     z3, z3, z3, 0.02)  # fmt: skip
@@ -72,8 +75,8 @@ def compute() -> dict:
         "pressure_100_100_0.4": float(base[kk.PRESSURE, 2]),
         "pressure_10_10_0.5": float(_drag(10, 10, 0.5)[kk.PRESSURE, 2]),
         "pressure_5_100_1.0": float(_drag(5, 100, 1.0)[kk.PRESSURE, 2]),
-        "slam_p2_g1000": float(_slam(2.0, 1000.0)), "slam_p0.5_g1000": float(_slam(0.5, 1000.0)),
-        "slam_p2_g10": float(_slam(2.0, 10.0)),
+        "slam_p2_v1": float(_slam(2.0, 1.0)), "slam_p2_v4": float(_slam(2.0, 4.0)),
+        "slam_p0.5_v4": float(_slam(0.5, 4.0)),
     }  # fmt: skip
 
 

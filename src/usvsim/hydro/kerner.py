@@ -6,7 +6,7 @@ Usage per physics step (world ENU, SI):
     res = kerner.compute(verts, eta, u_w, com_world, vcom_world, omega_world, u_w_com, wind, dt)
     res.force, res.torque   # (nb,3) world, torque about each CoM; res.parts (nb,4,6) by kind
 
-State kept: the previous step's swept-volume rate A·v per face (for slamming) and whether it is
+State kept: the previous step's submerged area per face (for slamming) and whether it is
 valid (`reset()` after a teleport). Kinematic viscosity: 1.19e-6 m²/s by default (sea water at 15 °C,
 consistent with the default sea-water density); asv_wave_sim's 1.0533e-6 (fresh water near 18 °C) gives a
 C_F 2.4 % higher at Rn ~ 5e6. (The seed used 1.0016, 10^6 too large.)
@@ -36,8 +36,7 @@ def coefficient_row(cfg: KernerHydrodynamics, mass_kg: float, length_m: float, h
     row[[kk.CPD1, kk.CPD2, kk.FP, kk.CSD1, kk.CSD2, kk.FS, kk.VREF, kk.PRES_SCALE]] = (
         cfg.pressure_linear_pa, cfg.pressure_quadratic_pa, cfg.pressure_falloff, cfg.suction_linear_pa,
         cfg.suction_quadratic_pa, cfg.suction_falloff, cfg.reference_speed_mps, cfg.pressure_scale)
-    row[[kk.SLAM_P, kk.SLAM_GMAX, kk.SLAM_SCALE]] = (
-        cfg.slamming_power, cfg.slamming_gamma_max_mps2, cfg.slamming_scale)
+    row[[kk.SLAM_P, kk.SLAM_SPEED, kk.SLAM_SCALE]] = (cfg.slamming_power, cfg.slamming_speed_mps, cfg.slamming_scale)
     row[[kk.RHO_AIR, kk.C_AIR, kk.AIR_SCALE]] = (rho_air, cfg.air_drag_coefficient, cfg.air_scale)
     row[[kk.LENGTH, kk.MASS, kk.AREA]] = (length_m, mass_kg, hull_area_m2)
     return row
@@ -94,9 +93,9 @@ class KernerForces:
         """Forget the previous step (no slamming on the next call), e.g. after moving a body."""
         self._ready = False
 
-    def set_previous_swept(self, swept_prev: np.ndarray) -> None:
-        """Set the previous step's A'v' per face (Nf,3) m³/s (tests, restarts)."""
-        self._swept_prev[:] = swept_prev
+    def set_previous_areas(self, area_prev: np.ndarray) -> None:
+        """Set the previous step's submerged area of each face (Nf,) m² (tests, restarts)."""
+        self._swept_prev[:, 0] = area_prev
         self._ready = True
 
     def compute(self, world_vertices, eta, water_vel, com_world, vcom_world, omega_world,

@@ -1,7 +1,8 @@
 """Kerner's hydrodynamic forces per submerged (sub)triangle, all bodies in one numba call.
 
 Reference: physics.md §1.2 (cutting), §1.5 (viscous), §1.6 (pressure/suction), §1.7 (slamming),
-§1.8 (air). Frames and units: world ENU (z up), SI. Every velocity is taken at the centroid of the
+§1.8 (air); slamming in a time-step independent form (an impulse over the step, see
+`kerner_terms._slam_scalar`). Frames and units: world ENU (z up), SI. Every velocity is taken at the centroid of the
 (sub)triangle it acts on: v = v_com + ω × (c - x_com) minus the water velocity there (waves plus
 current, interpolated linearly from the per-vertex values the caller sampled) — or minus the wind
 for the dry part. Forces act at those centroids; torques are about each body's centre of mass.
@@ -20,7 +21,7 @@ work changes):
   cutting), or crossing; per face, three paths: whole and wet (the common case, straight-line
   code), whole and dry (only marked: its air drag is one SIMD sum over body-frame tables, see
   `kerner_air`), cut (general pieces);
-- divisions by per-body constants (v_R, Γ_max, S, dt) are multiplications by their reciprocals,
+- divisions by per-body constants (v_R, v_slam, S, dt) are multiplications by their reciprocals,
   and the slamming of a whole wet face reuses the drag's speed and cos θ; these change results
   by a few ulps per term (tests hold them to 1e-12 relative against the reference formulas);
 - pressure pieces go to a column table (k n, k r × n, |cos θ|, f); |cos θ|^f is taken for all of
@@ -67,7 +68,7 @@ from usvsim.hydro.kerner_terms import (  # noqa: F401  (friction_coefficient, sl
 
 # Columns of the per-body coefficient table (see kerner.py for units and defaults)
 RHO, NU, FORM_K, CPD1, CPD2, FP, CSD1, CSD2, FS, VREF = 0, 1, 2, 3, 4, 5, 6, 7, 8, 9
-SLAM_P, SLAM_GMAX, SLAM_SCALE, RHO_AIR, C_AIR = 10, 11, 12, 13, 14
+SLAM_P, SLAM_SPEED, SLAM_SCALE, RHO_AIR, C_AIR = 10, 11, 12, 13, 14
 VISC_SCALE, PRES_SCALE, AIR_SCALE, RN_MIN, LENGTH, MASS, AREA = 15, 16, 17, 18, 19, 20, 21
 N_COEF = 22
 # Rows of the per-body output table out[b, k, 0:6] = (force, torque)
@@ -94,9 +95,10 @@ def face_geometry(face_area: np.ndarray) -> np.ndarray:
 
 
 @njit(cache=True, inline="always")
-def _cut_slam(slam, a_sub, sr, sv, sp, n, inv_adt, sk, scale):
+def _cut_slam(slam, a_sub, sr, sv, a_prev, n, inv_dt, sk, scale):
     """slam + the slamming (§1.7) of a cut face's submerged part (area a_sub, area-weighted sums
-    sr = Σ a r, sv = Σ a v of its pieces) at its centroid, moving at its mean velocity; sp = A'v'."""
+    sr = Σ a r, sv = Σ a v of its pieces) at its centroid, moving at its mean velocity; a_prev: the face's
+    submerged area on the previous step."""
     inv = 1.0 / a_sub
     vx, vy, vz = sv[0] * inv, sv[1] * inv, sv[2] * inv
     speed = math.sqrt(vx * vx + vy * vy + vz * vz)
@@ -105,7 +107,7 @@ def _cut_slam(slam, a_sub, sr, sv, sp, n, inv_adt, sk, scale):
     c = (vx * n[0] + vy * n[1] + vz * n[2]) / speed
     if c < 0.0:
         return slam
-    s = _slam_scalar(a_sub, vx, vy, vz, c, sp[0], sp[1], sp[2], inv_adt, sk)
+    s = _slam_scalar(a_sub, vx, vy, vz, c, a_prev, inv_dt, sk)
     return _acc(slam, (sr[0] * inv, sr[1] * inv, sr[2] * inv), (s * vx, s * vy, s * vz), scale)
 
 
@@ -118,7 +120,7 @@ def _body_constants(b, coef, vcom, omega, water_vel_com, wind, dt):
     c_f = friction_coefficient(math.sqrt(dx * dx + dy * dy + dz * dz), k[LENGTH], k[NU], k[RN_MIN])
     k_visc = 0.5 * k[RHO] * c_f * (1.0 + k[FORM_K]) * k[VISC_SCALE]
     pc = (k[CPD1], k[CPD2], k[FP], k[CSD1], k[CSD2], k[FS], 1.0 / k[VREF])
-    sk = (k[SLAM_P], 1.0 / k[SLAM_GMAX], 2.0 * k[MASS] / k[AREA])
+    sk = (k[SLAM_P], 1.0 / k[SLAM_SPEED], 2.0 * k[MASS] / k[AREA])
     # (pressure scale, air scale, rho_air C_air, slamming scale, 1/dt)
     scales = (k[PRES_SCALE], k[AIR_SCALE], k[RHO_AIR] * k[C_AIR], k[SLAM_SCALE], 1.0 / dt)
     return vc, om, wd, k_visc, pc, sk, scales
@@ -158,7 +160,7 @@ def _body_wrenches(b, vertices, faces, geom, face_offsets, vert_offsets, eta, wa
         is_dry = n_below == 0 or (n_below == 1 and min(h0, h1, h2) == 0.0)  # or touching at one vertex
         dry[f] = 1.0 if is_dry else 0.0
         if is_dry:  # whole face in the air: its air drag comes from dry_air_wrench
-            swept[f, 0] = swept[f, 1] = swept[f, 2] = 0.0
+            swept[f, 0] = 0.0
             continue
         # positions relative to the CoM (m), world axes
         r0 = (vertices[i0, 0] - cx, vertices[i0, 1] - cy, vertices[i0, 2] - cz)
@@ -176,11 +178,10 @@ def _body_wrenches(b, vertices, faces, geom, face_offsets, vert_offsets, eta, wa
             visc = _add(visc, r, fv, 1.0)
             _record_pressure(pieces, slot, pr, n, r)
             slot += 1
-            if slam_on and cos >= 0.0 and area > 0.0:
-                inv_adt = geom[f, G_INV_AREA] * scales[4]
-                s = _slam_scalar(area, vx, vy, vz, cos, swept_prev[f, 0], swept_prev[f, 1], swept_prev[f, 2], inv_adt, sk)
+            if slam_on and cos >= 0.0 and area > swept_prev[f, 0]:
+                s = _slam_scalar(area, vx, vy, vz, cos, swept_prev[f, 0], scales[4], sk)
                 slam = _acc(slam, r, (s * vx, s * vy, s * vz), scales[3])
-            swept[f, 0], swept[f, 1], swept[f, 2] = area * vx, area * vy, area * vz
+            swept[f, 0] = area
             continue
         # cut face: one or two submerged pieces, the rest in the air
         count, p1, p2 = _pieces(r0, r1, r2, h0, h1, h2, n_below)
@@ -207,10 +208,9 @@ def _body_wrenches(b, vertices, faces, geom, face_offsets, vert_offsets, eta, wa
             l_dry = ((third - sl[0]) * inv_dry, (third - sl[1]) * inv_dry, (third - sl[2]) * inv_dry)
             r = _lerp3(l_dry, r0, r1, r2)
             air = _add(air, r, _air(r, a_dry, vc, om, wd, n, scales[2]), scales[1])
-        if slam_on and a_sub > 0.0:  # on the area-weighted mean velocity of the submerged part
-            sp = (swept_prev[f, 0], swept_prev[f, 1], swept_prev[f, 2])
-            slam = _cut_slam(slam, a_sub, sr, sv, sp, n, geom[f, G_INV_AREA] * scales[4], sk, scales[3])
-        swept[f, 0], swept[f, 1], swept[f, 2] = sv[0], sv[1], sv[2]
+        if slam_on and a_sub > swept_prev[f, 0]:  # on the area-weighted mean velocity of the submerged part
+            slam = _cut_slam(slam, a_sub, sr, sv, swept_prev[f, 0], n, scales[4], sk, scales[3])
+        swept[f, 0] = a_sub
     for j in range(6):
         out[b, VISCOUS, j] = visc[j]
         out[b, SLAMMING, j] = slam[j]
@@ -240,9 +240,9 @@ def kerner_wrenches(vertices, faces, geom, face_offsets, vert_offsets, eta, wate
     (orbital + current) at each vertex m/s; com (nb,3) m; vcom (nb,3) CoM velocity m/s; omega (nb,3)
     angular velocity rad/s (world axes); water_vel_com (nb,3) water velocity at the CoM (for the
     Reynolds number) m/s; wind (nb,3) wind velocity m/s; coef (nb, N_COEF) per-body coefficients;
-    dt s (slamming); slam_ready: False on the first step (no previous swept volume); swept_prev
-    (Nf,3) A'v' from the previous step m³/s.
-    Outputs, overwritten: swept (Nf,3) A·v of this step; out (nb,4,6) per body and force kind
+    dt s (slamming); slam_ready: False on the first step (no previous areas); swept_prev (Nf,3): column
+    0 is each face's submerged area on the previous step m² (the other columns are unused).
+    Outputs, overwritten: swept (Nf,3) column 0: submerged area of each face now; out (nb,4,6) per body and force kind
     (VISCOUS, SLAMMING, AIR; PRESSURE comes from pressure_wrenches): force N and torque N·m about
     the CoM, world axes; pieces (N_PIECE_ROWS, 2Nf): the pressure/suction pieces of all bodies,
     body b in columns first[b]:first[b+1] (first (nb+1,) int64). Returns their count q.

@@ -65,13 +65,19 @@ def slamming_force(a_sub, vx, vy, vz, swept_prev, a_total, dt, nx, ny, nz, mass,
 
 
 @njit(cache=True, inline="always")
-def _slam_scalar(a, vx, vy, vz, c, sp0, sp1, sp2, inv_adt, sk):
-    """Slamming (§1.7) multiplier s (force = s v) of a piece of area a moving at v with cos θ = c >= 0,
-    given the previous A'v' = sp: Γ = |A v - A'v'| / (A_total dt) (inv_adt = 1/(A_total dt));
-    sk = (p, 1/Γmax, 2 m / S)."""
-    dx, dy, dz = a * vx - sp0, a * vy - sp1, a * vz - sp2
-    ratio = min(math.sqrt(dx * dx + dy * dy + dz * dz) * inv_adt * sk[1], 1.0)
-    return -_pow(ratio, sk[0]) * c * (sk[2] * a)
+def _slam_scalar(a, vx, vy, vz, c, a_prev, inv_dt, sk):
+    """Slamming multiplier s (force = s v) of a piece of area a moving at v with cos θ = c >= 0 whose face had
+    a_prev submerged on the previous step. Time-step independent form of §1.7: the impulse over the step is
+    -ramp · cos θ · m v (2 ΔA / S) with ΔA = max(a - a_prev, 0) the area wetted during the step (a flat face
+    slapping the water at once gets its whole share of the stopping momentum m v 2A/S in one step, whatever
+    the step), ramp = min(v cos θ / v_slam, 1)^p on the normal entry speed; force = impulse / dt.
+    sk = (p, 1/v_slam, 2 m / S)."""
+    da = a - a_prev
+    if da <= 0.0:
+        return 0.0
+    speed = math.sqrt(vx * vx + vy * vy + vz * vz)
+    ratio = min(c * speed * sk[1], 1.0)
+    return -_pow(ratio, sk[0]) * c * sk[2] * da * inv_dt
 
 
 @njit(cache=True, inline="always")
