@@ -262,3 +262,26 @@ def test_slamming_is_time_step_independent_and_stops_the_share_of_momentum(tmp_p
     assert impulses == pytest.approx([expected] * 3, rel=0.03)
     assert max(impulses) / min(impulses) < 1.03
     assert max(depths) - min(depths) < 0.01  # m; the deepest point is about 0.62 m below the surface
+
+
+def test_reynolds_length_is_the_actual_waterline_length():
+    """The friction's Reynolds length is the waterline's extent along the hull's x axis (not the overall
+    length): checked against trimesh's section of the settled WAM-V hull by the still-water plane."""
+    import trimesh
+
+    from usvsim.config.loader import parse_scenario
+    from usvsim.core.transforms import matrix_from_quat
+    from usvsim.simulation import Simulation
+
+    vessel = {"name": "w", "model": "wamv", "hydrodynamics": {"type": "kerner"}}
+    sim = Simulation(parse_scenario({"version": 1, "vessels": [vessel]}, "t"))
+    sim.run(5.0)
+    body = sim.vessels["w"]
+    rot = matrix_from_quat(body.quat)
+    hull = trimesh.Trimesh(body.model.hull.vertices @ rot.T + body.position, body.model.hull.faces, process=False)
+    section = trimesh.intersections.mesh_plane(hull, [0.0, 0.0, 1.0], [0.0, 0.0, 0.0]).reshape(-1, 3)
+    waterline = np.ptp(section @ rot[:, 0])
+    length = sim.world.marine._kerner.coef[0, kk.LENGTH]
+    assert length == pytest.approx(waterline, abs=2e-3)  # m (the hull moves slightly in the lagged step)
+    assert length < 0.95 * np.ptp(body.model.hull.vertices[:, 0])  # the overall length is not the waterline's
+    sim.close()

@@ -34,7 +34,8 @@ class VoxelBuoyancy(Section):
 class KernerHydrodynamics(Section):
     """Kerner's per-triangle hydrodynamics (physics.md §1.5-§1.8); defaults from asv_wave_sim.
 
-    Viscous: ITTC-57 C_F(Rn), Rn = |v_rel,CoM| L / nu (L = hull length along x), times (1 + k).
+    Viscous: ITTC-57 C_F(Rn), Rn = |v_rel,CoM| L / nu (L = waterline length along x, of the previous step),
+    times (1 + k).
     Pressure/suction: (C1 v/v_R + C2 (v/v_R)²) S |cos θ|^f along the normal (Pa at v_R head-on).
     Slamming: an impulse -ramp cos θ m v (2 ΔA / S) per face over each step (ΔA: area wetted during the
     step), ramp = min(normal entry speed / slamming_speed_mps, 1)^p; time-step independent; scale 0 disables. Air: C_air on dry faces.

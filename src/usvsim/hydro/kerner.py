@@ -18,6 +18,7 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
+from numba import njit
 
 from usvsim.config.hydro_models import KernerHydrodynamics
 from usvsim.hydro import kerner_kernels as kk
@@ -51,11 +52,28 @@ class KernerResult:
     parts: np.ndarray  # (nb,4,6) per kind (PARTS order): force, torque
 
 
+@njit(cache=True)
+def waterline_lengths(seg, count, face_offsets, rot, out):
+    """out[b] = extent (m) along body b's x axis (rot[b][:, 0], world) of its waterline segments (seg (Nf,2,3)
+    world m, rows with count 1, from the hydrostatics); bodies without a waterline keep their value."""
+    for b in range(face_offsets.shape[0] - 1):
+        ax, ay, az = rot[b, 0, 0], rot[b, 1, 0], rot[b, 2, 0]
+        lo, hi = np.inf, -np.inf
+        for f in range(face_offsets[b], face_offsets[b + 1]):
+            if count[f]:
+                for e in range(2):
+                    x = seg[f, e, 0] * ax + seg[f, e, 1] * ay + seg[f, e, 2] * az
+                    lo, hi = min(lo, x), max(hi, x)
+        if hi > lo:
+            out[b] = hi - lo
+
+
 class KernerForces:
     """Kerner forces of every hull in `hulls`; one coefficient row per body.
 
     configs: one KernerHydrodynamics per body; masses_kg (nb,); lengths_m (nb,) reference length for
-    the Reynolds number (default: each hull's extent along body x). One core: the bodies run in
+    the Reynolds number (default: each hull's extent along body x, until `set_waterline` gives the length
+    of the actual waterline). One core: the bodies run in
     sequence (threading them through numba's prange cost far more than it saved on a shared machine).
     """
 
@@ -82,12 +100,22 @@ class KernerForces:
         # whole dry faces: air drag from body-frame tables (kerner_air)
         self._air = (np.zeros(nf), dry_face_table(hulls.vertices_body, hulls.faces),
                      *anchor_frames(hulls.vertices_body, hulls.vert_offsets))  # fmt: skip
+        self._lengths = np.zeros(nb)
         self._swept = np.zeros((nf, 3))
         self._swept_prev = np.zeros((nf, 3))
         self._ready = False
         self._parts = np.zeros((nb, 4, 6))
         self._force, self._torque = np.zeros((nb, 3)), np.zeros((nb, 3))
         self._result = KernerResult(self._force, self._torque, self._parts)
+
+    def set_waterline(self, hydrostatics, rot: np.ndarray) -> None:
+        """Reynolds length of each body := the length of its waterline along its x axis (from a
+        HydrostaticsResult, world; rot (nb,3,3) body → world), for the next compute(). Bodies with no
+        waterline (all dry or all submerged) keep theirs."""
+        self._lengths[:] = self.coef[:, kk.LENGTH]
+        waterline_lengths(hydrostatics.waterline_segments, hydrostatics.waterline_count, self.hulls.face_offsets,
+                          rot, self._lengths)  # fmt: skip
+        self.coef[:, kk.LENGTH] = self._lengths
 
     def reset(self) -> None:
         """Forget the previous step (no slamming on the next call), e.g. after moving a body."""

@@ -133,6 +133,7 @@ class MarineModels:
         if kerner is not None:
             self.world_force += kerner.force
             self.world_torque += kerner.torque
+            self._kerner.set_waterline(hydrostatics, state.rot)  # Reynolds length for the next step
         statespace.drag_wrench(self._state_space, state.nu, self.body_wrench)
         if self._fossen is not None:
             self.body_wrench += self._fossen.compute(state.nu, dt)
