@@ -1,6 +1,6 @@
 """Acceptance: the stack as an rclpy node drives the simulated boat to a goal over DDS (loopback namespace).
 
-Two processes on independent DDS stacks (usvsim's Cyclone bridge, rclpy on Fast DDS) inside `unshare -n`
+Two processes on independent DDS stacks (usvsim's Cyclone bridge, rclpy on Fast DDS) inside `unshare -n -m`
 with only loopback; the true track comes from the simulation's MCAP recording, read with an independent
 reader. Skipped without the ROS 2 wheels (extra `ros2-test`) or a network namespace.
 """
@@ -9,7 +9,6 @@ from __future__ import annotations
 
 import importlib.util
 import json
-import shutil
 import subprocess
 import sys
 from pathlib import Path
@@ -17,11 +16,11 @@ from pathlib import Path
 import numpy as np
 import pytest
 import yaml
+from loopback_ns import isolated, unusable
 
 pytest.importorskip("cyclonedds")
 HERE = Path(__file__).parent
 pytestmark = pytest.mark.slow  # a whole ROS 2 exchange in a network namespace: about a minute
-NETNS = 'ip link set lo up && ip link set lo multicast on && ip route add 224.0.0.0/4 dev lo && exec "$@"'
 SCENARIO = {
     "version": 1, "name": "ros2_drive", "world": {"physics_rate_hz": 100},
     "vessels": [{"name": "wamv", "model": "wamv", "pose": {"position": [0.0, 0.0, 0.0]}, "command_timeout_s": 1.0,
@@ -37,13 +36,11 @@ SCENARIO = {
 def test_rclpy_node_drives_the_boat_to_its_goal_over_dds(tmp_path):
     if importlib.util.find_spec("rclpy") is None or importlib.util.find_spec("nav_msgs") is None:
         pytest.skip("ROS 2 wheels not installed (extra ros2-test)")
-    if shutil.which("unshare") is None or subprocess.run(["unshare", "-n", "sh", "-c", NETNS, "sh", "true"],
-                                                         capture_output=True).returncode != 0:  # fmt: skip
-        pytest.skip("cannot create a loopback-only network namespace")
+    if unusable():
+        pytest.skip(unusable())
     scenario, record = tmp_path / "drive.yaml", tmp_path / "drive.mcap"
     scenario.write_text(yaml.safe_dump(SCENARIO))
-    cmd = ["unshare", "-n", "sh", "-c", NETNS, "sh", sys.executable, str(HERE / "ros2_drive.py"), str(scenario),
-           "10,1", str(record), "90"]  # fmt: skip
+    cmd = isolated(sys.executable, str(HERE / "ros2_drive.py"), str(scenario), "10,1", str(record), "90")
     done = subprocess.run(cmd, capture_output=True, text=True, timeout=240)
     lines = [ln for ln in done.stdout.splitlines() if ln.startswith("RESULT ")]
     assert lines, done.stderr[-3000:]

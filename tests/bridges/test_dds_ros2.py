@@ -3,8 +3,8 @@ receives every simulation topic at its configured rate with valid contents, /tf_
 and its thruster and cmd_vel commands move the boats; killing subscribers and sending bad commands does
 not stall the simulation.
 
-Runs the whole exchange inside a private network namespace whose only interface is loopback
-(`unshare -n`), so Fast DDS's multicast discovery cannot leave the machine. Needs the optional ROS 2
+Runs the whole exchange inside a private network namespace whose only interface is loopback, with a private
+/dev/shm (tests/loopback_ns.py), so Fast DDS's discovery cannot leave the machine or meet other processes. Needs the optional ROS 2
 wheels (see docs/ros2.md) and permission to create a network namespace; skipped otherwise.
 """
 
@@ -12,17 +12,16 @@ from __future__ import annotations
 
 import importlib.util
 import json
-import shutil
 import subprocess
 import sys
 from pathlib import Path
 
 import pytest
+from loopback_ns import isolated, unusable
 
 pytest.importorskip("cyclonedds")
 pytestmark = pytest.mark.slow  # a whole ROS 2 exchange in a network namespace: about a minute
 HERE = Path(__file__).parent
-NETNS = "ip link set lo up && ip link set lo multicast on && ip route add 224.0.0.0/4 dev lo && exec \"$@\""
 RATES_HZ = {  # harbor_sensors.yaml (sensors) and its outputs.recording (clock 100 Hz, ground truth 50 Hz)
     "/clock": 100, "/tf": 50, "/wamv/camera/image_raw": 10, "/wamv/camera/camera_info": 10,
     "/wamv/camera/depth/image_raw": 10, "/wamv/camera/depth/camera_info": 10, "/wamv/lidar/points": 10,
@@ -33,21 +32,14 @@ STATIC_FRAMES = {"world>wamv/odom", "world>otter/odom", "wamv/base_link>wamv/lid
                  "wamv/base_link>wamv/camera", "wamv/camera>wamv/camera_optical", "wamv/base_link>wamv/imu"}  # fmt: skip
 
 
-def _netns_usable() -> str | None:
-    if shutil.which("unshare") is None or shutil.which("ip") is None:
-        return "unshare/ip not installed"
-    probe = subprocess.run(["unshare", "-n", "sh", "-c", NETNS, "sh", "true"], capture_output=True, text=True)
-    return None if probe.returncode == 0 else f"cannot create a network namespace: {probe.stderr.strip()}"
-
-
 @pytest.fixture(scope="module")
 def exchange() -> dict:
     if importlib.util.find_spec("rclpy") is None:
         pytest.skip("ROS 2 wheels not installed (optional test extra: ros-rclpy, ros-sensor-msgs, ...)")
-    reason = _netns_usable()
+    reason = unusable()
     if reason:
         pytest.skip(reason)
-    cmd = ["unshare", "-n", "sh", "-c", NETNS, "sh", sys.executable, str(HERE / "dds_workload.py"), "2.0"]
+    cmd = isolated(sys.executable, str(HERE / "dds_workload.py"), "2.0")
     done = subprocess.run(cmd, capture_output=True, text=True, timeout=400)
     lines = [ln for ln in done.stdout.splitlines() if ln.startswith("RESULT ")]
     assert done.returncode == 0 and lines, done.stderr[-3000:]
