@@ -8,6 +8,7 @@ the backend and the number of workers (the run's `wall_time_s` aside).
 from __future__ import annotations
 
 import itertools
+import multiprocessing
 import os
 from collections.abc import Callable, Sequence
 from concurrent.futures import ProcessPoolExecutor, as_completed
@@ -63,15 +64,35 @@ def run(runs: Sequence[RunSpec], backend: str = "process", workers: int | None =
     raise UsvsimError(f"unknown backend {backend!r}; choose process or ray")
 
 
+def warm_up() -> None:
+    """Import the simulation and load its compiled kernels (numba's on-disk cache) in this process, with a
+    0.1 s trial: about 2 s of CPU per process. The process backend does it once, before it forks its workers,
+    so each worker starts warm instead of paying it again (that cost was what kept 1 → 2 workers at 1.4x)."""
+    from usvsim.tasks.gym.env import limit_numba_threads
+    from usvsim.tasks.solutions import run_trial
+    from usvsim.tasks.timing import TaskTiming
+
+    limit_numba_threads(1)
+    run_trial("station_keeping", timing=TaskTiming(running_s=0.1))
+
+
+def _pool(workers: int) -> ProcessPoolExecutor:
+    """Forked from this (warm) process where the platform can fork; else fresh workers warm up once each."""
+    if "fork" in multiprocessing.get_all_start_methods():
+        return ProcessPoolExecutor(max_workers=workers, mp_context=multiprocessing.get_context("fork"))
+    return ProcessPoolExecutor(max_workers=workers, initializer=warm_up)
+
+
 def _process(runs, workers, progress) -> list[dict]:
     out: list[dict | None] = [None] * len(runs)
+    warm_up()
     if workers == 1:
         for i, r in enumerate(runs):
             out[i] = run_one(r)
             if progress:
                 progress(i + 1, len(runs))
         return out
-    with ProcessPoolExecutor(max_workers=workers) as pool:
+    with _pool(workers) as pool:
         futures = {pool.submit(run_one, r): i for i, r in enumerate(runs)}
         for done, f in enumerate(as_completed(futures), 1):
             out[futures[f]] = f.result()

@@ -5,7 +5,6 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from scipy.signal import lfilter
 
 
 def vrx_gain_to_std(gain: float, time_constant_s: float) -> float:
@@ -44,6 +43,9 @@ class GaussMarkov:
         target = int(math.floor(t / self.dt_s + 1e-9))
         n = target - self._steps
         if n > 0 and self.std > 0:
+            # imported here: scipy.signal takes ~1 s to import, and calm seas never need it
+            from scipy.signal import lfilter
+
             path, _ = lfilter(
                 [self._kick], [1.0, -self._phi], self._rng.standard_normal(n), zi=[self._phi * self.value]
             )

@@ -7,9 +7,12 @@ step as VRX does. Actions (normalized to [-1, 1]):
   usvsim's velocity controller and thrust allocator.
 Observation `state` (float32): base_link velocity (u, v m/s, r rad/s, body FLU), roll and pitch (rad),
 thrusts / their maxima, then the task's features (goal offsets in the body frame, see docs/tasks.md).
+`observation=("state", "lidar", "camera")` (any of them): a `Dict` space with those keys, the sensors' latest
+readings (a planar LiDAR's ranges, an RGB image; tasks/gym/observations.py); `"state"` alone: the Box.
 `terminated`: the task finished (course done, all animals circled); `truncated`: the time limit.
 Reward: the task's shaping (station keeping: minus the mean VRX pose error of the period).
-`reset(seed=s)` re-samples the task (goals) from s and restarts the simulation with seed s.
+`reset(seed=s)` re-samples the task (goals) from s and restarts the simulation with `Simulation.reset(s)`:
+exact (bit for bit a fresh start with seed s), no model rebuild.
 """
 
 from __future__ import annotations
@@ -21,11 +24,12 @@ import numpy as np
 from gymnasium import spaces
 
 from usvsim.core.clock import steps_per_period
+from usvsim.tasks.gym.observations import SENSORS, sensor_arrays, sensor_configs, sensor_spaces
 from usvsim.tasks.library import TASKS
 from usvsim.tasks.timing import TaskTiming
 
 VELOCITY_SCALE = np.array([2.0, 1.0, 0.5])  # m/s, m/s, rad/s at action ±1
-OBSERVATIONS = ("state",)
+OBSERVATIONS = ("state", *SENSORS)
 
 
 def limit_numba_threads(threads: int | None) -> None:
@@ -45,12 +49,15 @@ class TaskEnv(gym.Env):
         from usvsim.simulation import Simulation
 
         observation = (observation,) if isinstance(observation, str) else tuple(observation)
-        if task not in TASKS or action_type not in ("thrusters", "velocity") or set(observation) - set(OBSERVATIONS):
+        if task not in TASKS or action_type not in ("thrusters", "velocity") or not set(observation) <= set(OBSERVATIONS) \
+                or not observation:
             raise ValueError(f"task in {list(TASKS)}, action_type thrusters|velocity, observation in {OBSERVATIONS}")
+        self.observation = observation
         limit_numba_threads(numba_threads)
         self.render_mode, self.action_type = render_mode, action_type
         self.task = TASKS[task](difficulty, 0, TaskTiming(running_s=time_limit_s), sea_state)
-        self._scenario = self.task.scenario()
+        sensors = sensor_configs(observation, control_rate_hz)
+        self._scenario = self.task.scenario({"sensors": sensors} if sensors else None)
         self.sim = Simulation(self._scenario, seed=0)
         self.task.bind(self.sim)
         self.vessel = self.sim.vessels["wamv"]
@@ -62,7 +69,12 @@ class TaskEnv(gym.Env):
         n_act = len(self._thrusters) if action_type == "thrusters" else 3
         self.action_space = spaces.Box(-1.0, 1.0, (n_act,), np.float32)
         n_obs = 5 + len(self._thrusters) + self.task.n_features
-        self.observation_space = spaces.Box(-np.inf, np.inf, (n_obs,), np.float32)
+        state = spaces.Box(-np.inf, np.inf, (n_obs,), np.float32)
+        if observation == ("state",):
+            self.observation_space = state
+        else:
+            parts = {"state": state} if "state" in observation else {}
+            self.observation_space = spaces.Dict(parts | sensor_spaces(observation))
 
     # -- gymnasium API ----------------------------------------------------------------------
     def reset(self, *, seed: int | None = None, options: dict | None = None):
@@ -99,18 +111,9 @@ class TaskEnv(gym.Env):
 
     # -- internals --------------------------------------------------------------------------
     def _restart(self, seed: int) -> None:
-        """Simulation back to t = 0 with `seed`: its own exact reset(seed) where it has one, else a rebuild."""
-        from usvsim.simulation import Simulation
-
+        """Task and simulation back to t = 0 with `seed` (`Simulation.reset`: exact, the model is kept)."""
         self.task.reset(seed)
-        try:
-            self.sim.reset(seed=seed)
-        except TypeError:
-            self.sim.close()
-            self.sim = Simulation(self._scenario, seed=seed)
-            self.vessel = self.sim.vessels["wamv"]
-            self._thrusters = list(self.vessel.thrusters.values())
-            self._renderer = None
+        self.sim.reset(seed=seed)
         self.task.bind(self.sim)
         if self._controller is not None:
             self._controller.reset()
@@ -129,7 +132,13 @@ class TaskEnv(gym.Env):
             self._controller = reference_controller(self.sim)
         self._controller.apply(self.vessel, action * VELOCITY_SCALE, self._every * self.sim.clock.dt)
 
-    def _observe(self) -> np.ndarray:
+    def _observe(self):
+        if self.observation == ("state",):
+            return self._state()
+        out = {"state": self._state()} if "state" in self.observation else {}
+        return out | sensor_arrays(self.sim, self.observation)
+
+    def _state(self) -> np.ndarray:
         s, i = self.sim.state, self.task.index
         r = s.rot[i].tolist()  # body FLU → world ENU; plain floats are cheaper than tiny numpy ops
         v = self.sim.origin_velocity(i).tolist()

@@ -49,11 +49,8 @@ class MultiStationKeeping(ParallelEnv):
         return spaces.Box(-1.0, 1.0, (4,), np.float32)
 
     def reset(self, seed: int | None = None, options: dict | None = None):
-        from usvsim.simulation import Simulation
-
         seed = int(seed) if seed is not None else int(np.random.SeedSequence().entropy % (2**31))
-        self.sim.close()
-        self.sim = Simulation(self._scenario, seed=seed)
+        self.sim.reset(seed=seed)  # exact: a fresh start with `seed`, the compiled model kept
         rng = np.random.default_rng(seed)
         self.scorers = {}
         for a in self.possible_agents:
