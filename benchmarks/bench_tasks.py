@@ -8,7 +8,8 @@ Per sea (median of --repeats timings of --steps env steps, one core: numba 1 thr
 - sim loop:   the same 10 `Simulation.step()` calls per env step without the env (the env's own overhead = ratio);
 - bare MuJoCo: 10 `mujoco.mj_step` on the same model (a copy of its data) per env step, with the last applied
                 wrenches held: MuJoCo's own share of the cost, an upper bound on speed.
-Batch: 8 station-keeping runs (300 s each) on a pool of 1 and of 2 worker processes (`usvsim.batch.run_one`).
+Batch: 8 station-keeping runs (300 s each) by `usvsim.batch.run` on 1 and 2 workers, each a fresh process timed
+from outside; medians of --batch-repeats turns (`--batch-only` for just this part).
 The load average is recorded beside every figure (the machine is shared). Writes benchmarks/results/tasks.json.
 """
 
@@ -73,25 +74,50 @@ def bench_sea(sea_state: int | None, steps: int, repeats: int) -> dict:
             "env_vs_bare_mujoco": r["env"] / r["bare"], "load_avg_1min": [load_before, os.getloadavg()[0]]}  # fmt: skip
 
 
-def bench_batch() -> dict:
-    """8 runs of 300 s on a pool of 1 and of 2 fresh worker processes (both pay the same start-up)."""
-    from concurrent.futures import ProcessPoolExecutor
+BATCH_SPEC = {"task": "station_keeping", "seeds": {"start": 0, "count": 8}, "time_limit_s": 300.0}
 
-    from usvsim.batch import expand
-    from usvsim.batch.runner import run_one
 
-    runs = expand({"task": "station_keeping", "seeds": {"start": 0, "count": 8}, "time_limit_s": 300.0})
-    out = {}
-    for workers in (1, 2):
-        start = time.perf_counter()
-        with ProcessPoolExecutor(max_workers=workers) as pool:
-            scores = [r["score"] for r in pool.map(run_one, runs)]
-        out[f"workers_{workers}_s"] = time.perf_counter() - start
-        out[f"load_avg_1min_{workers}"] = os.getloadavg()[0]
-        out[f"scores_{workers}"] = scores
-    out["identical"] = out["scores_1"] == out["scores_2"]
-    out["speedup_1_to_2"] = out["workers_1_s"] / out["workers_2_s"]
-    return out
+def batch_child(workers: int) -> None:
+    """One `usvsim.batch.run` of BATCH_SPEC in this fresh process (what `usvsim sweep` does); prints the scores."""
+    from usvsim.batch import expand, run
+
+    start = time.perf_counter()
+    scores = [r["score"] for r in run(expand(BATCH_SPEC), workers=workers)]
+    print(json.dumps({"scores": scores, "run_s": time.perf_counter() - start}))
+
+
+def bench_batch(repeats: int) -> dict:
+    """8 runs of 300 s by `usvsim.batch.run` on 1 and on 2 workers, each in a fresh process timed from outside
+    (interpreter start, imports and warm-up included, as a user sees it); 1 and 2 take turns `repeats` times.
+    Also the CPU seconds of the whole process tree: equal totals mean parallel work costs nothing extra."""
+    import resource
+    import subprocess
+    import sys
+
+    walls: dict = {1: [], 2: []}
+    calls: dict = {1: [], 2: []}  # the `run()` call alone (imports done): what a script or notebook sees
+    cpus: dict = {1: [], 2: []}
+    loads, scores = [], {}
+    for _ in range(repeats):
+        for workers in (1, 2):
+            loads.append(os.getloadavg()[0])
+            before = resource.getrusage(resource.RUSAGE_CHILDREN)
+            start = time.perf_counter()
+            done = subprocess.run([sys.executable, __file__, "--batch-child", str(workers)], capture_output=True,
+                                  text=True, check=True)  # fmt: skip
+            walls[workers].append(time.perf_counter() - start)
+            after = resource.getrusage(resource.RUSAGE_CHILDREN)
+            cpus[workers].append(after.ru_utime - before.ru_utime + after.ru_stime - before.ru_stime)
+            child = json.loads(done.stdout.splitlines()[-1])
+            scores[workers] = child["scores"]
+            calls[workers].append(child["run_s"])
+    w1, w2 = statistics.median(walls[1]), statistics.median(walls[2])
+    c1, c2 = statistics.median(calls[1]), statistics.median(calls[2])
+    return {"workers_1_s_median": w1, "workers_2_s_median": w2, "speedup_1_to_2": w1 / w2,
+            "run_call_s": calls, "run_call_speedup_1_to_2": c1 / c2,
+            "walls_s": walls, "cpu_s": cpus, "cpu_s_median": {k: statistics.median(v) for k, v in cpus.items()},
+            "load_avg_1min": loads, "load_avg_median": statistics.median(loads),
+            "identical": scores[1] == scores[2], "scores": scores[1]}  # fmt: skip
 
 
 def main() -> None:
@@ -99,17 +125,24 @@ def main() -> None:
     parser.add_argument("--steps", type=int, default=300)
     parser.add_argument("--repeats", type=int, default=5)
     parser.add_argument("--no-batch", action="store_true")
+    parser.add_argument("--batch-only", action="store_true")
+    parser.add_argument("--batch-repeats", type=int, default=3)
+    parser.add_argument("--batch-child", type=int, help=argparse.SUPPRESS)
     args = parser.parse_args()
+    if args.batch_child:
+        return batch_child(args.batch_child)
     numba.set_num_threads(1)
     result = {"machine": platform.processor() or platform.machine(), "cpus": os.cpu_count(),
               "load_avg_start": os.getloadavg(), "steps": args.steps, "repeats": args.repeats}  # fmt: skip
-    for label, sea_state in (("calm", None), ("sea_state_3", 3)):
+    for label, sea_state in () if args.batch_only else (("calm", None), ("sea_state_3", 3)):
         result[label] = bench_sea(sea_state, args.steps, args.repeats)
         print(label, json.dumps(result[label], indent=1))
     if not args.no_batch:
-        result["batch"] = bench_batch()
+        result["batch"] = bench_batch(args.batch_repeats)
         print("batch", json.dumps(result["batch"], indent=1))
     RESULTS.parent.mkdir(parents=True, exist_ok=True)
+    if args.batch_only and RESULTS.is_file():  # keep the env figures of the last full run
+        result = json.loads(RESULTS.read_text()) | {"batch": result["batch"], "batch_load_avg_start": result["load_avg_start"]}
     RESULTS.write_text(json.dumps(result, indent=2))
 
 

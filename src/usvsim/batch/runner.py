@@ -43,9 +43,8 @@ def expand(spec: SweepSpec | dict) -> list[RunSpec]:
 
 def run_one(spec: RunSpec) -> dict:
     """One run in this process (numba with one thread): the reference solution's trial report + the run."""
-    from usvsim.tasks.gym.env import limit_numba_threads
     from usvsim.tasks.solutions import run_trial
-    from usvsim.tasks.timing import TaskTiming
+    from usvsim.tasks.timing import TaskTiming, limit_numba_threads
 
     limit_numba_threads(1)
     report = run_trial(spec.task, spec.difficulty, spec.seed, TaskTiming(running_s=spec.time_limit_s),
@@ -66,11 +65,11 @@ def run(runs: Sequence[RunSpec], backend: str = "process", workers: int | None =
 
 def warm_up() -> None:
     """Import the simulation and load its compiled kernels (numba's on-disk cache) in this process, with a
-    0.1 s trial: about 2 s of CPU per process. The process backend does it once, before it forks its workers,
-    so each worker starts warm instead of paying it again (that cost was what kept 1 → 2 workers at 1.4x)."""
-    from usvsim.tasks.gym.env import limit_numba_threads
+    0.1 s trial: about 2 s of CPU per process (imports ~1.3 s, kernels and a model ~0.9 s). The process
+    backend does it once, before it forks its workers, so every worker starts warm instead of paying it
+    again (CPU that workers sharing the cores with other work would otherwise spend in parallel)."""
     from usvsim.tasks.solutions import run_trial
-    from usvsim.tasks.timing import TaskTiming
+    from usvsim.tasks.timing import TaskTiming, limit_numba_threads
 
     limit_numba_threads(1)
     run_trial("station_keeping", timing=TaskTiming(running_s=0.1))

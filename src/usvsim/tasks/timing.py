@@ -45,3 +45,11 @@ class CollisionCounter:
             self.times_s.append(t_s)
             return 1
         return 0
+
+
+def limit_numba_threads(threads: int | None) -> None:
+    """One simulation per process (an env, a batch worker): numba's pool at `threads` (None leaves it as it is)."""
+    if threads is not None:
+        import numba
+
+        numba.set_num_threads(min(threads, numba.config.NUMBA_NUM_THREADS))

@@ -26,18 +26,10 @@ from gymnasium import spaces
 from usvsim.core.clock import steps_per_period
 from usvsim.tasks.gym.observations import SENSORS, sensor_arrays, sensor_configs, sensor_spaces
 from usvsim.tasks.library import TASKS
-from usvsim.tasks.timing import TaskTiming
+from usvsim.tasks.timing import TaskTiming, limit_numba_threads
 
 VELOCITY_SCALE = np.array([2.0, 1.0, 0.5])  # m/s, m/s, rad/s at action ±1
 OBSERVATIONS = ("state", *SENSORS)
-
-
-def limit_numba_threads(threads: int | None) -> None:
-    """One environment per process: numba's pool at `threads` (None leaves it as it is)."""
-    if threads is not None:
-        import numba
-
-        numba.set_num_threads(min(threads, numba.config.NUMBA_NUM_THREADS))
 
 
 class TaskEnv(gym.Env):

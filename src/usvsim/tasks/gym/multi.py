@@ -17,8 +17,8 @@ from pettingzoo import ParallelEnv
 from usvsim.config.scenario import Scenario
 from usvsim.core.clock import steps_per_period
 from usvsim.tasks import levels
-from usvsim.tasks.gym.env import limit_numba_threads
 from usvsim.tasks.pose_error import StationKeepingScorer
+from usvsim.tasks.timing import limit_numba_threads
 
 
 class MultiStationKeeping(ParallelEnv):
