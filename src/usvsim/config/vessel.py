@@ -69,9 +69,17 @@ class StateSpaceDrag(Section):
 
 
 class TriangleBuoyancy(Section):
-    """Hydrostatics by exact pressure integration over the clipped physics mesh."""
+    """Hydrostatics by exact pressure integration over the clipped physics mesh.
+
+    `wave_pressure`: the pressure under waves. `froude_krylov` (default): linear-wave pressure, each component's
+    dynamic part decaying with depth as e^{kz} (cosh at finite depth) with Wheeler stretching, so short waves
+    excite a hull less, as in reality (ocean/pressure.py). `hydrostatic`: the column under the local surface,
+    ρ g (η - z) (every wave acts as an infinitely long one). Same in calm water. Vessels with
+    `water_sampling.mode: patch` always use `hydrostatic`.
+    """
 
     type: Literal["triangles"] = "triangles"
+    wave_pressure: Literal["froude_krylov", "hydrostatic"] = "froude_krylov"
 
 
 Buoyancy = Annotated[TriangleBuoyancy | VoxelBuoyancy, Field(discriminator="type")]

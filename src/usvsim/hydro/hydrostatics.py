@@ -73,16 +73,17 @@ def _cut(p, q, hp, hq):
 
 
 @njit(cache=True)
-def _one_above(ra, rb, rc, ha, hb, hc):
-    """Apex a above water, b and c below: the quad (b, c, I_c, I_b) as two sub-triangles.
+def _one_above(ra, rb, rc, ha, hb, hc, db, dc):
+    """Apex a above water, b and c below: the quad (b, c, I_c, I_b) as two sub-triangles; db, dc: the
+    pressure heads at b and c (-hb, -hc for hydrostatics; 0 at the cut points).
 
     Returns (12 × (w, qx, qy, qz, e) per parent area, submerged area fraction) and the
     waterline (I_c, I_b). Fractions of the parent area: (b, c, I_c) u_c, (b, I_c, I_b) s_c u_b.
     """
     ib, _, ub = _cut(ra, rb, ha, hb)
     ic, sc, uc = _cut(ra, rc, ha, hc)
-    w1, qx1, qy1, qz1, e1 = _depth_moments(rb, rc, ic, -hb, -hc, 0.0)
-    w2, qx2, qy2, qz2, e2 = _depth_moments(rb, ic, ib, -hb, 0.0, 0.0)
+    w1, qx1, qy1, qz1, e1 = _depth_moments(rb, rc, ic, db, dc, 0.0)
+    w2, qx2, qy2, qz2, e2 = _depth_moments(rb, ic, ib, db, 0.0, 0.0)
     f1 = uc
     f2 = sc * ub
     w, e = f1 * w1 + f2 * w2, f1 * e1 + f2 * e2
@@ -91,22 +92,23 @@ def _one_above(ra, rb, rc, ha, hb, hc):
 
 
 @njit(cache=True)
-def _two_above(ra, rb, rc, ha, hb, hc):
-    """Apex a below water, b and c above: the sub-triangle (a, J_b, J_c).
+def _two_above(ra, rb, rc, ha, hb, hc, da):
+    """Apex a below water, b and c above: the sub-triangle (a, J_b, J_c); da: the pressure head at a.
 
     Returns (12 × (w, qx, qy, qz, e) per parent area, submerged area fraction t_b t_c) and the
     waterline (J_b, J_c).
     """
     jb, tb, _ = _cut(ra, rb, ha, hb)
     jc, tc, _ = _cut(ra, rc, ha, hc)
-    w, qx, qy, qz, e = _depth_moments(ra, jb, jc, -ha, 0.0, 0.0)
+    w, qx, qy, qz, e = _depth_moments(ra, jb, jc, da, 0.0, 0.0)
     f = tb * tc
     return (f * w, f * qx, f * qy, f * qz, f * e, f), jb, jc
 
 
 @njit(cache=True)
-def _cut_face(r0, r1, r2, h0, h1, h2, n_below):
-    """Submerged part of a face crossed by the surface (n_below = 1 or 2 vertices with h <= 0).
+def _cut_face(r0, r1, r2, h0, h1, h2, d0, d1, d2, n_below):
+    """Submerged part of a face crossed by the surface (n_below = 1 or 2 vertices with h <= 0); d_k: the
+    pressure head at each vertex (-h_k for hydrostatics).
 
     The odd vertex out becomes apex a; (a, b, c) keeps the face's cyclic order. The waterline
     segment is oriented along the boundary of the submerged surface (counter-clockwise about
@@ -114,14 +116,14 @@ def _cut_face(r0, r1, r2, h0, h1, h2, n_below):
     """
     apex_below = n_below == 1
     if (h0 <= 0.0) == apex_below:
-        ra, rb, rc, ha, hb, hc = r0, r1, r2, h0, h1, h2
+        ra, rb, rc, ha, hb, hc, da, db, dc = r0, r1, r2, h0, h1, h2, d0, d1, d2
     elif (h1 <= 0.0) == apex_below:
-        ra, rb, rc, ha, hb, hc = r1, r2, r0, h1, h2, h0
+        ra, rb, rc, ha, hb, hc, da, db, dc = r1, r2, r0, h1, h2, h0, d1, d2, d0
     else:
-        ra, rb, rc, ha, hb, hc = r2, r0, r1, h2, h0, h1
+        ra, rb, rc, ha, hb, hc, da, db, dc = r2, r0, r1, h2, h0, h1, d2, d0, d1
     if apex_below:
-        return _two_above(ra, rb, rc, ha, hb, hc)
-    return _one_above(ra, rb, rc, ha, hb, hc)
+        return _two_above(ra, rb, rc, ha, hb, hc, da)
+    return _one_above(ra, rb, rc, ha, hb, hc, db, dc)
 
 
 @njit(cache=True)
@@ -157,7 +159,7 @@ def _store_body(b, sums, c, rho_g, force, torque, volume, cob, wetted_area, wate
 
 
 @njit(cache=True, nogil=True)  # nogil: the simulation may run it beside the Kerner kernel (core/overlap.py)
-def hull_hydrostatics(vertices, faces, face_area, face_offsets, eta, com, rho, g,
+def hull_hydrostatics(vertices, faces, face_area, face_offsets, eta, head, com, rho, g,
                       force, torque, volume, cob, wetted_area, waterplane_area,
                       face_area_sub, seg, seg_count):  # fmt: skip
     """Hydrostatic wrench, displaced volume and waterline of every body, in one call.
@@ -165,15 +167,18 @@ def hull_hydrostatics(vertices, faces, face_area, face_offsets, eta, com, rho, g
     Inputs (world ENU, SI): vertices (Nv,3) m; faces (Nf,3) uint32 global vertex indices, outward
     counter-clockwise winding; face_area (Nf,) m² (rigid-motion invariant, precomputed);
     face_offsets (nb+1,) uint64 (unsigned indices spare numba's negative-index handling);
-    eta (Nv,) water height at each vertex's (x, y) m; com (nb,3) centres of mass m; rho kg/m³;
-    g m/s².
+    eta (Nv,) water height at each vertex's (x, y) m; head (Nv,) pressure head p/(rho g) at each vertex m
+    (Froude–Krylov, ocean/pressure.py; used for the force and moment only) or an empty array for the
+    hydrostatic column eta - z; com (nb,3) centres of mass m; rho kg/m³; g m/s².
     Outputs, overwritten: force (nb,3) N; torque (nb,3) N·m about the CoM; volume (nb,) m³;
     cob (nb,3) m (= com when nothing is submerged); wetted_area (nb,) m²; waterplane_area (nb,)
     m², horizontal projection of the area inside the waterline (= -Σ submerged projected area,
     exact for closed hulls); face_area_sub (Nf,) m²; seg (Nf,2,3) m oriented waterline segment
     of each face and seg_count (Nf,) its count (0 or 1; rows with count 0 are zero).
     The face loop is kept in one body on purpose: splitting it costs numba ~1.5x in speed.
+    Volume, centre of buoyancy and areas are geometric (the depth below the local surface) in both cases.
     """
+    fk = head.shape[0] > 0
     for b in range(face_offsets.shape[0] - 1):
         cx, cy, cz = com[b, 0], com[b, 1], com[b, 2]
         fx = fy = fz = tx = ty = tz = vol = mx = my = mz = wet = awp = 0.0
@@ -194,22 +199,29 @@ def hull_hydrostatics(vertices, faces, face_area, face_offsets, eta, com, rho, g
                 w, qx, qy, qz, e = _depth_moments(r0, r1, r2, -h0, -h1, -h2)
                 frac = 1.0
                 _clear_segment(seg, seg_count, f)
+                if fk:
+                    wp, qxp, qyp, qzp, _ = _depth_moments(r0, r1, r2, head[i0], head[i1], head[i2])
             else:
-                terms, p, q = _cut_face(r0, r1, r2, h0, h1, h2, n_below)
+                terms, p, q = _cut_face(r0, r1, r2, h0, h1, h2, -h0, -h1, -h2, n_below)
                 w, qx, qy, qz, e, frac = terms
                 _store_segment(seg, seg_count, f, p, q, cx, cy, cz)
+                if fk:
+                    terms, _, _ = _cut_face(r0, r1, r2, h0, h1, h2, head[i0], head[i1], head[i2], n_below)
+                    wp, qxp, qyp, qzp = terms[0], terms[1], terms[2], terms[3]
+            if not fk:
+                wp, qxp, qyp, qzp = w, qx, qy, qz
             # C = 2 A n, twice the parent's area vector; sub-triangles share its normal
             ux, uy, uz = r1[0] - r0[0], r1[1] - r0[1], r1[2] - r0[2]
             vx, vy, vz = r2[0] - r0[0], r2[1] - r0[1], r2[2] - r0[2]
             sx = uy * vz - uz * vy
             sy = uz * vx - ux * vz
             sz = ux * vy - uy * vx
-            fx += w * sx
-            fy += w * sy
-            fz += w * sz
-            tx += qy * sz - qz * sy
-            ty += qz * sx - qx * sz
-            tz += qx * sy - qy * sx
+            fx += wp * sx
+            fy += wp * sy
+            fz += wp * sz
+            tx += qyp * sz - qzp * sy
+            ty += qzp * sx - qxp * sz
+            tz += qxp * sy - qyp * sx
             vol -= w * sz
             mx -= qx * sz
             my -= qy * sz
@@ -220,6 +232,9 @@ def hull_hydrostatics(vertices, faces, face_area, face_offsets, eta, com, rho, g
             awp -= frac * sz
         sums = (fx, fy, fz, tx, ty, tz, vol, mx, my, mz, wet, awp)
         _store_body(b, sums, (cx, cy, cz), rho * g, force, torque, volume, cob, wetted_area, waterplane_area)
+
+
+NO_HEAD = np.zeros(0)  # hull_hydrostatics' "no pressure heads": the hydrostatic column under the local surface
 
 
 @dataclass(frozen=True, slots=True)
@@ -275,13 +290,13 @@ class HullSet:
         transform_vertices(self.vertices_body, self.vert_body, pos, rot, self._world)
         return self._world
 
-    def compute(
-        self, world_vertices: np.ndarray, eta: np.ndarray, com_world: np.ndarray, rho: float, g: float
-    ) -> HydrostaticsResult:
+    def compute(self, world_vertices: np.ndarray, eta: np.ndarray, com_world: np.ndarray, rho: float, g: float,
+                head: np.ndarray = NO_HEAD) -> HydrostaticsResult:  # fmt: skip
         """Hydrostatics of all bodies. world_vertices (Nv,3) m ENU, eta (Nv,) m water height at
-        each vertex's (x, y), com_world (nb,3) m, rho kg/m³, g m/s² (arrays float64, C-order)."""
+        each vertex's (x, y), com_world (nb,3) m, rho kg/m³, g m/s², head (Nv,) m pressure head at each
+        vertex (Froude–Krylov) or empty: eta - z (arrays float64, C-order)."""
         hull_hydrostatics(
-            world_vertices, self.faces, self.face_area, self.face_offsets, eta, com_world, rho, g, *self._out
+            world_vertices, self.faces, self.face_area, self.face_offsets, eta, head, com_world, rho, g, *self._out
         )
         return self._result
 

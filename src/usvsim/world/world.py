@@ -29,12 +29,13 @@ from usvsim.core.rng import RngStreams
 from usvsim.core.transforms import matrix_from_quat, quat_from_rpy
 from usvsim.geo.parts import GeoParts, geo_parts, set_clip_planes
 from usvsim.geo.resolve import load_place, resolve_geo, with_local_depth
-from usvsim.hydro.hydrostatics import HullSet
+from usvsim.hydro.hydrostatics import NO_HEAD, HullSet
 from usvsim.hydro.models import MarineModels
 from usvsim.hydro.thrusters import ThrusterBank
 from usvsim.hydro.wrenches import assemble, body_kinematics, relative_velocity_body
 from usvsim.ocean import build_ocean
 from usvsim.ocean.patch import WaterPatch
+from usvsim.ocean.pressure import surface_and_dynamic_head
 from usvsim.vessel import Body, Thruster, Vessel
 from usvsim.vessels import buoy
 from usvsim.vessels.library import vessel_model
@@ -125,6 +126,9 @@ class World:
         self._direct_vertices = ~np.isin(self.hulls.vert_body, list(self._patches))
         vessels = self.scenario.vessels
         buoyancy = [v.buoyancy for v in vessels] + [TriangleBuoyancy()] * (n - len(vessels))
+        fk = [i for i, b in enumerate(buoyancy) if getattr(b, "wave_pressure", "") == "froude_krylov"]
+        self._fk_vertices = np.isin(self.hulls.vert_body, fk) & self._direct_vertices  # Froude–Krylov heads
+        self._fk_all, self._head = bool(self._fk_vertices.all()), np.zeros(len(self.hulls.vertices_body))
         hydro = [v.hydrodynamics or fb.model.drag for v, fb in zip(vessels, floating)]
         hydro += [fb.model.drag for fb in floating[len(vessels) :]]
         self.marine = MarineModels([fb.model for fb in floating], buoyancy, hydro, self.hulls, self.model,
@@ -237,14 +241,38 @@ class World:
     def _hydrostatics(self):
         s, t = self.state, self.clock.seconds
         verts = self.hulls.world_vertices(s.pos, s.rot)
-        return self.hulls.compute(verts, self._water_heights(verts, t), s.com_world, self.rho, self.g)
+        eta, head = self._water(verts, t)
+        return self.hulls.compute(verts, eta, s.com_world, self.rho, self.g, head)
 
-    def _water_heights(self, verts: np.ndarray, t: float) -> np.ndarray:
-        """Water surface z (m) above every hull vertex: queried directly, or from each patch vessel's grid."""
-        if not self._patches:
+    def _water(self, verts: np.ndarray, t: float) -> tuple[np.ndarray, np.ndarray]:
+        """Water height z (m) above every hull vertex, and the pressure heads p/(rho g) (m) for the kernel:
+        Froude–Krylov (ocean/pressure.py) at the vertices of bodies that use it, the column eta - z at the others;
+        NO_HEAD (all hydrostatic) in calm water or when no body uses it."""
+        fk = self._fk_vertices
+        if self.ocean.waves is None or not fk.any():
+            return self._water_heights(verts, t), NO_HEAD
+        level, head = self.ocean.level_m, self._head
+        if self._fk_all:  # the common case: every vertex (no masks, no copies)
+            eta, zeta = surface_and_dynamic_head(self.ocean.waves, verts[:, 0], verts[:, 1], verts[:, 2] - level, t)
+            eta += level
+            np.subtract(zeta + level, verts[:, 2], out=head)
+            return eta, head
+        eta = self._water_heights(verts, t, self._direct_vertices & ~fk)
+        x, y, z = verts[fk, 0], verts[fk, 1], verts[fk, 2]
+        eta_fk, zeta = surface_and_dynamic_head(self.ocean.waves, x, y, z - level, t)
+        eta[fk] = eta_fk + level
+        np.subtract(eta, verts[:, 2], out=head)
+        head[fk] = zeta + level - z
+        return eta, head
+
+    def _water_heights(self, verts: np.ndarray, t: float, direct: np.ndarray | None = None) -> np.ndarray:
+        """Water surface z (m) above every hull vertex: queried directly, or from each patch vessel's grid.
+        `direct`: the vertices to query directly (default: all but the patch vessels'; the rest of the rows
+        are left for the caller)."""
+        if direct is None and not self._patches:
             return self.ocean.elevation(verts[:, 0], verts[:, 1], t)
         eta = np.empty(len(verts))
-        direct = self._direct_vertices
+        direct = self._direct_vertices if direct is None else direct
         eta[direct] = self.ocean.elevation(verts[direct, 0], verts[direct, 1], t)
         for i, patch in self._patches.items():
             a, b = self.hulls.vert_offsets[i], self.hulls.vert_offsets[i + 1]
@@ -256,8 +284,8 @@ class World:
         s, t = self.state, self.clock.seconds
         self.ocean.advance(t)
         verts = self.hulls.world_vertices(s.pos, s.rot)
-        eta = self._water_heights(verts, t)
-        args = (verts, eta, s.com_world, self.rho, self.g)
+        eta, head = self._water(verts, t)
+        args = (verts, eta, s.com_world, self.rho, self.g, head)
         if self.marine.has_kerner and len(self.hulls.faces) >= OVERLAP_MIN_FACES:  # both kernels on two cores
             hydrostatics = self._overlap.submit(self.hulls.compute, *args)
         else:

@@ -1,0 +1,113 @@
+"""Linear-wave (Froude–Krylov) pressure under the waves, for the hull pressure integral.
+
+Airy theory: the pressure at depth in a wave component of amplitude a, wavenumber k and phase θ is
+p = -ρ g z + ρ g a cos θ · F(k, z), F = e^{kz} in deep water, cosh(k(z + h))/cosh(kh) at depth h. Short waves
+barely reach a hull's bottom, long waves act like a hydrostatic column under the local surface (F → 1).
+Above z = 0 linear theory says nothing; Wheeler stretching maps the wetted column [-h, η] onto [-h, 0]:
+z' = (z - η) h/(h + η) (deep: z' = z - η), so the pressure is exactly 0 at the moving surface.
+
+Returned as heads (m, p / (ρ g)): the *dynamic head* ζ(x, y, z) = Σ a cos θ F(k, z') (the wave part; = η at the
+surface and in the long-wave limit), and the hull kernel's pressure head ζ - z. Frames: world ENU, z up,
+heights relative to the still-water level.
+
+Direct seas sum their components exactly (phases at the surface label above the point, as the kinematics).
+FFT seas decay each band's height by exp(κ_b z') with κ_b the band's variance-weighted mean wavenumber (an
+approximation within a band, as for the FFT kinematics).
+"""
+
+from __future__ import annotations
+
+import math
+import weakref
+
+import numpy as np
+from numba import prange
+
+from usvsim.ocean.direct import INVERT as DIRECT_INVERT
+from usvsim.ocean.direct import DirectWaveField
+from usvsim.ocean.dispatch import pick, serial_and_parallel
+from usvsim.ocean.fft import FFTWaveField
+from usvsim.ocean.fft_kernels import INVERT as FFT_INVERT
+from usvsim.ocean.fft_kernels import _bilinear, _blend4_real, _cell
+from usvsim.ocean.field import WaveField, as_points
+from usvsim.ocean.spectra import G
+
+
+def _direct_head_impl(x0, y0, zrel, eta, t, amp, kx, ky, om, ph, s, depth, out):
+    """ζ = s Σ a cos θ F(k, z') at labels (x0, y0) of points at zrel under the surface eta (Wheeler z');
+    ζ = η at points above it (their head η - z < 0 is never integrated)."""
+    deep = math.isinf(depth)
+    for p in prange(x0.shape[0]):
+        if zrel[p] >= eta[p]:
+            out[p] = eta[p]
+            continue
+        zp = zrel[p] - eta[p] if deep else max((zrel[p] - eta[p]) * depth / (depth + eta[p]), -depth)
+        acc = 0.0
+        for i in range(amp.shape[0]):
+            k = math.hypot(kx[i], ky[i])
+            th = kx[i] * x0[p] + ky[i] * y0[p] - om[i] * t + ph[i]
+            if deep or k * depth > 20.0:
+                f = math.exp(k * zp)
+            else:
+                f = math.cosh(k * (zp + depth)) / math.cosh(k * depth)
+            acc += amp[i] * math.cos(th) * f
+        out[p] = s * acc
+
+
+def _fft_head_impl(x0, y0, zrel, eta, geo, wts, inv_cells, decay_k, out):
+    """ζ = Σ_b exp(κ_b z') η_b(label), z' = zrel - eta (deep water): each band's bilinear height, attenuated;
+    ζ = η at points above the surface."""
+    mask = geo.shape[3] - 1
+    for p in prange(x0.shape[0]):
+        zp = zrel[p] - eta[p]
+        if zp >= 0.0:
+            out[p] = eta[p]
+            continue
+        acc = 0.0
+        for b in range(geo.shape[0]):
+            ix0, ix1, fx = _cell(x0[p], inv_cells[b], mask)
+            iy0, iy1, fy = _cell(y0[p], inv_cells[b], mask)
+            a00, a10, a01, a11 = _blend4_real(geo, wts, b, 0, iy0, iy1, ix0, ix1)
+            h, _, _ = _bilinear(a00, a10, a01, a11, fx, fy, inv_cells[b])
+            acc += math.exp(decay_k[b] * zp) * h
+        out[p] = acc
+
+
+DIRECT_HEAD = serial_and_parallel(_direct_head_impl)
+FFT_HEAD = serial_and_parallel(_fft_head_impl)
+_HEIGHT_DECAY: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
+
+
+def height_decay_wavenumbers(waves: FFTWaveField) -> np.ndarray:
+    """Per band, the mean k (rad/m) weighted by height variance |c|²: the band's pressure decay rate."""
+    if waves not in _HEIGHT_DECAY:
+        weight = np.abs(waves._amp) ** 2
+        k = waves._omega**2 / G
+        total = weight.sum(axis=(1, 2))
+        safe = np.where(total > 0, total, 1.0)
+        _HEIGHT_DECAY[waves] = np.ascontiguousarray(np.where(total > 0, (weight * k).sum(axis=(1, 2)) / safe, 0.0))
+    return _HEIGHT_DECAY[waves]
+
+
+def surface_and_dynamic_head(waves: WaveField, x, y, z, t: float) -> tuple[np.ndarray, np.ndarray]:
+    """(η, ζ) at world points (x, y, z), heights relative to still water (m); one displacement inversion for
+    both (what `elevation` costs, plus the depth sums at the points under the surface). Fields without a
+    depth model (none today) give ζ = η, the hydrostatic column under the local surface."""
+    px, py, pz = as_points(x, y, z)
+    n = len(px)
+    x0, y0, eta, zeta = np.empty(n), np.empty(n), np.empty(n), np.empty(n)
+    iters = np.empty(n, dtype=np.int64)
+    if isinstance(waves, DirectWaveField):
+        s = waves.ramp(t)
+        pick(DIRECT_INVERT, n)(px, py, float(t), *waves._args, s, waves.tol, waves.max_iter, x0, y0, eta, iters)
+        pick(DIRECT_HEAD, n)(x0, y0, pz, eta, float(t), *waves._args[:5], s, waves.depth, zeta)
+    elif isinstance(waves, FFTWaveField):  # deep water
+        wts = waves.update(t)
+        geo = waves.geometry.tiles
+        pick(FFT_INVERT, n)(px, py, geo, wts, waves.inv_cells, waves.choppiness, waves.tol, waves.max_iter,
+                            x0, y0, eta, iters)  # fmt: skip
+        pick(FFT_HEAD, n)(x0, y0, pz, eta, geo, wts, waves.inv_cells, height_decay_wavenumbers(waves), zeta)
+    else:
+        eta[:] = waves.elevation(px, py, t)
+        zeta[:] = eta
+    return eta, zeta
