@@ -57,6 +57,11 @@ class Current:
         self.speed_noise = GaussMarkov(speed_std_mps, time_constant_s, rng, dt_s)
         self.direction_noise = GaussMarkov(direction_std, time_constant_s, rng, dt_s)
 
+    @property
+    def constant(self) -> bool:
+        """No speed or direction variations: the current never changes."""
+        return self.speed_noise.constant and self.direction_noise.constant
+
     def advance(self, t: float) -> None:
         self.speed_noise.advance(t)
         self.direction_noise.advance(t)

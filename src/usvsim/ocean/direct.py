@@ -70,6 +70,17 @@ def _invert_impl(px, py, t, amp, kx, ky, om, ph, qx, qy, s, tol, max_iter, x0_ou
         it_out[p] = it
 
 
+def _heights_impl(px, py, t, amp, kx, ky, om, ph, s, z_out):
+    """Heights at world points of a sea without horizontal displacement (every Q = 0): the label is the point,
+    and z is summed exactly as `_evaluate` sums it (bit for bit what the Newton inversion returns at once)."""
+    for p in prange(px.shape[0]):
+        z = 0.0
+        for i in range(amp.shape[0]):
+            th = kx[i] * px[p] + ky[i] * py[p] - om[i] * t + ph[i]
+            z += s * amp[i] * math.cos(th)
+        z_out[p] = z
+
+
 def _displaced_impl(x0, y0, t, amp, kx, ky, om, ph, qx, qy, s, out, normals):
     """Displaced surface points and unit normals at labels (x0, y0)."""
     for p in prange(x0.shape[0]):
@@ -134,6 +145,7 @@ def naive_elevation_kernel(px, py, t, amp, kx, ky, om, ph, s, out):
 
 
 INVERT = serial_and_parallel(_invert_impl)
+HEIGHTS = serial_and_parallel(_heights_impl)
 DISPLACED = serial_and_parallel(_displaced_impl)
 KINEMATICS = serial_and_parallel(_kinematics_impl)
 
@@ -162,12 +174,17 @@ class DirectWaveField(WaveField):
         k = np.where(c.k > 0, c.k, 1.0)
         qa = c.steepness * c.amplitude
         self._args = (c.amplitude, c.kx, c.ky, c.omega, c.phase, qa * c.kx / k, qa * c.ky / k)
+        self._flat_labels = not np.any(qa)  # no displacement: labels are the points, no inversion needed
 
     def surface_labels(self, x, y, t: float, return_iterations: bool = False):
         """Labels (x0, y0) displaced onto the world points, the height z there and optionally iterations used."""
         px, py = as_points(x, y)
         x0, y0, z = np.empty_like(px), np.empty_like(px), np.empty_like(px)
         iters = np.empty(px.shape, dtype=np.int64)
+        if self._flat_labels:  # exactly what the inversion returns here, without the Jacobian's sines
+            pick(HEIGHTS, len(px))(px, py, float(t), *self._args[:5], self.ramp(t), z)
+            x0[:], y0[:], iters[:] = px, py, 0
+            return (x0, y0, z, iters) if return_iterations else (x0, y0, z)
         pick(INVERT, len(px))(px, py, float(t), *self._args, self.ramp(t), self.tol, self.max_iter, x0, y0, z, iters)
         return (x0, y0, z, iters) if return_iterations else (x0, y0, z)
 

@@ -214,6 +214,10 @@ class FFTWaveField(WaveField):
         wts = self.update(t)
         x0, y0, z = np.empty_like(px), np.empty_like(px), np.empty_like(px)
         iters = np.empty(px.shape, dtype=np.int64)
+        if self.choppiness == 0.0:  # labels are the points: exactly the inversion's first (and last) iterate
+            pick(kern.HEIGHTS, len(px))(px, py, self.geometry.tiles, wts, self.inv_cells, z)
+            x0[:], y0[:], iters[:] = px, py, 0
+            return (x0, y0, z, iters) if return_iterations else (x0, y0, z)
         args = (self.geometry.tiles, wts, self.inv_cells, self.choppiness, self.tol, self.max_iter)
         pick(kern.INVERT, len(px))(px, py, *args, x0, y0, z, iters)
         return (x0, y0, z, iters) if return_iterations else (x0, y0, z)

@@ -182,6 +182,20 @@ def _invert(px, py, geo, wts, inv_cells, chop, tol, max_iter, x0_out, y0_out, z_
         it_out[p] = it
 
 
+def _heights(px, py, geo, wts, inv_cells, z_out):
+    """Heights at world points of a sea without choppy displacement (labels = points): z summed exactly as
+    `_evaluate` sums it, so bit for bit what `_invert` returns at its first iteration, without the gradients."""
+    mask = geo.shape[3] - 1
+    for p in prange(px.shape[0]):
+        z = 0.0
+        for b in range(geo.shape[0]):
+            ix0, ix1, fx = _cell(px[p], inv_cells[b], mask)
+            iy0, iy1, fy = _cell(py[p], inv_cells[b], mask)
+            a00, a10, a01, a11 = _blend4_real(geo, wts, b, 0, iy0, iy1, ix0, ix1)
+            z += a00 * (1 - fx) * (1 - fy) + a10 * fx * (1 - fy) + a01 * (1 - fx) * fy + a11 * fx * fy
+        z_out[p] = z
+
+
 def _surface_points(x0, y0, geo, wts, inv_cells, chop, out, normals):
     """Displaced points and unit normals (of the interpolated surface) at labels (x0, y0)."""
     for p in prange(x0.shape[0]):
@@ -230,5 +244,6 @@ def _sample_kinematics(
 
 # (serial, parallel) kernel pairs, chosen by the number of points with `dispatch.pick`.
 INVERT = serial_and_parallel(_invert)
+HEIGHTS = serial_and_parallel(_heights)
 SURFACE_POINTS = serial_and_parallel(_surface_points)
 SAMPLE_KINEMATICS = serial_and_parallel(_sample_kinematics)

@@ -17,7 +17,8 @@ class GaussMarkov:
 
     Advanced with the exact discretisation x ← e^{-dt/τ} x + std √(1 - e^{-2dt/τ}) ξ in fixed steps of `dt_s`,
     so the statistics do not depend on the step and the path depends only on the generator and the time.
-    The autocorrelation is exp(-|lag|/τ). Starts at a draw from the stationary distribution.
+    The autocorrelation is exp(-|lag|/τ). Starts at a draw from the stationary distribution. With std 0 the
+    process is `constant` (0 for ever, no random numbers drawn), so its owner need not step it.
     """
 
     def __init__(self, std: float, time_constant_s: float, rng: np.random.Generator, dt_s: float = 0.01):
@@ -33,9 +34,11 @@ class GaussMarkov:
         self._kick = self.std * math.sqrt(1.0 - self._phi**2)
         self.value = self.std * float(rng.standard_normal()) if self.std > 0 else 0.0
         self._steps = 0
+        self.constant = self.std == 0.0
 
     @property
     def time(self) -> float:
+        """Time (s) of the last step taken (a constant process is never stepped: 0)."""
         return self._steps * self.dt_s
 
     def advance(self, t: float) -> float:

@@ -16,7 +16,8 @@ class Ocean:
 
     The stochastic parts (gusts, current variations) are Gauss–Markov processes stepped on a fixed dt; `advance(t)`
     moves them forward to t (never back). Queries at time t advance them too, so their state is a function of t
-    alone as long as time does not run backwards.
+    alone as long as time does not run backwards. Processes with zero standard deviation are constant (they draw
+    no random numbers): they are not stepped, and the constant wind and current vectors are computed once.
     """
 
     def __init__(
@@ -30,11 +31,16 @@ class Ocean:
         self.wind = wind if wind is not None else Wind()
         self.current = current if current is not None else Current()
         self.level_m = float(level_m)
+        self._steady = self.wind.constant and self.current.constant  # nothing to step: skip `advance`
+        self._wind_const = self.wind.velocity() if self.wind.constant else None
+        self._current_const = self.current.surface_velocity() if self.current.constant else None
+        self._current_rows = np.zeros((0, 3))  # the constant current, one row per queried point (reused)
 
     def advance(self, t: float) -> None:
         """Bring wind gusts and current to time t (s) and prepare the wave tiles for t."""
-        self.wind.advance(t)
-        self.current.advance(t)
+        if not self._steady:
+            self.wind.advance(t)
+            self.current.advance(t)
         update = getattr(self.waves, "update", None)
         if update is not None:
             update(t)
@@ -68,6 +74,11 @@ class Ocean:
     def velocity(self, x, y, z, t: float) -> np.ndarray:
         """Water particle velocity (n, 3), m/s ENU: wave orbital velocity plus current."""
         if self.waves is None:  # fast path (every physics step in calm scenarios): current only
+            if self._current_const is not None and self.current.profile == "uniform":
+                rows = self._current_rows
+                if len(rows) != np.size(z):
+                    rows = self._current_rows = np.tile(self._current_const, (np.size(z), 1))
+                return rows.copy()
             self.current.advance(t)
             return self.current.velocity(np.asarray(z, dtype=float) - self.level_m)
         return self.kinematics(x, y, z, t, acceleration=False)[0]
@@ -78,6 +89,8 @@ class Ocean:
 
     def wind_velocity(self, t: float) -> np.ndarray:
         """Wind velocity (3,), m/s ENU, at time t (mean + gust, toward the wind direction)."""
+        if self._wind_const is not None:
+            return self._wind_const.copy()
         self.advance(t)
         return self.wind.velocity()
 

@@ -31,6 +31,11 @@ class Wind:
         rng = rng if rng is not None else np.random.default_rng(0)
         self.gust = GaussMarkov(std, gust_time_constant_s, rng, dt_s)
 
+    @property
+    def constant(self) -> bool:
+        """No gusts: the velocity never changes."""
+        return self.gust.constant
+
     def advance(self, t: float) -> None:
         self.gust.advance(t)
 

@@ -123,6 +123,7 @@ class World:
             entries += [(i, f"{v.name}/{t.name}", t) for t in floating[i].model.thrusters]
         self.thrusters = ThrusterBank(entries, n, timeouts)
         self._patches = self._water_patches()
+        self._still_eta = None  # (ocean, heights) of still water, see _water_heights
         self._direct_vertices = ~np.isin(self.hulls.vert_body, list(self._patches))
         vessels = self.scenario.vessels
         buoyancy = [v.buoyancy for v in vessels] + [TriangleBuoyancy()] * (n - len(vessels))
@@ -268,7 +269,14 @@ class World:
     def _water_heights(self, verts: np.ndarray, t: float, direct: np.ndarray | None = None) -> np.ndarray:
         """Water surface z (m) above every hull vertex: queried directly, or from each patch vessel's grid.
         `direct`: the vertices to query directly (default: all but the patch vessels'; the rest of the rows
-        are left for the caller)."""
+        are left for the caller). Still water: one read-only array of the level, made once per ocean (every
+        consumer only reads it)."""
+        if self.ocean.waves is None and direct is None and not self._patches:
+            if self._still_eta is None or self._still_eta[0] is not self.ocean:
+                eta = self.ocean.elevation(verts[:, 0], verts[:, 1], t)
+                eta.flags.writeable = False
+                self._still_eta = (self.ocean, eta)
+            return self._still_eta[1]
         if direct is None and not self._patches:
             return self.ocean.elevation(verts[:, 0], verts[:, 1], t)
         eta = np.empty(len(verts))
@@ -298,7 +306,7 @@ class World:
         self._body_wrenches[0] = self.marine.body_wrench
         self._body_wrenches[1] = self.thrusters.step(self.clock.now_ns, self.clock.dt, self._com_body)
         assemble(s.rot, self._body_wrenches, self.marine.world_force, self.marine.world_torque, self._xfrc)
-        self.data.xfrc_applied[self._body_ids] = self._xfrc
+        self.data.xfrc_applied[1 : len(self._xfrc) + 1] = self._xfrc  # floating bodies are bodies 1..n
 
     def _raise_divergence(self) -> None:
         """Name the body whose degree of freedom MuJoCo found non-finite (its warning's info field)."""

@@ -1,0 +1,59 @@
+"""Speed paths that must not change a single bit: heights without displacement (no Newton inversion), a still
+ocean's constant wind and current, and the serial/parallel kernel builds (distinct cache entries)."""
+
+import numpy as np
+
+from usvsim.ocean import direct, fft_kernels, spectra
+from usvsim.ocean.components import vrx_pms_components
+from usvsim.ocean.current import Current
+from usvsim.ocean.direct import DirectWaveField
+from usvsim.ocean.fft import FFTWaveField, cascade_sizes, directional_spectrum
+from usvsim.ocean.ocean import Ocean
+from usvsim.ocean.wind import Wind
+
+JONSWAP = directional_spectrum(lambda w: spectra.jonswap(w, 1.5, 7.0, 3.3), 0.4, 10.0)
+RNG = np.random.default_rng(11)
+PX, PY = RNG.uniform(-400.0, 400.0, 300), RNG.uniform(-400.0, 400.0, 300)
+
+
+def _newton(kernel, *args):
+    out = np.empty(len(PX)), np.empty(len(PX)), np.empty(len(PX)), np.empty(len(PX), np.int64)
+    kernel(PX, PY, *args, *out)
+    return out
+
+
+def test_fft_heights_without_choppiness_equal_the_inversion_bit_for_bit():
+    field = FFTWaveField(JONSWAP, cascade_sizes(70.0, 3, 64), np.random.default_rng(2), 64, ramp_time_s=2.0)
+    for t in (0.3, 4.71):
+        x0, y0, z, iters = field.surface_labels(PX, PY, t, return_iterations=True)
+        wts = field.update(t)
+        ref = _newton(fft_kernels.INVERT[0], field.geometry.tiles, wts, field.inv_cells, 0.0, field.tol, 20)
+        assert np.array_equal(z, ref[2]) and np.array_equal(x0, ref[0]) and np.array_equal(y0, ref[1])
+        assert np.array_equal(iters, ref[3]) and not iters.any()
+
+
+def test_direct_heights_without_steepness_equal_the_inversion_bit_for_bit():
+    field = DirectWaveField(vrx_pms_components(1.0, 5.0, direction=0.3), ramp_time_s=3.0)
+    for t in (0.5, 7.1):
+        x0, y0, z, iters = field.surface_labels(PX, PY, t, return_iterations=True)
+        ref = _newton(direct.INVERT[0], float(t), *field._args, field.ramp(t), field.tol, field.max_iter)
+        assert np.array_equal(z, ref[2]) and np.array_equal(x0, ref[0]) and np.array_equal(iters, ref[3])
+
+
+def test_constant_wind_and_current_are_the_processes_values():
+    ocean = Ocean(wind=Wind(7.0, 0.4), current=Current(0.6, -1.1))
+    z = np.array([-0.5, 0.0, -2.0])
+    for t in (0.0, 0.01, 3.0):
+        assert np.array_equal(ocean.wind_velocity(t), Wind(7.0, 0.4).velocity())
+        assert np.array_equal(ocean.velocity(z, z, z, t), Current(0.6, -1.1).velocity(z))
+    ocean.wind_velocity(0.0)[0] = 99.0  # callers get copies
+    assert ocean.wind_velocity(0.0)[0] != 99.0
+    gusty = Ocean(wind=Wind(7.0, 0.4, np.random.default_rng(0), gust_gain=2.0))
+    first = gusty.wind_velocity(0.0)
+    assert not gusty.wind.constant and gusty.wind_velocity(1.0)[0] != first[0]
+
+
+def test_serial_and_parallel_builds_have_their_own_cache_entries():
+    for serial, parallel in (fft_kernels.INVERT, fft_kernels.HEIGHTS, direct.INVERT, direct.KINEMATICS):
+        assert serial.py_func.__qualname__ != parallel.py_func.__qualname__
+        assert parallel.targetoptions.get("parallel") and not serial.targetoptions.get("parallel")
