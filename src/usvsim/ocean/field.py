@@ -13,9 +13,12 @@ import numpy as np
 
 
 def as_points(*arrays) -> tuple[np.ndarray, ...]:
-    """Flatten coordinate arrays to contiguous float64 1-D arrays of equal length."""
-    out = tuple(np.ascontiguousarray(np.ravel(a), dtype=np.float64) for a in arrays)
-    if len({len(a) for a in out}) > 1:
+    """Flatten coordinate arrays to contiguous float64 1-D arrays of equal length (arrays that already are
+    such are passed through, as `np.ascontiguousarray` would, without its per-call cost)."""
+    out = tuple(a if type(a) is np.ndarray and a.ndim == 1 and a.dtype == np.float64 and a.flags.c_contiguous
+                else np.ascontiguousarray(np.ravel(a), dtype=np.float64) for a in arrays)  # fmt: skip
+    n = len(out[0])
+    if any(len(a) != n for a in out):
         raise ValueError(f"coordinate arrays differ in size: {[len(a) for a in out]}")
     return out
 

@@ -69,19 +69,23 @@ class Ocean:
             vel, acc = self.waves.kinematics(px, py, zrel, t)
         else:
             vel, acc = self.waves.velocity(px, py, zrel, t), np.zeros((0, 3))
-        return vel + self.current.velocity(zrel), acc
+        return vel + self._current_at(zrel, t), acc
 
     def velocity(self, x, y, z, t: float) -> np.ndarray:
         """Water particle velocity (n, 3), m/s ENU: wave orbital velocity plus current."""
         if self.waves is None:  # fast path (every physics step in calm scenarios): current only
-            if self._current_const is not None and self.current.profile == "uniform":
-                rows = self._current_rows
-                if len(rows) != np.size(z):
-                    rows = self._current_rows = np.tile(self._current_const, (np.size(z), 1))
-                return rows.copy()
-            self.current.advance(t)
-            return self.current.velocity(np.asarray(z, dtype=float) - self.level_m)
+            return self._current_at(np.asarray(z, dtype=float) - self.level_m, t)
         return self.kinematics(x, y, z, t, acceleration=False)[0]
+
+    def _current_at(self, zrel: np.ndarray, t: float) -> np.ndarray:
+        """The current (n, 3), m/s ENU, at heights `zrel` (m above the mean level): a constant uniform current
+        is copied from rows made once."""
+        if self._current_const is None or self.current.profile != "uniform":
+            self.current.advance(t)
+            return self.current.velocity(zrel)
+        if len(self._current_rows) != np.size(zrel):
+            self._current_rows = np.tile(self._current_const, (np.size(zrel), 1))
+        return self._current_rows.copy()
 
     def acceleration(self, x, y, z, t: float) -> np.ndarray:
         """Water particle acceleration (n, 3), m/s² ENU (the current's slow variation is neglected)."""
