@@ -1,8 +1,10 @@
 """Cost of a sea: calm vs sea state 4, against bare MuJoCo on the same model, and fleets (same-run ratios).
 
-Figures are medians of interleaved repeats (µs per physics step at 100 Hz), each with the 1-minute load average
-beside it; every ratio divides two figures measured in this run. Also: the serial/parallel crossover of the
-wave-query kernel (points per call). Run: python benchmarks/bench_seas.py [--quick]
+Figures are medians over interleaved repeats of the mean µs per physics step (100 Hz), each with the median
+1-minute load average of its repeats beside it; every ratio divides two figures of this run. Bare MuJoCo:
+`mj_step` alone on the same model and its own MjData (no marine forces), interleaved with the others. Also:
+serial vs parallel builds of the wave-query kernels per call (points per call), both real since the
+dispatch fix. Run: python benchmarks/bench_seas.py [--quick]
 """
 
 from __future__ import annotations
@@ -26,12 +28,14 @@ def load() -> float:
     return round(os.getloadavg()[0], 2)
 
 
-def harbor(code: int) -> Simulation:
+def harbor(code: int, wave_pressure: str = "froude_krylov") -> Simulation:
     import yaml
 
     data = yaml.safe_load(resolve("harbor")[0])
     if code:
         data.setdefault("environment", {})["sea"] = {"type": "sea_state", "code": code}
+    for vessel in data["vessels"]:
+        vessel["buoyancy"] = {"type": "triangles", "wave_pressure": wave_pressure}
     return Simulation(parse_scenario(data, "harbor"))
 
 
@@ -59,46 +63,43 @@ def step_us(sim, steps: int, bare: bool = False) -> float:
 
 
 def compare(cases: dict, steps: int, repeats: int) -> dict:
-    """Median µs/step of each case over interleaved repeats, with the load average of each repeat."""
+    """Per case: the median over interleaved repeats of µs/step, with the median load average of those repeats."""
     times = {name: [] for name in cases}
-    loads = []
+    loads = {name: [] for name in cases}
     for _ in range(repeats):
-        loads.append(load())
         for name, (sim, bare) in cases.items():
+            loads[name].append(load())
             times[name].append(step_us(sim, steps, bare))
-    out = {name: round(float(np.median(t)), 1) for name, t in times.items()}
-    out["load_average"] = [min(loads), max(loads)]
-    return out
+    return {name: {"us": round(float(np.median(times[name])), 1), "load": round(float(np.median(loads[name])), 2)}
+            for name in cases}  # fmt: skip
 
 
 def crossover(points=(1_000, 4_000, 16_000, 64_000, 256_000)) -> dict:
-    """Serial vs parallel wave-query kernel (height inversion, sea state 4 tiles) per call, µs."""
-    from usvsim.ocean.fft_kernels import INVERT
+    """Serial vs parallel wave-query kernels per call (µs), sea state 4 tiles: heights without displacement
+    (what physics queries: `HEIGHTS`) and the choppy Newton inversion (`INVERT`, choppiness 1)."""
+    from usvsim.ocean import fft_kernels
 
-    sim = harbor(4)
-    waves = sim.ocean.waves
+    waves = harbor(4).ocean.waves
     wts = waves.update(10.0)
     rng = np.random.default_rng(0)
     out = {}
     for n in points:
         px, py = rng.uniform(0, 200, n), rng.uniform(0, 200, n)
         bufs = (np.empty(n), np.empty(n), np.empty(n), np.empty(n, np.int64))
-        args = (
-            px,
-            py,
-            waves.geometry.tiles,
-            wts,
-            waves.inv_cells,
-            waves.choppiness,
-            waves.tol,
-            waves.max_iter,
-        )
+        calls = {
+            "heights": (getattr(fft_kernels, "HEIGHTS", None), (px, py, waves.geometry.tiles, wts, waves.inv_cells, bufs[2])),
+            "choppy_inversion": (fft_kernels.INVERT, (px, py, waves.geometry.tiles, wts, waves.inv_cells, 1.0, waves.tol,
+                                          waves.max_iter, *bufs)),
+        }  # fmt: skip
         row = {}
-        for name, kernel in zip(("serial", "parallel"), INVERT):
-            kernel(*args, *bufs)
-            row[name] = float(np.median([_time(lambda k=kernel, a=args, b=bufs: k(*a, *b)) for _ in range(15)]) * 1e6)
-        row["parallel_over_serial"] = round(row["parallel"] / row["serial"], 2)
-        out[n] = {k: round(v, 1) for k, v in row.items()} | {"load_average": load()}
+        for kind, (kernels, args) in calls.items():
+            if kernels is None:  # an older tree (before/after comparisons)
+                continue
+            for name, kernel in zip(("serial", "parallel"), kernels):
+                kernel(*args)
+                row[f"{kind}_{name}"] = round(float(np.median([_time(lambda k=kernel: k(*args)) for _ in range(9)]) * 1e6), 1)
+            row[f"{kind}_parallel_over_serial"] = round(row[f"{kind}_parallel"] / row[f"{kind}_serial"], 2)
+        out[n] = row | {"load": load()}
     return out
 
 
@@ -113,25 +114,29 @@ def main() -> None:
     parser.add_argument("--quick", action="store_true", help="fewer steps and repeats (a smoke run)")
     args = parser.parse_args()
     steps, repeats = (50, 3) if args.quick else (300, 7)
-    calm, wavy = harbor(0), harbor(4)
-    for sim in (calm, wavy):
+    calm, wavy, wavy_hs = harbor(0), harbor(4), harbor(4, "hydrostatic")
+    for sim in (calm, wavy, wavy_hs):
         sim.run(0.5)  # JIT and caches
-    h = compare(
-        {"calm": (calm, False), "sea_state_4": (wavy, False), "bare_mujoco": (calm, True)}, steps, repeats
-    )
-    h["sea_state_4_over_calm"] = round(h["sea_state_4"] / h["calm"], 2)
-    h["calm_speed_over_bare_mujoco"] = round(h["bare_mujoco"] / h["calm"], 3)
+    h = compare({"calm": (calm, False), "sea_state_4": (wavy, False), "sea_state_4_hydrostatic_pressure": (wavy_hs, False),
+                 "bare_mujoco": (calm, True)}, steps, repeats)  # fmt: skip
+    us = {k: v["us"] for k, v in h.items()}
+    h["sea_state_4_over_calm"] = round(us["sea_state_4"] / us["calm"], 2)
+    h["sea_state_4_hydrostatic_pressure_over_calm"] = round(us["sea_state_4_hydrostatic_pressure"] / us["calm"], 2)
+    h["calm_speed_over_bare_mujoco"] = round(us["bare_mujoco"] / us["calm"], 3)
     print("harbor", h, flush=True)
     fleets = {"calm_100": fleet(100, 0), "sea_state_4_100": fleet(100, 4), "sea_state_4_200": fleet(200, 4)}
     for sim in fleets.values():
         sim.run(0.05)
-    f = compare({k: (s, False) for k, s in fleets.items()}, max(steps // 10, 5), repeats)
-    f["calm_100_real_time_factor"] = round(1e4 / f["calm_100"], 2)
-    f["sea_state_4_200_over_100"] = round(f["sea_state_4_200"] / f["sea_state_4_100"], 2)
+    cases = {k: (sim, False) for k, sim in fleets.items()} | {"bare_mujoco_100": (fleets["calm_100"], True)}
+    f = compare(cases, max(steps // 10, 5), repeats)
+    f["calm_100_real_time_factor"] = round(1e4 / f["calm_100"]["us"], 2)
+    f["calm_100_speed_over_bare_mujoco"] = round(f["bare_mujoco_100"]["us"] / f["calm_100"]["us"], 3)
+    f["sea_state_4_200_over_100"] = round(f["sea_state_4_200"]["us"] / f["sea_state_4_100"]["us"], 2)
     print("fleets", f, flush=True)
-    report = {"us_per_step_median": {"harbor": h, "fleet_wamv": f}, "query_kernel_crossover_us": crossover(),
+    cross = crossover((1_000, 16_000, 64_000) if args.quick else (1_000, 4_000, 16_000, 64_000, 256_000))
+    report = {"us_per_step_median": {"harbor": h, "fleet_wamv": f}, "query_kernel_crossover_us": cross,
               "cpus": os.cpu_count()}  # fmt: skip
-    print(json.dumps(report["query_kernel_crossover_us"], indent=1))
+    print(json.dumps(cross, indent=1))
     RESULTS.parent.mkdir(parents=True, exist_ok=True)
     RESULTS.write_text(json.dumps(report, indent=2) + "\n")
 

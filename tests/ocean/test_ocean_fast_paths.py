@@ -1,9 +1,9 @@
-"""Speed paths that must not change a single bit: heights without displacement (no Newton inversion), a still
-ocean's constant wind and current, and the serial/parallel kernel builds (distinct cache entries)."""
+"""Speed paths that must not change a single bit: heights without displacement (no Newton inversion), the fused
+Froude–Krylov heads, a still ocean's constant wind and current; serial/parallel kernel builds (own cache entries)."""
 
 import numpy as np
 
-from usvsim.ocean import direct, fft_kernels, spectra
+from usvsim.ocean import direct, fft_kernels, pressure, spectra
 from usvsim.ocean.components import vrx_pms_components
 from usvsim.ocean.current import Current
 from usvsim.ocean.direct import DirectWaveField
@@ -57,3 +57,15 @@ def test_serial_and_parallel_builds_have_their_own_cache_entries():
     for serial, parallel in (fft_kernels.INVERT, fft_kernels.HEIGHTS, direct.INVERT, direct.KINEMATICS):
         assert serial.py_func.__qualname__ != parallel.py_func.__qualname__
         assert parallel.targetoptions.get("parallel") and not serial.targetoptions.get("parallel")
+
+
+def test_fused_froude_krylov_heads_equal_the_two_pass_sums_bit_for_bit():
+    field = FFTWaveField(JONSWAP, cascade_sizes(70.0, 3, 64), np.random.default_rng(4), 64)
+    pz = RNG.uniform(-3.0, 1.0, len(PX))
+    eta, zeta = pressure.surface_and_dynamic_head(field, PX, PY, pz, 2.2)
+    ref_x0, ref_y0, ref_eta, _ = _newton(fft_kernels.INVERT[0], field.geometry.tiles, field.update(2.2),
+                                         field.inv_cells, 0.0, field.tol, 20)  # fmt: skip
+    ref = np.empty(len(PX))
+    pressure.FFT_HEAD[0](ref_x0, ref_y0, pz, ref_eta, field.geometry.tiles, field.update(2.2), field.inv_cells,
+                         pressure.height_decay_wavenumbers(field), ref)  # fmt: skip
+    assert np.array_equal(eta, ref_eta) and np.array_equal(zeta, ref) and (pz < eta).any() and (pz > eta).any()

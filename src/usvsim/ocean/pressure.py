@@ -23,11 +23,9 @@ import weakref
 import numpy as np
 from numba import prange
 
-from usvsim.ocean.direct import INVERT as DIRECT_INVERT
 from usvsim.ocean.direct import DirectWaveField
 from usvsim.ocean.dispatch import pick, serial_and_parallel
 from usvsim.ocean.fft import FFTWaveField
-from usvsim.ocean.fft_kernels import INVERT as FFT_INVERT
 from usvsim.ocean.fft_kernels import _bilinear, _blend4_real, _cell
 from usvsim.ocean.field import WaveField, as_points
 from usvsim.ocean.spectra import G
@@ -73,7 +71,33 @@ def _fft_head_impl(x0, y0, zrel, eta, geo, wts, inv_cells, decay_k, out):
         out[p] = acc
 
 
+def _fft_surface_and_head_impl(px, py, zrel, geo, wts, inv_cells, decay_k, band_h, eta_out, zeta_out):
+    """η and ζ at world points of an FFT sea without choppy displacement (labels = points) in one pass over the
+    tiles: each band's bilinear height h_b is computed once (kept in `band_h`), η = Σ h_b as `fft_kernels._heights`
+    sums it and ζ as `_fft_head_impl` sums it, so both equal the two-pass results bit for bit."""
+    mask = geo.shape[3] - 1
+    for p in prange(px.shape[0]):
+        z = 0.0
+        for b in range(geo.shape[0]):
+            ix0, ix1, fx = _cell(px[p], inv_cells[b], mask)
+            iy0, iy1, fy = _cell(py[p], inv_cells[b], mask)
+            a00, a10, a01, a11 = _blend4_real(geo, wts, b, 0, iy0, iy1, ix0, ix1)
+            h = a00 * (1 - fx) * (1 - fy) + a10 * fx * (1 - fy) + a01 * (1 - fx) * fy + a11 * fx * fy
+            band_h[p, b] = h
+            z += h
+        eta_out[p] = z
+        zp = zrel[p] - z
+        if zp >= 0.0:
+            zeta_out[p] = z
+            continue
+        acc = 0.0
+        for b in range(geo.shape[0]):
+            acc += math.exp(decay_k[b] * zp) * band_h[p, b]
+        zeta_out[p] = acc
+
+
 DIRECT_HEAD = serial_and_parallel(_direct_head_impl)
+FFT_SURFACE_AND_HEAD = serial_and_parallel(_fft_surface_and_head_impl)
 FFT_HEAD = serial_and_parallel(_fft_head_impl)
 _HEIGHT_DECAY: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
 
@@ -95,19 +119,19 @@ def surface_and_dynamic_head(waves: WaveField, x, y, z, t: float) -> tuple[np.nd
     depth model (none today) give ζ = η, the hydrostatic column under the local surface."""
     px, py, pz = as_points(x, y, z)
     n = len(px)
-    x0, y0, eta, zeta = np.empty(n), np.empty(n), np.empty(n), np.empty(n)
-    iters = np.empty(n, dtype=np.int64)
+    zeta = np.empty(n)
     if isinstance(waves, DirectWaveField):
-        s = waves.ramp(t)
-        pick(DIRECT_INVERT, n)(px, py, float(t), *waves._args, s, waves.tol, waves.max_iter, x0, y0, eta, iters)
-        pick(DIRECT_HEAD, n)(x0, y0, pz, eta, float(t), *waves._args[:5], s, waves.depth, zeta)
+        x0, y0, eta = waves.surface_labels(px, py, t)  # the inversion (skipped without displacement)
+        pick(DIRECT_HEAD, n)(x0, y0, pz, eta, float(t), *waves._args[:5], waves.ramp(t), waves.depth, zeta)
+    elif isinstance(waves, FFTWaveField) and waves.choppiness == 0.0:  # deep water, labels = points
+        eta, band_h = np.empty(n), np.empty((n, len(waves.inv_cells)))
+        pick(FFT_SURFACE_AND_HEAD, n)(px, py, pz, waves.geometry.tiles, waves.update(t), waves.inv_cells,
+                                      height_decay_wavenumbers(waves), band_h, eta, zeta)  # fmt: skip
     elif isinstance(waves, FFTWaveField):  # deep water
-        wts = waves.update(t)
-        geo = waves.geometry.tiles
-        pick(FFT_INVERT, n)(px, py, geo, wts, waves.inv_cells, waves.choppiness, waves.tol, waves.max_iter,
-                            x0, y0, eta, iters)  # fmt: skip
-        pick(FFT_HEAD, n)(x0, y0, pz, eta, geo, wts, waves.inv_cells, height_decay_wavenumbers(waves), zeta)
+        x0, y0, eta = waves.surface_labels(px, py, t)
+        pick(FFT_HEAD, n)(x0, y0, pz, eta, waves.geometry.tiles, waves.update(t), waves.inv_cells,
+                          height_decay_wavenumbers(waves), zeta)  # fmt: skip
     else:
-        eta[:] = waves.elevation(px, py, t)
+        eta = np.array(waves.elevation(px, py, t), dtype=float).ravel()
         zeta[:] = eta
     return eta, zeta
