@@ -66,10 +66,11 @@ class Navigator:
     def goal(self) -> np.ndarray | None:
         return None if self.done else self.goals[len(self.reached)]
 
-    def update(self, t: float, xyz: np.ndarray, times_s: np.ndarray, prior=None) -> tuple[float, float]:
-        """One cloud (LiDAR frame, m; per-point times s after its stamp t): the new velocity command.
-        `prior`: base_link motion since the last cloud (4x4) from a velocity sensor, or None."""
-        self.pose, deskewed = self.odometry.update(xyz, times_s, prior)
+    def update(self, t: float, xyz: np.ndarray, times_s: np.ndarray, twist=None, dt_s: float = 0.1):
+        """One cloud (LiDAR frame, m; per-point times s after its stamp) whose sweep ended at t: the new velocity
+        command (surge m/s, yaw rate rad/s). `twist`: base_link's (vx, vy, vz, wx, wy, wz) from a velocity sensor,
+        or None; `dt_s`: the time since the previous cloud's sweep end."""
+        self.pose, deskewed = self.odometry.update(xyz, times_s, twist, dt_s)
         self.map_cloud(deskewed)
         return self.decide(t)
 

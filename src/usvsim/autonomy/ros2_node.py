@@ -21,8 +21,7 @@ from usvsim.autonomy.demo import parse_goals
 from usvsim.autonomy.grid import OccupancyGrid
 from usvsim.autonomy.navigator import Navigator, NavigatorConfig
 from usvsim.autonomy.odometry import KissIcpOdometry, TrackedOdometry
-from usvsim.autonomy.run import motion_prior
-from usvsim.autonomy.sensing import cloud_arrays, odometry_pose
+from usvsim.autonomy.sensing import cloud_arrays, odometry_pose, twist_vector
 
 
 def _args(argv):
@@ -96,14 +95,14 @@ class AutonomyNode:
         odom = self.latest.get("odom")
         if odom is None:
             return
-        stamp = msg.header.stamp.sec + msg.header.stamp.nanosec * 1e-9
-        if not self.started:
+        xyz, times = cloud_arrays(msg)
+        stamp = msg.header.stamp.sec + msg.header.stamp.nanosec * 1e-9 + (float(times.max()) if len(times) else 0.0)
+        if not self.started:  # the sweep's end (`stamp`) is the instant the odometry estimates
             self.nav.odometry.initialise(odometry_pose(odom))
             self.started = True
         dt = 0.1 if self.last_stamp is None else stamp - self.last_stamp
         self.last_stamp = stamp
-        xyz, times = cloud_arrays(msg)
-        u, r = self.nav.update(stamp, xyz, times, motion_prior(odom, dt))
+        u, r = self.nav.update(stamp, xyz, times, twist_vector(odom), dt)
         twist = self.Twist()
         twist.linear.x, twist.angular.z = float(u), float(r)
         self.cmd.publish(twist)

@@ -32,6 +32,12 @@ def transform_matrix(tf) -> np.ndarray:
     return out
 
 
+def twist_vector(msg) -> np.ndarray:
+    """(vx, vy, vz, wx, wy, wz) of a nav_msgs/Odometry's twist (child frame, e.g. base_link; m/s, rad/s)."""
+    v, w = msg.twist.twist.linear, msg.twist.twist.angular
+    return np.array([v.x, v.y, v.z, w.x, w.y, w.z])
+
+
 def odometry_pose(msg) -> np.ndarray:
     """4x4 parent ← child (e.g. odom ← base_link) of a nav_msgs/Odometry."""
     p, q = msg.pose.pose.position, msg.pose.pose.orientation
@@ -48,12 +54,14 @@ class Tap:
         self.topics = set(topics)
         self.fresh: dict[str, object] = {}
         self.static: dict[str, np.ndarray] = {}
-        self.latest_odometry = None  # the newest nav_msgs/Odometry of any topic ending in 'odometry'
+        self.latest_odometry = None  # the newest nav_msgs/Odometry of the topics
+        self._twists: list[np.ndarray] = []  # its twists since the last `mean_twist`
         self.unsubscribe = sim.subscribe(self._on)
 
     def _on(self, env) -> None:
         if env.msgtype == "nav_msgs/msg/Odometry" and env.topic in self.topics:
             self.latest_odometry = env.msg
+            self._twists.append(twist_vector(env.msg))
         elif env.topic in self.topics:
             self.fresh[env.topic] = env
         elif env.topic == "/tf_static":
@@ -63,3 +71,12 @@ class Tap:
     def take(self, topic: str):
         """The newest envelope on `topic` since the last take, or None."""
         return self.fresh.pop(topic, None)
+
+    def mean_twist(self) -> np.ndarray | None:
+        """The mean odometry twist since the last call (a noisy velocity sensor averaged over the interval), else
+        the newest one's, else None."""
+        if self._twists:
+            out = np.mean(self._twists, axis=0)
+            self._twists.clear()
+            return out
+        return None if self.latest_odometry is None else twist_vector(self.latest_odometry)
