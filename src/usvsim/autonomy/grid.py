@@ -21,23 +21,27 @@ from PIL import Image
 
 L_FREE, L_OCC, L_MIN, L_MAX = -0.4, 0.85, -2.0, 3.5  # log-odds per observation and clamps
 OCC_THRESH, FREE_THRESH = 0.65, 0.196  # map_server's defaults
+L_STOP = 0.0  # a beam stops clearing behind a cell with net occupied evidence (p > 0.5)
 
 
 @numba.njit(cache=True, nogil=True)
 def trace_rays(
-    logodds, sensor_ij, hits_ij, free_only, l_free, l_occ, l_min, l_max
+    logodds, sensor_ij, hits_ij, free_only, l_free, l_occ, l_min, l_max, l_stop
 ):  # pragma: no cover - numba
     """Bresenham from the sensor cell to each end cell: free along the way, occupied at the end
-    (unless free_only[k], a beam with no return cut at the mapping range). Cells off the grid are skipped."""
+    (unless free_only[k], a beam with no return cut at the mapping range). Cells off the grid are skipped.
+    A beam that crosses a cell with net occupied evidence (log-odds > l_stop) lowers it once and clears nothing behind it:
+    it passed above a low obstacle (a quay 1 m high, a pier deck), which hides what lies behind at its height."""
     rows, cols = logodds.shape
     i0, j0 = sensor_ij
     for k in range(hits_ij.shape[0]):
         i1, j1 = hits_ij[k, 0], hits_ij[k, 1]
         di, dj = abs(i1 - i0), abs(j1 - j0)
         si, sj = (1 if i1 > i0 else -1), (1 if j1 > j0 else -1)
-        err, i, j = dj - di, i0, j0
-        while i != i1 or j != j1:
+        err, i, j, clear = dj - di, i0, j0, True
+        while clear and (i != i1 or j != j1):
             if 0 <= i < rows and 0 <= j < cols:
+                clear = logodds[i, j] <= l_stop
                 logodds[i, j] = max(l_min, logodds[i, j] + l_free)
             e2 = 2 * err
             if e2 > -di:
@@ -81,7 +85,7 @@ class OccupancyGrid:
         ends = self.cells(hits_xy)
         flags = np.zeros(len(ends), np.bool_) if free_only is None else free_only
         start = self.cells(np.asarray(sensor_xy, float)[None, :2])[0]
-        trace_rays(self.logodds, (int(start[0]), int(start[1])), ends, flags, L_FREE, L_OCC, L_MIN, L_MAX)
+        trace_rays(self.logodds, (int(start[0]), int(start[1])), ends, flags, L_FREE, L_OCC, L_MIN, L_MAX, L_STOP)
 
     def probability(self) -> np.ndarray:
         return 1.0 / (1.0 + np.exp(-self.logodds))

@@ -33,9 +33,10 @@ class NavigatorConfig:
     planner: GridPlanner = field(default_factory=GridPlanner)
 
 
-def nearest_per_bearing(xy: np.ndarray, origin: np.ndarray, bins: int = 1024) -> np.ndarray:
+def nearest_per_bearing(xy: np.ndarray, origin: np.ndarray, bins: int = 512) -> np.ndarray:
     """The nearest point in each of `bins` bearings around `origin` (like pointcloud_to_laserscan): a beam that
-    passes above a low deck and returns from a shed behind it must not clear the deck's cells."""
+    passes above a low deck and returns from a shed behind it must not clear the deck's cells. 512 bins: one per
+    column of the demo's OS1-64 (finer bins hold a neighbouring column's farther point)."""
     d = xy - origin
     rng = np.hypot(d[:, 0], d[:, 1])
     b = ((np.arctan2(d[:, 1], d[:, 0]) + math.pi) * (bins / (2 * math.pi))).astype(np.int64) % bins
