@@ -4,8 +4,9 @@ stack (physics and sensors only) measured in the same run.
 
     python benchmarks/bench_autonomy.py [--seconds 30] [--repeats 3]
 
-Each repeat drives from the start toward the first two goals for `--seconds` of simulation time. Medians;
-the 1-minute load average is recorded beside every figure, since the machine is shared.
+Each repeat drives from the start toward the first two goals for `--seconds` of simulation time, after one
+untimed warm-up of each (numba caches, Embree scenes). Medians; the 1-minute load average is recorded beside
+every figure, since the machine is shared.
 Writes benchmarks/results/autonomy.json.
 """
 
@@ -52,6 +53,7 @@ def main() -> None:
     ap.add_argument("--repeats", type=int, default=3)
     args = ap.parse_args()
     stack, base = [], []
+    baseline_run(2.0), stack_run(2.0)  # warm-up
     for _ in range(args.repeats):
         base.append(baseline_run(args.seconds))
         stack.append(stack_run(args.seconds))

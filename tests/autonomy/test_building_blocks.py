@@ -108,3 +108,27 @@ def test_docs_python_example_runs(capsys):
     (code,) = re.findall(r"```python\n(.*?)```", text, flags=re.DOTALL)
     exec(compile(code, "docs/autonomy.md", "exec"), {})
     assert "path points, first command u =" in capsys.readouterr().out
+
+
+def test_beams_over_a_low_obstacle_do_not_clear_behind_it():
+    grid = _wall_grid(gap=False)  # the wall at x = 10 m is now in the map
+    far = np.column_stack([np.full(5, 15.1), np.linspace(8.0, 12.0, 5)])  # returns from a shed behind it
+    grid.integrate((2.0, 10.0), far)
+    assert grid.occupied()[:, 60].sum() >= 4  # the shed face is mapped (x = 15.0-15.25 m)
+    assert not grid.known()[:, 41:60].any()  # the space between the wall and the shed stays unknown
+
+
+def test_deskew_moves_each_point_to_the_sweep_end_frame():
+    from usvsim.autonomy.odometry import deskew, lidar_twist, twist_motion
+
+    times = np.array([0.0, 0.05, 0.1])
+    xyz = np.array([[10.0, 0.0, 0.0], [0.0, 10.0, 0.0], [-10.0, 0.0, 0.0]])
+    twist = np.array([1.5, 0.0, 0.0, 0.0, 0.0, 0.4])  # surge 1.5 m/s, yaw rate 0.4 rad/s
+    out = deskew(xyz, times, twist)
+    for p, q, t in zip(xyz, out, times):  # the end frame sees p through the motion end <- point time
+        m = np.linalg.inv(twist_motion(twist, 0.1 - t))
+        np.testing.assert_allclose(q, m[:3, :3] @ p + m[:3, 3], atol=1e-2)  # translation to first order
+    np.testing.assert_allclose(out[2], xyz[2])  # the last point is already in the end frame
+    mount = np.eye(4)
+    mount[:3, 3] = (0.7, 0.0, 1.0)  # a LiDAR ahead of base_link moves sideways when the boat turns
+    np.testing.assert_allclose(lidar_twist(twist, mount), [1.5, 0.28, 0.0, 0.0, 0.0, 0.4])
