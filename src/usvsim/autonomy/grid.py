@@ -85,7 +85,9 @@ class OccupancyGrid:
         ends = self.cells(hits_xy)
         flags = np.zeros(len(ends), np.bool_) if free_only is None else free_only
         start = self.cells(np.asarray(sensor_xy, float)[None, :2])[0]
-        trace_rays(self.logodds, (int(start[0]), int(start[1])), ends, flags, L_FREE, L_OCC, L_MIN, L_MAX, L_STOP)
+        trace_rays(
+            self.logodds, (int(start[0]), int(start[1])), ends, flags, L_FREE, L_OCC, L_MIN, L_MAX, L_STOP
+        )
 
     def probability(self) -> np.ndarray:
         return 1.0 / (1.0 + np.exp(-self.logodds))

@@ -93,7 +93,7 @@ class KissIcpOdometry:
     def initialise(self, map_from_base: np.ndarray) -> None:
         self.map_from_lidar0 = map_from_base @ self.base_from_lidar
 
-    def update(self, xyz: np.ndarray, times_s: np.ndarray, twist: np.ndarray | None = None, dt_s: float = 0.1):
+    def update(self, xyz: np.ndarray, times_s: np.ndarray, twist=None, dt_s: float = 0.1):
         """Register one cloud; returns (map ← base_link pose at the sweep end, the deskewed cloud in the LiDAR frame).
         `twist`: base_link's (vx, vy, vz, wx, wy, wz) from a velocity sensor, `dt_s` the time since the previous
         registered sweep's end (clouds may be skipped). The twist predicts the pose at this sweep's start (the
@@ -129,7 +129,7 @@ class TrackedOdometry:
     def initialise(self, map_from_base: np.ndarray) -> None:
         self.map_from_odom = map_from_base @ np.linalg.inv(self._odom_from_base())
 
-    def update(self, xyz: np.ndarray, times_s: np.ndarray, twist: np.ndarray | None = None, dt_s: float = 0.1):
+    def update(self, xyz: np.ndarray, times_s: np.ndarray, twist=None, dt_s: float = 0.1):
         pose = self.map_from_odom @ self._odom_from_base()
         if twist is None or not len(xyz):
             return pose, xyz

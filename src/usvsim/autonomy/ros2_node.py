@@ -21,7 +21,7 @@ from usvsim.autonomy.demo import parse_goals
 from usvsim.autonomy.grid import OccupancyGrid
 from usvsim.autonomy.navigator import Navigator, NavigatorConfig
 from usvsim.autonomy.odometry import KissIcpOdometry, TrackedOdometry
-from usvsim.autonomy.sensing import cloud_arrays, odometry_pose, twist_vector
+from usvsim.autonomy.sensing import cloud_arrays, odometry_pose, sweep_end_s, twist_vector
 
 
 def _args(argv):
@@ -96,7 +96,7 @@ class AutonomyNode:
         if odom is None:
             return
         xyz, times = cloud_arrays(msg)
-        stamp = msg.header.stamp.sec + msg.header.stamp.nanosec * 1e-9 + (float(times.max()) if len(times) else 0.0)
+        stamp = sweep_end_s(msg.header.stamp.sec + msg.header.stamp.nanosec * 1e-9, times)
         if not self.started:  # the sweep's end (`stamp`) is the instant the odometry estimates
             self.nav.odometry.initialise(odometry_pose(odom))
             self.started = True

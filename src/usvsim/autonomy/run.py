@@ -18,7 +18,7 @@ import numpy as np
 from usvsim.autonomy.grid import OccupancyGrid
 from usvsim.autonomy.navigator import Navigator, NavigatorConfig
 from usvsim.autonomy.odometry import KissIcpOdometry, TrackedOdometry, kiss_icp_available
-from usvsim.autonomy.sensing import Tap, cloud_arrays
+from usvsim.autonomy.sensing import Tap, cloud_arrays, sweep_end_s
 from usvsim.core.transforms import matrix_from_quat
 
 
@@ -81,8 +81,8 @@ def navigate(sim, nav: Navigator, tap: Tap, vessel: str, lidar: str, max_time_s:
         if env is None or (clouds := clouds + 1) % cloud_every:
             continue
         xyz, times = cloud_arrays(env.msg)
-        end = env.stamp_ns / 1e9 + (float(times.max()) if len(times) else 0.0)  # the sweep's end: the pose's time
-        if not trace.rows:  # the true pose at the first sweep's end initialises the map frame (like /initialpose)
+        end = sweep_end_s(env.stamp_ns / 1e9, times)  # the instant the pose refers to
+        if not trace.rows:  # the true pose then initialises the map frame (like /initialpose)
             nav.odometry.initialise(min(history, key=lambda h: abs(h[0] - end))[1])
         dt = end - trace.rows[-1][0] if trace.rows else 0.1
         u, r = _timed_update(nav, trace, end, xyz, times, tap.mean_twist(), dt)

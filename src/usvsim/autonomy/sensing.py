@@ -32,6 +32,11 @@ def transform_matrix(tf) -> np.ndarray:
     return out
 
 
+def sweep_end_s(stamp_s: float, times_s: np.ndarray) -> float:
+    """The end of a sweep stamped at its first column (s): stamp + the largest point time."""
+    return stamp_s + (float(times_s.max()) if len(times_s) else 0.0)
+
+
 def twist_vector(msg) -> np.ndarray:
     """(vx, vy, vz, wx, wy, wz) of a nav_msgs/Odometry's twist (child frame, e.g. base_link; m/s, rad/s)."""
     v, w = msg.twist.twist.linear, msg.twist.twist.angular
