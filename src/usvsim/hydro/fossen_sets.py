@@ -88,9 +88,18 @@ def otter_pvs(rho: float = 1025.0, g: float = G_MPS2) -> OtterPVS:
     )  # fmt: skip
 
 
-def otter(reference_point_base_link=(0.0, 0.0, 0.195)) -> FossenParameters:
-    """Otter hydrodynamics for the simulator (FRD; convert with to_flu). Reference point CO: midships
-    on the design waterline, which is (0, 0, 0.195) m in usvsim's Otter base_link (keel origin)."""
+# Fossen's CO in usvsim's Otter base_link (FLU, keel origin, m): on the design waterline (z = 0.195) and
+# 0.153125 m aft of the centre of mass (vessels/otter.py COM x = -0.20612508), so that the CoM sits at Fossen's
+# r_g = (0.153125, 0, -0.246875) (FRD) from it. The mesh hull's buoyancy centre (where its real CoM must be to
+# float level) lies 0.2 m aft of midships, not 0.153 m forward as Fossen's; placing CO at midships instead
+# put the lateral damping 0.2 m ahead of the CoM and made the full simulation directionally unstable at
+# half power (a yaw kick grew into a 0.045 rad/s turn at n = 60 rad/s; PVS's equations damp it).
+OTTER_CO_BASE_LINK = (-0.20612508 - 0.153125, 0.0, 0.195)
+
+
+def otter(reference_point_base_link=OTTER_CO_BASE_LINK) -> FossenParameters:
+    """Otter hydrodynamics for the simulator (FRD; convert with to_flu). Reference point: Fossen's CO,
+    OTTER_CO_BASE_LINK (Fossen's r_g from the CoM; see there)."""
     p = otter_pvs().hydro()
     return FossenParameters(p.added_mass, p.linear_damping, p.quadratic_damping, p.cross_flow,
                             np.asarray(reference_point_base_link, dtype=float), True, "FRD")  # fmt: skip
