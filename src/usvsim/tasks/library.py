@@ -8,6 +8,7 @@ import math
 import numpy as np
 
 from usvsim.control.station_keeping import Pose2D
+from usvsim.tasks.animals import ANIMALS, AnimalMotion
 from usvsim.tasks.base import Task, body_offset
 from usvsim.tasks.gates import Gate, GateCourseScorer
 from usvsim.tasks.perception import PerceptionObject, PerceptionScorer
@@ -153,33 +154,37 @@ class FollowPath(Task):
         return Pose2D(cx + 5.0 * fx, cy + 5.0 * fy, g.yaw_rad)  # aim 5 m beyond the gate's centre
 
 
-ANIMALS = {  # VRX practice_2023_wildlife0 animal positions relative to the WAM-V start (m) and goals
-    "crocodile": ((25.0, 120.0), "avoid"),
-    "platypus": ((-5.0, 170.0), "circumnavigate_clockwise"),
-    "turtle": ((45.0, 150.0), "circumnavigate_counterclockwise"),
-}
-
-
 class Wildlife(Task):
     """Circle the platypus clockwise and the turtle counter-clockwise, keep 10 m from the crocodile;
     score: elapsed s minus 30 s per goal met (set when all circles are done). Lower is better.
-    Animals are moored buoys here (VRX's animals drift along paths)."""
+    The animals move as in VRX's wildlife world (tasks/animals.py): each shuttles between two waypoints."""
 
     name, vrx_name, n_features = "wildlife", "wildlife", 15
     collision_buffer_s = 10.0
     circle_radius_m = 6.0
+    avoid_radius_m = 13.0  # the reference solution's berth around an animal to avoid (engagement: 10 m)
 
     def sample(self, rng):
         self.scorer = WildlifeScorer([(n, g) for n, (_, g) in ANIMALS.items()], time_limit_s=self.timing.running_s)
+        self.motion = AnimalMotion(list(ANIMALS))
 
     def objects(self):
         colour = {"avoid": "green", "circumnavigate_clockwise": "orange", "circumnavigate_counterclockwise": "yellow"}
-        return [{"type": "buoy", "name": n, "position": [*xy, 0.0], "color": colour[g], "radius_m": 0.6}
+        return [{"type": "buoy", "name": n, "position": [*xy, 0.0], "color": colour[g], "radius_m": 0.6, "mooring": None}
                 for n, (xy, g) in ANIMALS.items()]  # fmt: skip
+
+    def bind(self, sim):
+        super().bind(sim)
+        self.motion.apply(sim)
 
     def clear(self):
         super().clear()
+        self.motion.reset()
         self._last = 0.0
+
+    def update(self):
+        self.motion.apply(self.sim)  # the animals' forces for the next step
+        super().update()
 
     def score_step(self, x, y, yaw):
         self.scorer.update(self.elapsed_s, x, y, [self.object_xy(n) for n in ANIMALS])
@@ -198,7 +203,8 @@ class Wildlife(Task):
         return r
 
     def reference_target(self):
-        """Circle each circling animal in turn on 12 points at 6 m (plus one extra quarter)."""
+        """Circle each circling animal in turn on 12 points at 6 m (plus one extra quarter), around animals to
+        avoid."""
         x, y, _ = self.pose()
         for a in self.scorer.animals:
             if a.circles and a.state != "CIRCUMNAVIGATED":
@@ -206,9 +212,25 @@ class Wildlife(Task):
                 sense = 1.0 if a.goal == "circumnavigate_counterclockwise" else -1.0
                 phase = math.atan2(y - ay, x - ax) + sense * math.radians(40.0)
                 r = self.circle_radius_m if math.hypot(x - ax, y - ay) < 15.0 else 8.0
-                tx, ty = ax + r * math.cos(phase), ay + r * math.sin(phase)
+                tx, ty = self._around_avoided(x, y, ax + r * math.cos(phase), ay + r * math.sin(phase))
                 return Pose2D(tx, ty, math.atan2(ty - y, tx - x))
         return None
+
+    def _around_avoided(self, x, y, tx, ty):
+        """(tx, ty), or a point `avoid_radius_m` beside an animal to avoid that lies near the straight way there."""
+        for a in self.scorer.animals:
+            if a.goal != "avoid":
+                continue
+            cx, cy = self.object_xy(a.name)
+            dx, dy = tx - x, ty - y
+            length = math.hypot(dx, dy) or 1.0
+            along = ((cx - x) * dx + (cy - y) * dy) / length
+            left = ((cx - x) * -dy + (cy - y) * dx) / length  # > 0: the animal lies left of the way
+            if 0.0 < along < length and abs(left) < self.avoid_radius_m:
+                nx, ny = -dy / length, dx / length  # unit normal to the left of the way
+                sign = -1.0 if left > 0 else 1.0  # pass on the side away from the animal
+                return cx + sign * self.avoid_radius_m * nx, cy + sign * self.avoid_radius_m * ny
+        return tx, ty
 
 
 PERCEPTION_OBJECTS = [  # VRX practice_2023_perception0: appearance time s, class, position relative to the WAM-V
