@@ -1,10 +1,14 @@
 """Cost of a sea: calm vs sea state 4, against bare MuJoCo on the same model, and fleets (same-run ratios).
 
-Figures are medians over interleaved repeats of the mean µs per physics step (100 Hz), each with the median
-1-minute load average of its repeats beside it; every ratio divides two figures of this run. Bare MuJoCo:
+Figures are medians over interleaved repeats of the mean µs per physics step (100 Hz), wall clock and process
+CPU time (which leaves out what other jobs took on a loaded machine), each with the median 1-minute load average
+of its repeats beside it; every ratio divides two figures of this run (wall by wall, CPU by CPU). Bare MuJoCo:
 `mj_step` alone on the same model and its own MjData (no marine forces), interleaved with the others. Also:
 serial vs parallel builds of the wave-query kernels per call (points per call), both real since the
 dispatch fix. Run: python benchmarks/bench_seas.py [--quick]
+
+(Until 2026-11-24 the bare baseline stepped a fresh MjData from the model's reference pose with no forces: the
+bodies fell through the harbour and its cost depended on what they met on the way, 15-75 µs a step.)
 """
 
 from __future__ import annotations
@@ -48,30 +52,43 @@ def fleet(n: int, code: int) -> Simulation:
     return Simulation(parse_scenario({"version": 1, "vessels": vessels, "environment": env}, "fleet"))
 
 
-def step_us(sim, steps: int, bare: bool = False) -> float:
-    """µs per step of `sim`; `bare`: MuJoCo alone on the same model, on its own MjData (no marine forces)."""
-    start = time.perf_counter()
+def step_us(sim, steps: int, bare: bool = False) -> tuple[float, float]:
+    """(wall, CPU) µs per step of `sim`; `bare`: `mj_step` alone on the same model, on its own MjData copied from
+    the simulation's (state and the last marine wrenches in `xfrc_applied`, held constant), so MuJoCo integrates
+    the same floating bodies with the same contacts and constraints, without anything of usvsim. CPU time is the
+    process's (all threads): on a loaded machine it leaves out the time other jobs held the cores."""
+    data = sim.__dict__.setdefault("_bare_data", mujoco.MjData(sim.model)) if bare else None
     if bare:
-        data = sim.__dict__.setdefault("_bare_data", mujoco.MjData(sim.model))
-        start = time.perf_counter()
+        mujoco.mj_copyData(data, sim.model, sim.data)
+    wall, cpu = time.perf_counter(), time.process_time()
+    if bare:
         for _ in range(steps):
             mujoco.mj_step(sim.model, data)
     else:
         for _ in range(steps):
             sim.step()
-    return 1e6 * (time.perf_counter() - start) / steps
+    return 1e6 * (time.perf_counter() - wall) / steps, 1e6 * (time.process_time() - cpu) / steps
 
 
 def compare(cases: dict, steps: int, repeats: int) -> dict:
-    """Per case: the median over interleaved repeats of µs/step, with the median load average of those repeats."""
+    """Per case: medians over interleaved repeats of wall and CPU µs/step, with the median load average of
+    those repeats."""
     times = {name: [] for name in cases}
     loads = {name: [] for name in cases}
     for _ in range(repeats):
         for name, (sim, bare) in cases.items():
             loads[name].append(load())
             times[name].append(step_us(sim, steps, bare))
-    return {name: {"us": round(float(np.median(times[name])), 1), "load": round(float(np.median(loads[name])), 2)}
-            for name in cases}  # fmt: skip
+    out = {}
+    for name in cases:
+        wall, cpu = np.median(np.array(times[name]), axis=0)
+        out[name] = {"us": round(float(wall), 1), "cpu_us": round(float(cpu), 1), "load": round(float(np.median(loads[name])), 2)}
+    return out
+
+
+def ratio(figures: dict, a: str, b: str) -> dict:
+    """a / b of wall and of CPU time."""
+    return {"wall": round(figures[a]["us"] / figures[b]["us"], 3), "cpu": round(figures[a]["cpu_us"] / figures[b]["cpu_us"], 3)}
 
 
 def crossover(points=(1_000, 4_000, 16_000, 64_000, 256_000)) -> dict:
@@ -97,7 +114,7 @@ def crossover(points=(1_000, 4_000, 16_000, 64_000, 256_000)) -> dict:
                 continue
             for name, kernel in zip(("serial", "parallel"), kernels):
                 kernel(*args)
-                row[f"{kind}_{name}"] = round(float(np.median([_time(lambda k=kernel: k(*args)) for _ in range(9)]) * 1e6), 1)
+                row[f"{kind}_{name}"] = round(float(np.median([_time(lambda k=kernel, a=args: k(*a)) for _ in range(9)]) * 1e6), 1)
             row[f"{kind}_parallel_over_serial"] = round(row[f"{kind}_parallel"] / row[f"{kind}_serial"], 2)
         out[n] = row | {"load": load()}
     return out
@@ -119,19 +136,18 @@ def main() -> None:
         sim.run(0.5)  # JIT and caches
     h = compare({"calm": (calm, False), "sea_state_4": (wavy, False), "sea_state_4_hydrostatic_pressure": (wavy_hs, False),
                  "bare_mujoco": (calm, True)}, steps, repeats)  # fmt: skip
-    us = {k: v["us"] for k, v in h.items()}
-    h["sea_state_4_over_calm"] = round(us["sea_state_4"] / us["calm"], 2)
-    h["sea_state_4_hydrostatic_pressure_over_calm"] = round(us["sea_state_4_hydrostatic_pressure"] / us["calm"], 2)
-    h["calm_speed_over_bare_mujoco"] = round(us["bare_mujoco"] / us["calm"], 3)
+    h["sea_state_4_over_calm"] = ratio(h, "sea_state_4", "calm")
+    h["sea_state_4_hydrostatic_pressure_over_calm"] = ratio(h, "sea_state_4_hydrostatic_pressure", "calm")
+    h["calm_speed_over_bare_mujoco"] = ratio(h, "bare_mujoco", "calm")
     print("harbor", h, flush=True)
     fleets = {"calm_100": fleet(100, 0), "sea_state_4_100": fleet(100, 4), "sea_state_4_200": fleet(200, 4)}
     for sim in fleets.values():
         sim.run(0.05)
     cases = {k: (sim, False) for k, sim in fleets.items()} | {"bare_mujoco_100": (fleets["calm_100"], True)}
     f = compare(cases, max(steps // 10, 5), repeats)
-    f["calm_100_real_time_factor"] = round(1e4 / f["calm_100"]["us"], 2)
-    f["calm_100_speed_over_bare_mujoco"] = round(f["bare_mujoco_100"]["us"] / f["calm_100"]["us"], 3)
-    f["sea_state_4_200_over_100"] = round(f["sea_state_4_200"]["us"] / f["sea_state_4_100"]["us"], 2)
+    f["calm_100_real_time_factor"] = {"wall": round(1e4 / f["calm_100"]["us"], 2), "cpu": round(1e4 / f["calm_100"]["cpu_us"], 2)}
+    f["calm_100_speed_over_bare_mujoco"] = ratio(f, "bare_mujoco_100", "calm_100")
+    f["sea_state_4_200_over_100"] = ratio(f, "sea_state_4_200", "sea_state_4_100")
     print("fleets", f, flush=True)
     cross = crossover((1_000, 16_000, 64_000) if args.quick else (1_000, 4_000, 16_000, 64_000, 256_000))
     report = {"us_per_step_median": {"harbor": h, "fleet_wamv": f}, "query_kernel_crossover_us": cross,

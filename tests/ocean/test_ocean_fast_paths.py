@@ -69,3 +69,20 @@ def test_fused_froude_krylov_heads_equal_the_two_pass_sums_bit_for_bit():
     pressure.FFT_HEAD[0](ref_x0, ref_y0, pz, ref_eta, field.geometry.tiles, field.update(2.2), field.inv_cells,
                          pressure.height_decay_wavenumbers(field), ref)  # fmt: skip
     assert np.array_equal(eta, ref_eta) and np.array_equal(zeta, ref) and (pz < eta).any() and (pz > eta).any()
+
+
+def test_velocity_spectra_made_beside_the_geometry_equal_their_own_transforms():
+    import scipy.fft
+
+    field = FFTWaveField(JONSWAP, cascade_sizes(70.0, 3, 64), np.random.default_rng(6), 64)
+    shared = [b for b in range(3) if field.velocity_ring.intervals[b] == field.geometry.intervals[b]]
+    assert shared  # the usual case: the same snapshot times for some bands
+    for t in (0.0, 1.37, 1.41, 6.0):
+        field.update(t)
+        field.update_kinematics(t)
+    ring, spec = field.velocity_ring, np.empty((1, 64, 64), np.complex64)
+    for b in range(3):
+        for r in range(4):
+            fft_kernels.kinematic_spectra(field._amp[b], field._omega[b], field._khx[b], field._khy[b],
+                                          ring._held[b, r], False, spec)  # fmt: skip
+            assert np.array_equal(ring.tiles[b, r], scipy.fft.ifft2(spec, norm="forward", workers=1))

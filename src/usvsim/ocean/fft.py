@@ -111,6 +111,7 @@ class FFTWaveField(WaveField):
         self.inv_cells = self.n / self.sizes
         self.decay_k = self._decay_wavenumbers()
         self._spec = np.zeros((3, self.n, self.n), np.complex64)  # one band's spectra (scratch)
+        self._vel_spectra: dict[tuple[int, float], np.ndarray] = {}  # (band, t) → velocity spectrum made beside
         self.geometry = self._ring(
             time_tolerance, (0, 1), 2 if self.choppiness else 1, self._geometry_snapshot
         )
@@ -181,16 +182,28 @@ class FFTWaveField(WaveField):
         return np.where(total > 0, (weight * k).sum(axis=(1, 2)) / np.where(total > 0, total, 1.0), 0.0)
 
     def _geometry_snapshot(self, b: int, t: float, out: np.ndarray) -> None:
+        """Band b's geometry tiles at t; where the velocity ring snapshots this band at the same times (usual for
+        all but the longest band), its spectrum is made in the same pass and kept for `_kinematic_snapshot`."""
         slots = out.shape[0]
         spec = self._spec[:slots]
-        kern.geometry_spectra(self._amp[b], self._omega[b], self._khx[b], self._khy[b], t, slots > 1, spec)
+        args = (self._amp[b], self._omega[b], self._khx[b], self._khy[b], t, slots > 1, spec)
+        if self.velocity_ring.intervals[b] == self.geometry.intervals[b]:
+            vel = np.empty((1, self.n, self.n), np.complex64)
+            kern.geometry_and_velocity_spectra(*args, vel)
+            if len(self._vel_spectra) >= 4 * len(self.sizes):  # a ring's worth per band at most
+                del self._vel_spectra[next(iter(self._vel_spectra))]
+            self._vel_spectra[(b, t)] = vel
+        else:
+            kern.geometry_spectra(*args)
         out[:] = scipy.fft.ifft2(spec, norm="forward", workers=1)
 
     def _kinematic_snapshot(self, acceleration: bool, b: int, t: float, out: np.ndarray) -> None:
-        spec = self._spec[: out.shape[0]]
-        kern.kinematic_spectra(
-            self._amp[b], self._omega[b], self._khx[b], self._khy[b], t, acceleration, spec
-        )
+        spec = None if acceleration else self._vel_spectra.pop((b, t), None)
+        if spec is None:
+            spec = self._spec[: out.shape[0]]
+            kern.kinematic_spectra(
+                self._amp[b], self._omega[b], self._khx[b], self._khy[b], t, acceleration, spec
+            )
         out[:] = scipy.fft.ifft2(spec, norm="forward", workers=1)
 
     def update(self, t: float) -> np.ndarray:

@@ -83,6 +83,33 @@ def kinematic_spectra(amp, omega, khx, khy, t, acceleration, out):
                 out[0, jy, jx] = -g.conjugate() * rot
 
 
+@njit(cache=True)
+def geometry_and_velocity_spectra(amp, omega, khx, khy, t, choppy, out, vel):
+    """`geometry_spectra` into `out` and `kinematic_spectra` (velocity) into `vel` in one pass: each (k, -k) pair's
+    sine, cosine and H, G once for both; every value is the same expression as in those kernels (bit-identical)."""
+    n = amp.shape[0]
+    for iy in range(n // 2 + 1):
+        jy = (n - iy) % n
+        for ix in range(_rows(n, iy)):
+            jx = (n - ix) % n
+            if amp[iy, ix] == 0 and amp[jy, jx] == 0:
+                out[0, iy, ix] = out[0, jy, jx] = 0
+                if choppy:
+                    out[1, iy, ix] = out[1, jy, jx] = 0
+                vel[0, iy, ix] = vel[0, jy, jx] = 0
+                continue
+            h, g, _ = _pair(amp, omega, iy, ix, jy, jx, t)
+            out[0, iy, ix] = h + 1j * g
+            out[0, jy, jx] = h.conjugate() + 1j * g.conjugate()
+            if choppy:
+                hx, hy = khx[iy, ix], khy[iy, ix]
+                out[1, iy, ix] = h * complex(hy, -hx)
+                out[1, jy, jx] = h.conjugate() * complex(-hy, hx)
+            rot = 1j * khx[iy, ix] - khy[iy, ix]
+            vel[0, iy, ix] = g * rot
+            vel[0, jy, jx] = -g.conjugate() * rot
+
+
 @njit(cache=True, inline="always")
 def _cell(x, inv_cell, mask):
     """Cell index, next index (periodic) and fraction along one axis; N = mask + 1 is a power of two."""
