@@ -58,6 +58,25 @@ def test_astar_goes_through_the_gap_keeping_clearance():
     assert planner.plan(_wall_grid(gap=False), (4.0, 2.0), (16.0, 2.0)) is None
 
 
+def test_hybrid_astar_sails_arcs_of_the_turning_radius_through_the_gap():
+    from usvsim.autonomy.hybrid import HybridAStarPlanner
+
+    planner = HybridAStarPlanner(clearance_m=1.0, comfort_m=0.5, turn_radius_m=3.0)
+    path = planner.plan(
+        _wall_grid(), np.array([4.0, 2.0]), np.array([16.0, 2.0]), math.pi / 2
+    )  # heading north
+    assert path is not None and planner.expansions > 0 and np.linalg.norm(path[-1] - (16.0, 2.0)) < 1e-9
+    step = np.diff(path[:-1], axis=0)  # without the short closing leg to the goal point
+    heading = np.unwrap(np.arctan2(step[:, 1], step[:, 0]))
+    assert abs(heading[0] - math.pi / 2) < 0.2  # leaves along its heading
+    curvature = np.abs(np.diff(heading)) / np.linalg.norm(step[1:], axis=1)
+    assert (
+        curvature.max() <= 1.01 / 3.0
+    )  # never tighter than the turning radius (chords of 0.5 m arcs: +0.1 %)
+    at_wall = path[np.argmin(np.abs(path[:, 0] - 10.1))]
+    assert 9.0 - 0.25 <= at_wall[1] <= 11.0 + 0.25  # through the gap, clear of its ends
+
+
 def test_fillet_is_a_tangent_arc_of_the_radius():
     radius = 3.0
     pts = fillet(np.array([[0.0, 0.0], [20.0, 0.0], [20.0, 20.0]]), radius, step_m=0.1)

@@ -45,7 +45,7 @@ def pick(sim, vessel: str | None, lidar: str | None) -> tuple[str, str]:
 
 
 def run_demo(scenario: str, goals=None, out: Path = Path("navigate_out"), max_time_s: float = 400.0, seed: int = 0,
-             odometry: str = "auto") -> dict:  # fmt: skip
+             odometry: str = "auto", planner: str = "astar") -> dict:  # fmt: skip
     from usvsim.simulation import Simulation
 
     sim = Simulation.from_scenario(scenario, seed=seed)
@@ -54,7 +54,7 @@ def run_demo(scenario: str, goals=None, out: Path = Path("navigate_out"), max_ti
         if not goals:
             raise UsvsimError(f"scenario {sim.scenario.name!r} has no default goals: pass --goals 'x,y;x,y'")
         vessel, lidar = pick(sim, None, None)
-        nav, tap = build_navigator(sim, vessel, lidar, goals, odometry=odometry)
+        nav, tap = build_navigator(sim, vessel, lidar, goals, odometry=odometry, planner=planner)
         start = time.perf_counter()
         trace = navigate(sim, nav, tap, vessel, lidar, max_time_s)
         wall = time.perf_counter() - start

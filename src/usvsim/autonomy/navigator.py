@@ -96,7 +96,7 @@ class Navigator:
             or t - self._planned_at >= self.config.replan_s
             or ahead < self.config.stop_distance_m
         ):
-            self._replan(t, p)
+            self._replan(t, p, yaw)
         if self.path is None:
             return 0.0, 0.3  # no way yet: turn on the spot to see more
         u, r = self.config.guidance.command(p, yaw, nu, 0.1)
@@ -126,9 +126,9 @@ class Navigator:
         inside = (x > 0.0) & (np.abs(y) < self.config.half_width_m + self.config.corridor_margin_m)
         return float(x[inside].min()) if inside.any() else math.inf
 
-    def _replan(self, t: float, p: np.ndarray) -> None:
+    def _replan(self, t: float, p: np.ndarray, yaw: float) -> None:
         self._planned_at = t
-        path = self.config.planner.plan(self.grid, p, self.goal)
+        path = self.config.planner.plan(self.grid, p, self.goal, yaw)
         if path is not None and len(path) >= 2:
             self.path = path
             self.config.guidance.follow(path)

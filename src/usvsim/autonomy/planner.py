@@ -27,9 +27,10 @@ _SQRT2 = math.sqrt(2.0)
 
 
 @numba.njit(cache=True)
-def _astar(cost, start, goal, moves):  # pragma: no cover - numba
-    """Cheapest 8-connected path on `cost` (inf = blocked; step cost = length·(1 + cost of the entered cell)).
-    Returns the cells (k, 2) from start to goal, or an empty array."""
+def _search(cost, start, goal, moves, weight):  # pragma: no cover - numba
+    """A* (weight 1: octile heuristic) or Dijkstra (weight 0, goal off the grid: every cell) over 8-connected cells
+    of `cost` (inf = blocked; step cost = length in cells · (1 + cost of the entered cell)) from `start`.
+    Returns the cost g (rows·cols,) and each cell's parent (-1: none)."""
     rows, cols = cost.shape
     n = rows * cols
     g = np.full(n, np.inf)
@@ -70,13 +71,22 @@ def _astar(cost, start, goal, moves):  # pragma: no cover - numba
             if ng < g[nxt] and not closed[nxt]:
                 g[nxt], parent[nxt] = ng, cur
                 di, dj = abs(ni - goal[0]), abs(nj - goal[1])
-                f = ng + (di + dj) + (1.4142135623730951 - 2.0) * min(di, dj)
+                f = ng + weight * ((di + dj) + (1.4142135623730951 - 2.0) * min(di, dj))
                 k = size  # push: sift up
                 size += 1
                 while k > 0 and heap_f[(k - 1) // 2] > f:
                     heap_f[k], heap_i[k] = heap_f[(k - 1) // 2], heap_i[(k - 1) // 2]
                     k = (k - 1) // 2
                 heap_f[k], heap_i[k] = f, nxt
+    return g, parent
+
+
+@numba.njit(cache=True)
+def _astar(cost, start, goal, moves):  # pragma: no cover - numba
+    """Cheapest 8-connected path on `cost`: the cells (k, 2) from start to goal, or an empty array."""
+    rows, cols = cost.shape
+    _, parent = _search(cost, start, goal, moves, 1.0)
+    s, t = start[0] * cols + start[1], goal[0] * cols + goal[1]
     if parent[t] < 0 and s != t:
         return np.empty((0, 2), np.int64)
     path, cur = [], t
@@ -108,8 +118,16 @@ class GridPlanner:
         cost[d < self.clearance_m] = np.inf
         return cost
 
-    def plan(self, grid: OccupancyGrid, start_xy, goal_xy) -> np.ndarray | None:
-        """Path (k, 2) map-frame metres from start to goal, or None when the goal cannot be reached."""
+    def cost_to_go(self, grid: OccupancyGrid, cost: np.ndarray, goal_ij) -> np.ndarray:
+        """Cheapest 8-connected cost (m, weighted like A*'s) from every cell to the goal cell (inf: none)."""
+        g, _ = _search(cost, np.asarray(goal_ij, np.int64), np.array([-1, -1], np.int64), _MOVES, 0.0)
+        return g.reshape(cost.shape) * grid.resolution_m
+
+    def plan(
+        self, grid: OccupancyGrid, start_xy, goal_xy, start_yaw: float | None = None
+    ) -> np.ndarray | None:
+        """Path (k, 2) map-frame metres from start to goal, or None when the goal cannot be reached
+        (`start_yaw`, rad, is not used: the fillets take care of turns)."""
         cost = self.cost_map(grid)
         (s, g) = grid.cells(np.array([start_xy[:2], goal_xy[:2]], float))
         inside = lambda c: 0 <= c[0] < grid.shape[0] and 0 <= c[1] < grid.shape[1]  # noqa: E731

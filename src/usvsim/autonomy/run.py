@@ -16,6 +16,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from usvsim.autonomy.grid import OccupancyGrid
+from usvsim.autonomy.hybrid import HybridAStarPlanner
 from usvsim.autonomy.navigator import Navigator, NavigatorConfig
 from usvsim.autonomy.odometry import KissIcpOdometry, TrackedOdometry, kiss_icp_available
 from usvsim.autonomy.sensing import Tap, cloud_arrays, sweep_end_s
@@ -43,8 +44,10 @@ def pose_matrix(vessel) -> np.ndarray:
     return out
 
 
-def build_navigator(sim, vessel: str, lidar: str, goals, resolution_m: float = 0.25, odometry: str = "auto"):
-    """A Navigator on a grid covering the scenario's objects (+10 m), with KISS-ICP when available."""
+def build_navigator(sim, vessel: str, lidar: str, goals, resolution_m: float = 0.25, odometry: str = "auto",
+                    planner: str = "astar"):  # fmt: skip
+    """A Navigator on a grid covering the scenario's objects (+10 m), with KISS-ICP when available; `planner`
+    astar (A* with fillets) or hybrid (hybrid A*, arcs of the turning radius)."""
     lo, hi = np.full(2, math.inf), np.full(2, -math.inf)
     for obj in sim.scenario.objects:
         lo, hi = np.minimum(lo, obj.position[:2]), np.maximum(hi, obj.position[:2])
@@ -58,7 +61,12 @@ def build_navigator(sim, vessel: str, lidar: str, goals, resolution_m: float = 0
         if use_icp
         else TrackedOdometry(base_from_lidar, lambda: tap.latest_odometry)
     )
-    return Navigator(grid, odo, goals, NavigatorConfig()), tap
+    config = (
+        NavigatorConfig(planner=HybridAStarPlanner(), replan_s=5.0)
+        if planner == "hybrid"
+        else NavigatorConfig()
+    )
+    return Navigator(grid, odo, goals, config), tap
 
 
 def navigate(sim, nav: Navigator, tap: Tap, vessel: str, lidar: str, max_time_s: float, cloud_every: int = 2):

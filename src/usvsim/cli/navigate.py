@@ -25,6 +25,10 @@ def navigate_command(
     odometry: Annotated[
         str, typer.Option(help="auto | kiss_icp | sensor (the odometry sensor's pose)")
     ] = "auto",
+    planner: Annotated[
+        str,
+        typer.Option(help="astar (A*, corners filleted) | hybrid (hybrid A*: arcs of the turning radius)"),
+    ] = "astar",
 ) -> None:
     """Map as it goes (LiDAR odometry + occupancy grid), plan, drive to each goal; write pictures and metrics."""
     from usvsim.autonomy.demo import acceptance, parse_goals, run_demo
@@ -34,7 +38,11 @@ def navigate_command(
     try:
         if odometry not in ("auto", "kiss_icp", "sensor"):
             raise UsvsimError(f"--odometry {odometry!r}: choose auto, kiss_icp or sensor")
-        summary = run_demo(scenario, parse_goals(goals) if goals else None, out, max_time, seed, odometry)
+        if planner not in ("astar", "hybrid"):
+            raise UsvsimError(f"--planner {planner!r}: choose astar or hybrid")
+        summary = run_demo(
+            scenario, parse_goals(goals) if goals else None, out, max_time, seed, odometry, planner
+        )
     except UsvsimError as exc:
         _fail(exc)
     checks = acceptance(summary)
