@@ -148,6 +148,30 @@ def fossen_wrenches(Ma, Dl, Dq, cf, use_ca, ref, nu_com, nu_dot_ref, nu_ref, tmp
         out[b, 5] = tmp[5] + rx * fy - ry * fx
 
 
+def added_mass_at(added_mass: np.ndarray, r) -> np.ndarray:
+    """M_A (6,6) given at a reference point, expressed at a point from which the reference point lies at r (3,)
+    (same axes): H(r)^T M_A H(r), ν_ref = H(r) ν (kinetic energy preserved; Kirchhoff's equations keep their form)."""
+    h = np.eye(6)
+    h[:3, 3:] = skew(r).T
+    return h.T @ np.asarray(added_mass, dtype=float) @ h
+
+
+@njit(cache=True)
+def added_mass_wrenches(Ma, Mc, use_ca, nu_com, nu_dot_com, tmp, out):
+    """out[b] += -Ma[b] ν̇ - C_A(Mc[b]) ν at the CoM (body FLU): the added mass that MuJoCo's armature leaves
+    out (Ma: the rest of M_A at the CoM; Mc: M_A at the CoM minus the translational armature, whose Coriolis
+    terms MuJoCo's world-frame translations already carry)."""
+    zero_d, zero_q, no_cf = np.zeros((6, 6)), np.zeros(6), np.zeros(4)
+    for b in range(nu_com.shape[0]):
+        hydro_wrench(Ma[b], zero_d, zero_q, no_cf, False, nu_com[b], nu_dot_com[b], tmp)
+        for i in range(6):
+            out[b, i] += tmp[i]
+        if use_ca[b]:
+            hydro_wrench(Mc[b], zero_d, zero_q, no_cf, True, nu_com[b], zero_q, tmp)
+            for i in range(6):
+                out[b, i] += tmp[i]
+
+
 def split_added_mass(added_mass_diag, mass_kg: float) -> tuple[np.ndarray, np.ndarray, float]:
     """Split a diagonal M_A (FLU, 6) into MuJoCo free-joint armature (implicit) and an explicit rest.
 
@@ -177,7 +201,9 @@ class FossenForces:
     State: ν_r at each reference point on the previous step and the filtered ν̇ (`reset()` clears).
     """
 
-    def __init__(self, params, com_body, explicit_added_mass=None, filter_s: float = 0.0):
+    def __init__(self, params, com_body, explicit_added_mass=None, filter_s: float = 0.0, at_com=None):
+        """at_com: optional (Ma (nb,6,6), Mc (nb,6,6)): the added mass is then applied at the CoM (see
+        `added_mass_wrenches`) and only damping and cross-flow at the reference point."""
         flu = [p.to_flu() for p in params]
         nb = len(flu)
         com = np.asarray(com_body, dtype=float).reshape(nb, 3)
@@ -191,6 +217,10 @@ class FossenForces:
         self.ref = np.array([com[i] * 0 if p.reference_point is None else np.asarray(p.reference_point) - com[i]
                              for i, p in enumerate(flu)]).reshape(nb, 3)  # fmt: skip
         self.filter_s = float(filter_s)
+        self.at_com = None
+        if at_com is not None:
+            self.at_com = tuple(np.ascontiguousarray(np.asarray(m, dtype=float).reshape(nb, 6, 6)) for m in at_com)
+            self.Ma = np.zeros((nb, 6, 6))
         self._nu_ref, self._nu_prev = np.zeros((nb, 6)), np.zeros((nb, 6))
         self._nu_dot, self._tmp, self._out = np.zeros((nb, 6)), np.zeros(6), np.zeros((nb, 6))
         self._ready = False
@@ -204,12 +234,17 @@ class FossenForces:
         nu_ref = self._nu_ref
         nu_ref[:, :3] = nu_com[:, :3] + np.cross(nu_com[:, 3:], self.ref)
         nu_ref[:, 3:] = nu_com[:, 3:]
+        tracked = nu_ref if self.at_com is None else nu_com  # where ν̇ is needed
         if self._ready:
-            raw = (nu_ref - self._nu_prev) / dt
+            raw = (tracked - self._nu_prev) / dt
             alpha = dt / (self.filter_s + dt)
             self._nu_dot += alpha * (raw - self._nu_dot)
-        self._nu_prev[:] = nu_ref
+        self._nu_prev[:] = tracked
         self._ready = True
-        fossen_wrenches(self.Ma, self.Dl, self.Dq, self.cf, self.use_ca, self.ref, np.ascontiguousarray(nu_com),
-                        self._nu_dot, nu_ref, self._tmp, self._out)  # fmt: skip
+        nu_com = np.ascontiguousarray(nu_com)
+        use_ca = self.use_ca if self.at_com is None else np.zeros_like(self.use_ca)
+        fossen_wrenches(self.Ma, self.Dl, self.Dq, self.cf, use_ca, self.ref, nu_com, self._nu_dot, nu_ref,
+                        self._tmp, self._out)  # fmt: skip
+        if self.at_com is not None:
+            added_mass_wrenches(*self.at_com, self.use_ca, nu_com, self._nu_dot, self._tmp, self._out)
         return self._out

@@ -20,7 +20,7 @@ import numpy as np
 from usvsim.config.hydro_models import FossenHydrodynamics, KernerHydrodynamics, VoxelBuoyancy
 from usvsim.config.vessel import StateSpaceDrag
 from usvsim.hydro import statespace, wind
-from usvsim.hydro.fossen import FossenForces, FossenParameters, split_added_mass
+from usvsim.hydro.fossen import FossenForces, FossenParameters, added_mass_at, split_added_mass
 from usvsim.hydro.fossen_sets import from_config
 from usvsim.hydro.hydrostatics import HullSet, HydrostaticsResult
 from usvsim.hydro.kerner import KernerForces
@@ -85,15 +85,18 @@ class MarineModels:
         if not any(isinstance(h, FossenHydrodynamics) for h in self.hydrodynamics):
             self._set_armature(armature)
             return None
-        params, explicit = [], []
+        params, explicit, coriolis = [], [], []
         for i, h in enumerate(self.hydrodynamics):
             p = from_config(h).to_flu() if isinstance(h, FossenHydrodynamics) else NO_FOSSEN
-            implicit, rest, _ = split_added_mass(np.diag(p.added_mass), self.bodies[i].mass_kg)
+            ref = self.com_body[i] if p.reference_point is None else np.asarray(p.reference_point, dtype=float)
+            ma = added_mass_at(p.added_mass, ref - self.com_body[i])  # MuJoCo's armature acts at the CoM
+            implicit, rest, _ = split_added_mass(np.diag(ma), self.bodies[i].mass_kg)
             armature[6 * i : 6 * i + 6] = implicit
             params.append(p)
-            explicit.append(p.added_mass - np.diag(np.diag(p.added_mass)) + np.diag(rest))
+            explicit.append(ma - np.diag(np.diag(ma)) + np.diag(rest))
+            coriolis.append(ma - np.diag(np.r_[implicit[:3], 0.0, 0.0, 0.0]))
         self._set_armature(armature)
-        return FossenForces(params, self.com_body, explicit_added_mass=np.array(explicit))
+        return FossenForces(params, self.com_body, at_com=(np.array(explicit), np.array(coriolis)))
 
     def _set_armature(self, armature: np.ndarray) -> None:
         for i, adr in enumerate(self._dof_adr):
