@@ -15,7 +15,7 @@ import math
 
 import numpy as np
 
-CELL_PX, MARGIN, FAR_M = 6.0, 0.25, 60_000.0
+CELL_PX, MARGIN, FAR_M = 8.0, 0.25, 60_000.0
 
 
 def screen_grid(width: int, height: int, cell_px: float = CELL_PX, margin: float = MARGIN):

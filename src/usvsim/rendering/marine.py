@@ -14,7 +14,7 @@ import numpy as np
 
 from usvsim.rendering import shaders
 from usvsim.rendering.gl import attach_current
-from usvsim.rendering.grid import CELL_PX, FAR_M, screen_grid
+from usvsim.rendering.grid import FAR_M, screen_grid
 from usvsim.rendering.sky import Daylight, sky_table
 from usvsim.rendering.surface import SurfaceData
 
@@ -22,6 +22,10 @@ GL_DEPTH_CLAMP, GL_GEQUAL = 0x864F, 0x0206
 TEXTURE_UNITS = {"u_geo": 5, "u_slope": 6, "u_depth": 7, "u_sky": 8, "u_noise": 9}  # above MuJoCo's units
 FOAM_CHOPPINESS = 2.0  # whitecaps where a surface this choppy would fold (the physics may use less)
 HAZE_HEIGHT_M = 500.0
+SKY_TEXELS = 256  # the sky table with the horizon haze baked in: the haze band above the horizon spans texels
+FEEDBACK = ("v_world", "v_label", "v_spacing", "v_atm", "v_slope", "v_jac")  # per vertex: 3+2+1+4+2+3 floats
+FEEDBACK_BYTES = 60
+POINTS = 0x0000
 
 
 class MarinePass:
@@ -40,18 +44,16 @@ class MarinePass:
         self.fog = _bind_samplers(
             ctx.program(vertex_shader=shaders.FULLSCREEN_VS, fragment_shader=shaders.FOG_FS)
         )
+        self.surface = _bind_samplers(ctx.program(vertex_shader=shaders.WATER_VS, varyings=FEEDBACK))
         self.water = _bind_samplers(
-            ctx.program(vertex_shader=shaders.WATER_VS, fragment_shader=shaders.WATER_FS)
+            ctx.program(vertex_shader=shaders.WATER_DRAW_VS, fragment_shader=shaders.WATER_FS)
         )
-        self.label = _bind_samplers(
-            ctx.program(vertex_shader=shaders.WATER_VS, fragment_shader=shaders.LABEL_FS)
-        )
+        self.label = ctx.program(vertex_shader=shaders.LABEL_VS, fragment_shader=shaders.LABEL_FS)
         self.fullscreen = {p: ctx.vertex_array(p, []) for p in (self.sky, self.fog)}
-        self._grids: dict[
-            tuple[int, int], tuple
-        ] = {}  # viewport size → (water vao, label vao, cell, buffers)
+        self._grids: dict[tuple[int, int], tuple] = {}  # viewport size → (water vao, label vao, cell, feedback, buffers)
+        self._surface_key = None  # what the displaced grid in the feedback buffer was computed for
         self._geo = self._slope = self._depth = self._periodic = None
-        self._sky = ctx.texture((64, 64), 3, dtype="f4")
+        self._sky = ctx.texture((SKY_TEXELS, SKY_TEXELS), 3, dtype="f4")
         self._sky.repeat_x = self._sky.repeat_y = False
         noise = np.random.default_rng(17).random((64, 64), dtype=np.float32)  # fixed: same bytes every run
         self._noise = ctx.texture((64, 64), 1, noise.tobytes(), dtype="f4")
@@ -60,11 +62,16 @@ class MarinePass:
 
     def _grid(self, width: int, height: int) -> tuple:
         if (width, height) not in self._grids:
+            ctx = self.ctx
             vertices, indices, cell = screen_grid(width, height)
-            vbo, ibo = self.ctx.buffer(vertices.tobytes()), self.ctx.buffer(indices.tobytes())
-            vaos = tuple(self.ctx.vertex_array(p, [(vbo, "2f", "in_ndc")], index_buffer=ibo, index_element_size=4)
-                         for p in (self.water, self.label))  # fmt: skip
-            self._grids[(width, height)] = (*vaos, cell, vbo, ibo)
+            vbo, ibo = ctx.buffer(vertices.tobytes()), ctx.buffer(indices.tobytes())
+            out = ctx.buffer(reserve=len(vertices) * FEEDBACK_BYTES)  # the displaced vertices, once per frame
+            feedback = ctx.vertex_array(self.surface, [(vbo, "2f", "in_ndc")])
+            water = ctx.vertex_array(self.water, [(out, "3f 2f 1f 4f 2f 3f", *(f"in_{v[2:]}" for v in FEEDBACK))],
+                                     index_buffer=ibo, index_element_size=4)  # fmt: skip
+            label = ctx.vertex_array(self.label, [(out, f"3f {FEEDBACK_BYTES - 12}x", "in_world")],
+                                     index_buffer=ibo, index_element_size=4)  # fmt: skip
+            self._grids[(width, height)] = (water, label, cell, feedback, out, vbo, ibo)
         return self._grids[(width, height)]
 
     def upload(self, data: SurfaceData) -> None:
@@ -88,7 +95,8 @@ class MarinePass:
             tex.build_mipmaps()
         self._key, self._data = data.key, data
         surface = (data.height_scale, data.displacement_scale, data.level_m, float(n))
-        for prog in (self.water, self.label):
+        self._surface_key = None
+        for prog in (self.surface, self.water):
             _set(prog, u_tile=tuple(data.tiles_m) + (1.0,) * (4 - len(data.tiles_m)), u_bands=bands,
                  u_surface=surface, u_patch=(*data.patch, 0.0))  # fmt: skip
 
@@ -100,12 +108,13 @@ class MarinePass:
                   "u_ambient": tuple(light.ambient), "u_haze_color": tuple(light.horizon),
                   "u_fog_color": tuple(np.array(look.fog.color) * brightness), "u_level": level_m,
                   "u_fog": (fog_sigma, look.fog.height_falloff_m, 3.912 / look.haze.visibility_m, HAZE_HEIGHT_M)}  # fmt: skip
-        for prog in (self.sky, self.fog, self.water):
+        for prog in (self.sky, self.fog, self.water, self.surface):
             _set(prog, **common)
-        sky_key = (tuple(light.sun_dir), tuple(light.zenith), tuple(light.coeffs.ravel()))
+        sky_key = (tuple(light.sun_dir), tuple(light.zenith), tuple(light.coeffs.ravel()), look.haze.visibility_m)
         if sky_key != self._sky_key:
-            self._sky.write(sky_table(light).tobytes())
+            self._sky.write(hazy_sky_table(light, 3.912 / look.haze.visibility_m * HAZE_HEIGHT_M).tobytes())
             self._sky_key = sky_key
+        self._surface_key = None
         self._look = (look.water.foam, look.water.glint, FOAM_CHOPPINESS)
         self._level_m, self._fog_height_m = level_m, look.fog.height_falloff_m
         _set(self.water, u_water=tuple(look.water.color))
@@ -121,7 +130,7 @@ class MarinePass:
         view_proj, eye, near, far = camera_matrices(camera, rect.width, rect.height)
         viewport = (rect.left, rect.bottom, rect.width, rect.height)
         fbo.viewport = viewport
-        water_vao, label_vao, cell, *_ = self._grid(rect.width, rect.height)
+        water_vao, label_vao, cell, feedback, out, *_ = self._grid(rect.width, rect.height)
         inv = _mat(np.linalg.inv(view_proj))
         cell_tan = cell * 0.5 * (camera.frustum_top - camera.frustum_bottom) / near * rect.width / rect.height
         grid = {
@@ -131,19 +140,24 @@ class MarinePass:
             "u_cell": (cell_tan, FAR_M),
         }
         self.bind_textures()
+        key = (grid["u_inv_view_proj"], grid["u_cell"], self._key, viewport)
+        if key != self._surface_key:  # the label pass of the same view reuses the colour pass's surface
+            at_eye = tuple(np.exp(-(eye[2] - self._level_m) / np.array([self._fog_height_m, HAZE_HEIGHT_M])))
+            for prog in (self.sky, self.fog, self.surface):
+                _set(prog, u_at_eye=at_eye)
+            _set(self.surface, **grid)
+            feedback.transform(out, mode=POINTS)
+            self._surface_key = key
         if labels is not None:
             _set(self.label, u_id_color=labels, **grid)
             self._water(label_vao, stencil=False)
         else:
             self._copy_depth(fbo, viewport)
-            at_eye = tuple(np.exp(-(eye[2] - self._level_m) / np.array([self._fog_height_m, HAZE_HEIGHT_M])))
-            for prog in (self.sky, self.fog, self.water):
-                _set(prog, u_at_eye=at_eye)
             for prog in (self.sky, self.fog):
                 _set(prog, u_cam=tuple(eye), u_inv_view_proj=inv)
             for prog in (self.fog, self.water):
                 _set(prog, u_near_far=(near, far), u_viewport=viewport[:2])
-            _set(self.water, u_look=(*self._look, time_s), u_pixel=cell_tan / CELL_PX, **grid)
+            _set(self.water, u_look=(*self._look, time_s), **grid)
             self._fullscreen(self.fog, "<", blend=True)  # only where a geom was drawn (depth > 0)
             GL.glClear(GL.GL_STENCIL_BUFFER_BIT)
             self._water(water_vao, stencil=True)
@@ -233,9 +247,21 @@ class MarinePass:
             self.fog,
             self.water,
             self.label,
+            self.surface,
         ):
             if obj is not None:
                 obj.release()
+
+
+def hazy_sky_table(light: Daylight, haze_depth: float) -> np.ndarray:
+    """`sky_table` seen through the clear-air haze (optical depth `haze_depth` at the zenith, 1/sin(elevation)
+    toward the horizon): the sky shader and the water's reflections read it without per-pixel exponentials."""
+    table = sky_table(light, SKY_TEXELS)
+    s = (np.arange(SKY_TEXELS) + 0.5) / SKY_TEXELS * 2.0 - 1.0
+    rho2 = s[None, :] ** 2 + s[:, None] ** 2
+    z = np.maximum((1.0 - rho2) / (1.0 + rho2), 1e-3)  # outside the disc: the horizon
+    clear = np.exp(-haze_depth / z)[..., None]
+    return (light.horizon * (1.0 - clear) + table * clear).astype(np.float32)
 
 
 def camera_matrices(camera, width: int, height: int) -> tuple[np.ndarray, np.ndarray, float, float]:

@@ -15,9 +15,8 @@ uniform vec4 u_fog;  // fog extinction at sea level (1/m), fog scale height (m),
 uniform vec2 u_at_eye;  // fog and haze density at the camera's height relative to sea level: exp(-(z - level) / H)
 uniform sampler2D u_noise;  // 64 x 64 random values (fixed seed): foam texture
 
-vec3 sky(vec3 dir) {  // as seen through the clear-air haze (also in reflections, so sea and sky meet at the horizon)
-    vec3 c = texture(u_sky, dir.xy / (1.0 + max(dir.z, 0.0)) * 0.5 + 0.5).rgb;
-    return mix(u_haze_color, c, exp(-u_fog.z * u_fog.w / max(dir.z, 1e-3)));
+vec3 sky(vec3 dir) {  // as seen through the clear-air haze (baked into the table; also in reflections)
+    return texture(u_sky, dir.xy / (1.0 + max(dir.z, 0.0)) * 0.5 + 0.5).rgb;
 }
 
 float layer_depth(vec3 dir, float dist, float sigma, float height) {
@@ -32,9 +31,6 @@ vec3 fogged(vec3 color, vec3 dir, float dist) {
     return mix(u_fog_color, color, fog);
 }
 
-vec3 atmosphere(vec3 color, vec3 dir, float dist) {
-    return fogged(mix(u_haze_color, color, exp(-u_at_eye.y * layer_depth(dir, dist, u_fog.z, u_fog.w))), dir, dist);
-}
 
 vec3 display(vec3 c) { return sqrt(max(c, 0.0)); }  // linear radiance → display (MuJoCo's space), gamma 2
 
@@ -112,19 +108,22 @@ vec2 tile_uv(vec2 label, int b) {  // texel centres on the tile vertices
 }
 """
 
-WATER_VS = (
-    """
-#version 330
-uniform vec3 u_cam;
-uniform mat4 u_view_proj, u_inv_view_proj;
+WATER_VS = (  # run once per frame with transform feedback: the displaced grid, shared by the colour and label passes
+    COMMON
+    + """
+uniform mat4 u_inv_view_proj;
 uniform vec2 u_cell;     // view width of one grid cell at unit distance (m/m), far distance of the grid (m)
+uniform sampler2DArray u_slope;
 """
     + TILES
     + """
 in vec2 in_ndc;          // where the vertex lies in the view (normalized device coordinates)
-out vec2 v_label;
 out vec3 v_world;
+out vec2 v_label;
 out float v_spacing;
+out vec4 v_atm;          // fog and haze along the view ray: colour · v_atm.x + v_atm.yzw (smooth: per vertex)
+out vec2 v_slope;        // ∂h/∂x, ∂h/∂y of the bands (unscaled)
+out vec3 v_jac;          // ∂Dx/∂x, ∂Dy/∂y, ∂Dx/∂y (∂Dx/∂y, small, is left out)
 void main() {
     vec4 p = u_inv_view_proj * vec4(in_ndc, 0.5, 1.0);
     vec3 dir = normalize(p.xyz / p.w - u_cam);
@@ -135,10 +134,16 @@ void main() {
     float along = reach / horiz;  // distance along the ray
     float spacing = along * u_cell.x / max(-dir.z, 0.02);
     vec3 disp = vec3(0.0);
-    for (int b = 0; b < u_bands; b++) {
+    v_slope = vec2(0.0);
+    v_jac = vec3(0.0);
+    for (int b = 0; b < u_bands; b++) {  // sampled per vertex, filtered to the grid's cell (~CELL_PX pixels)
         float lod = log2(max(spacing * u_surface.w / u_tile[b], 1.0));
-        vec4 g = textureLod(u_geo, vec3(tile_uv(label, b), b), lod);
+        vec3 uvw = vec3(tile_uv(label, b), b);
+        vec4 g = textureLod(u_geo, uvw, lod);
+        vec4 s = textureLod(u_slope, uvw, lod);
         disp += vec3(g.y, g.z, g.x);
+        v_slope += s.xy;
+        v_jac += vec3(s.zw, 0.0);
     }
     if (u_patch.z > 0.0) {
         vec2 r = abs(label - u_patch.xy) / u_patch.z;
@@ -147,37 +152,69 @@ void main() {
     v_world = vec3(label - u_surface.y * disp.xy, u_surface.z + u_surface.x * disp.z);
     v_label = label;
     v_spacing = spacing;
-    gl_Position = u_view_proj * vec4(v_world, 1.0);
+    vec3 to_eye = u_cam - v_world;
+    float dist = length(to_eye);
+    vec3 view = -to_eye / max(dist, 1e-6);
+    float haze = exp(-u_at_eye.y * layer_depth(view, dist, u_fog.z, u_fog.w));
+    float fog = u_fog.x > 0.0 ? exp(-u_at_eye.x * layer_depth(view, dist, u_fog.x, u_fog.y)) : 1.0;
+    v_atm = vec4(haze * fog, u_haze_color * (1.0 - haze) * fog + u_fog_color * (1.0 - fog));
 }
 """
 )
 
+WATER_DRAW_VS = """
+#version 330
+uniform mat4 u_view_proj;
+in vec3 in_world;
+in vec2 in_label;
+in float in_spacing;
+in vec4 in_atm;
+in vec2 in_slope;
+in vec3 in_jac;
+out vec2 v_label;
+out vec3 v_world;
+out float v_spacing;
+out vec4 v_atm;
+out vec2 v_slope;
+out vec3 v_jac;
+void main() {
+    v_slope = in_slope;
+    v_jac = in_jac;
+    v_world = in_world;
+    v_label = in_label;
+    v_spacing = in_spacing;
+    v_atm = in_atm;
+    gl_Position = u_view_proj * vec4(in_world, 1.0);
+}
+"""
+
+LABEL_VS = """
+#version 330
+uniform mat4 u_view_proj;
+in vec3 in_world;
+void main() { gl_Position = u_view_proj * vec4(in_world, 1.0); }
+"""
+
 WATER_FS = (
     COMMON
-    + TILES
     + """
-uniform sampler2DArray u_slope;
 uniform sampler2D u_depth;
 uniform vec3 u_water;
 uniform vec4 u_look;     // foam, glint, render choppiness for whitecaps, time (s)
+uniform vec4 u_surface;  // height scale s, displacement scale k, still-water level, texel count N
 uniform vec2 u_near_far;
 uniform vec2 u_viewport;
-uniform float u_pixel;   // view width of one pixel at unit distance
 in vec2 v_label;
 in vec3 v_world;
 in float v_spacing;
+in vec4 v_atm;
+in vec2 v_slope;
+in vec3 v_jac;
 out vec4 f_color;
 
 void main() {
-    vec2 zs = vec2(0.0);
-    vec3 jac = vec3(0.0), jac_foam = vec3(0.0);  // d(Dx)/dx, d(Dy)/dy, d(Dx)/dy
-    float footprint = length(u_cam - v_world) * u_pixel;  // across the ray: sharper than isotropic filtering
-    for (int b = 0; b < u_bands; b++) {
-        float lod = log2(max(footprint * u_surface.w / u_tile[b], 1.0));
-        vec4 s = textureLod(u_slope, vec3(tile_uv(v_label, b), b), lod);  // ∂Dx/∂y (small) is left out here
-        zs += s.xy;
-        jac += vec3(s.zw, 0.0);
-    }
+    vec2 zs = v_slope;
+    vec3 jac = v_jac;
     float k = u_surface.y, kf = max(u_look.z, k);
     vec3 tx = vec3(1.0 - k * jac.x, -k * jac.z, u_surface.x * zs.x);
     vec3 ty = vec3(-k * jac.z, 1.0 - k * jac.y, u_surface.x * zs.y);
@@ -197,8 +234,9 @@ void main() {
     float rough = 0.015 + 0.06 * clamp(v_spacing / 4.0, 0.0, 1.0);
     vec3 h = normalize(v + u_sun_dir);
     float nh = max(dot(n, h), 0.0);
-    float t2 = (1.0 - nh * nh) / max(nh * nh, 1e-4);
-    float lobe = exp(-t2 / (rough * rough)) / (3.1416 * rough * rough * pow(max(nh, 1e-2), 4.0));
+    float nh2 = max(nh * nh, 1e-4), nh4 = max(nh2 * nh2, 1e-8);
+    float t2 = (1.0 - nh2) / nh2;
+    float lobe = exp(-t2 / (rough * rough)) / (3.1416 * rough * rough * nh4);
     vec3 glint = u_sun_color * u_look.y * fresnel * lobe * 0.25 * step(0.0, u_sun_dir.z);
     // body colour: sky and sun light scattered back from inside, brighter through thin crests toward the sun
     float scatter = 0.5 + 0.5 * max(dot(-v.xy, u_sun_dir.xy), 0.0) * clamp(1.0 - cos_v, 0.0, 1.0);
@@ -215,7 +253,7 @@ void main() {
     float foam = clamp(u_look.x * max(whitecap, contact), 0.0, 1.0);
     vec3 foam_light = vec3(0.85) * (u_ambient * 2.5 + u_sun_color * max(u_sun_dir.z, 0.0));
     c = mix(c, foam_light, foam * (1.0 - smoothstep(200.0, 2000.0, dist)));
-    f_color = vec4(display(atmosphere(c, -v, dist)), 1.0);
+    f_color = vec4(display(c * v_atm.x + v_atm.yzw), 1.0);
 }
 """
 )
