@@ -3,9 +3,10 @@
 MuJoCo draws the geoms with reversed Z (clip depth 0..1, depth 1 at the near plane, cleared to 0,
 GL_GEQUAL). The water uses the same projection, so depth testing against the geoms is exact and the depth
 image that MuJoCo reads back holds the water too. Water beyond the far plane is depth-clamped onto it
-(drawn far to near) and reads back as "nothing within range". Order per frame: copy the geoms' depth →
-fog over geoms → sky where nothing was drawn → water (foam where a hull lies just behind the surface).
-The label pass draws the same water grid in one flat id colour.
+(drawn far to near) and reads back as "nothing within range". Order per frame: displace the grid once
+(transform feedback; the label pass reuses it) → copy the geoms' depth → fog over geoms → water (foam where a
+hull lies just behind the surface; it marks the stencil) → sky where neither was drawn. The label pass draws
+the same displaced grid in one flat id colour.
 """
 
 from __future__ import annotations
@@ -15,7 +16,7 @@ import numpy as np
 from usvsim.rendering import shaders
 from usvsim.rendering.gl import attach_current
 from usvsim.rendering.grid import FAR_M, screen_grid
-from usvsim.rendering.sky import Daylight, sky_table
+from usvsim.rendering.sky import Daylight, hazy_sky_table
 from usvsim.rendering.surface import SurfaceData
 
 GL_DEPTH_CLAMP, GL_GEQUAL = 0x864F, 0x0206
@@ -112,7 +113,7 @@ class MarinePass:
             _set(prog, **common)
         sky_key = (tuple(light.sun_dir), tuple(light.zenith), tuple(light.coeffs.ravel()), look.haze.visibility_m)
         if sky_key != self._sky_key:
-            self._sky.write(hazy_sky_table(light, 3.912 / look.haze.visibility_m * HAZE_HEIGHT_M).tobytes())
+            self._sky.write(hazy_sky_table(light, 3.912 / look.haze.visibility_m * HAZE_HEIGHT_M, SKY_TEXELS).tobytes())
             self._sky_key = sky_key
         self._surface_key = None
         self._look = (look.water.foam, look.water.glint, FOAM_CHOPPINESS)
@@ -251,17 +252,6 @@ class MarinePass:
         ):
             if obj is not None:
                 obj.release()
-
-
-def hazy_sky_table(light: Daylight, haze_depth: float) -> np.ndarray:
-    """`sky_table` seen through the clear-air haze (optical depth `haze_depth` at the zenith, 1/sin(elevation)
-    toward the horizon): the sky shader and the water's reflections read it without per-pixel exponentials."""
-    table = sky_table(light, SKY_TEXELS)
-    s = (np.arange(SKY_TEXELS) + 0.5) / SKY_TEXELS * 2.0 - 1.0
-    rho2 = s[None, :] ** 2 + s[:, None] ** 2
-    z = np.maximum((1.0 - rho2) / (1.0 + rho2), 1e-3)  # outside the disc: the horizon
-    clear = np.exp(-haze_depth / z)[..., None]
-    return (light.horizon * (1.0 - clear) + table * clear).astype(np.float32)
 
 
 def camera_matrices(camera, width: int, height: int) -> tuple[np.ndarray, np.ndarray, float, float]:

@@ -15,7 +15,7 @@ uniform vec4 u_fog;  // fog extinction at sea level (1/m), fog scale height (m),
 uniform vec2 u_at_eye;  // fog and haze density at the camera's height relative to sea level: exp(-(z - level) / H)
 uniform sampler2D u_noise;  // 64 x 64 random values (fixed seed): foam texture
 
-vec3 sky(vec3 dir) {  // as seen through the clear-air haze (baked into the table; also in reflections)
+vec3 sky(vec3 dir) {  // through the clear-air haze, with the aureole (both in the table; also in reflections)
     return texture(u_sky, dir.xy / (1.0 + max(dir.z, 0.0)) * 0.5 + 0.5).rgb;
 }
 
@@ -64,9 +64,8 @@ out vec4 f_color;
 void main() {
     vec3 dir = ray_dir(v_ndc);
     vec3 c = sky(dir);
-    float cs = dot(dir, u_sun_dir);
+    float cs = dot(dir, u_sun_dir);  // the aureole is in the table
     c += u_sun_color * 40.0 * smoothstep(0.99998, 0.999992, cs) * step(0.0, dir.z);  // the disc (0.27°)
-    c += u_sun_color * 0.12 * pow(max(cs, 0.0), 200.0);  // aureole
     f_color = vec4(display(fogged(c, dir, 1e6)), 1.0);
 }
 """

@@ -116,6 +116,20 @@ def sky_table(light: Daylight, size: int = 64) -> np.ndarray:
     return (rgb + 0.6 * low * (grey - rgb) + NIGHT_SKY).astype(np.float32)
 
 
+def hazy_sky_table(light: Daylight, haze_depth: float, size: int = 256) -> np.ndarray:
+    """`sky_table` with the sun's aureole, seen through the clear-air haze (optical depth `haze_depth` toward the
+    zenith, / sin(elevation) toward the horizon), for the sky shader and the water's reflections alike."""
+    s = (np.arange(size) + 0.5) / size * 2.0 - 1.0
+    px, py = np.meshgrid(s, s)
+    rho2 = px**2 + py**2
+    z = (1.0 - rho2) / (1.0 + rho2)  # outside the disc (below the horizon): the horizon's haze
+    dirs = np.stack([px * (1.0 + z), py * (1.0 + z), z], axis=-1)
+    cos_sun = dirs @ light.sun_dir / np.linalg.norm(dirs, axis=-1)
+    sky = sky_table(light, size) + 0.12 * np.maximum(cos_sun, 0.0)[..., None] ** 200 * light.sun_color
+    clear = np.exp(-haze_depth / np.maximum(z, 1e-3))[..., None]
+    return (light.horizon * (1.0 - clear) + sky * clear).astype(np.float32)
+
+
 def _smoothstep(lo: float, hi: float, v: float) -> float:
     t = min(max((v - lo) / (hi - lo), 0.0), 1.0)
     return t * t * (3 - 2 * t)
