@@ -80,13 +80,20 @@ def compare(cases: dict, steps: int, repeats: int) -> dict:
     out = {}
     for name in cases:
         wall, cpu = np.median(np.array(times[name]), axis=0)
-        out[name] = {"us": round(float(wall), 1), "cpu_us": round(float(cpu), 1), "load": round(float(np.median(loads[name])), 2)}
+        out[name] = {
+            "us": round(float(wall), 1),
+            "cpu_us": round(float(cpu), 1),
+            "load": round(float(np.median(loads[name])), 2),
+        }
     return out
 
 
 def ratio(figures: dict, a: str, b: str) -> dict:
     """a / b of wall and of CPU time."""
-    return {"wall": round(figures[a]["us"] / figures[b]["us"], 3), "cpu": round(figures[a]["cpu_us"] / figures[b]["cpu_us"], 3)}
+    return {
+        "wall": round(figures[a]["us"] / figures[b]["us"], 3),
+        "cpu": round(figures[a]["cpu_us"] / figures[b]["cpu_us"], 3),
+    }
 
 
 def crossover(points=(1_000, 4_000, 16_000, 64_000, 256_000)) -> dict:
@@ -112,7 +119,9 @@ def crossover(points=(1_000, 4_000, 16_000, 64_000, 256_000)) -> dict:
                 continue
             for name, kernel in zip(("serial", "parallel"), kernels):
                 kernel(*args)
-                row[f"{kind}_{name}"] = round(float(np.median([_time(lambda k=kernel, a=args: k(*a)) for _ in range(9)]) * 1e6), 1)
+                row[f"{kind}_{name}"] = round(
+                    float(np.median([_time(lambda k=kernel, a=args: k(*a)) for _ in range(9)]) * 1e6), 1
+                )
             row[f"{kind}_parallel_over_serial"] = round(row[f"{kind}_parallel"] / row[f"{kind}_serial"], 2)
         out[n] = row | {"load": load()}
     return out
@@ -132,7 +141,9 @@ def main() -> None:
     calm, wavy = harbor(0), harbor(4)
     for sim in (calm, wavy):
         sim.run(0.5)  # JIT and caches
-    h = compare({"calm": (calm, False), "sea_state_4": (wavy, False), "bare_mujoco": (calm, True)}, steps, repeats)
+    h = compare(
+        {"calm": (calm, False), "sea_state_4": (wavy, False), "bare_mujoco": (calm, True)}, steps, repeats
+    )
     h["sea_state_4_over_calm"] = ratio(h, "sea_state_4", "calm")
     h["calm_speed_over_bare_mujoco"] = ratio(h, "bare_mujoco", "calm")
     print("harbor", h, flush=True)
@@ -141,7 +152,10 @@ def main() -> None:
         sim.run(0.05)
     cases = {k: (sim, False) for k, sim in fleets.items()} | {"bare_mujoco_100": (fleets["calm_100"], True)}
     f = compare(cases, max(steps // 10, 5), repeats)
-    f["calm_100_real_time_factor"] = {"wall": round(1e4 / f["calm_100"]["us"], 2), "cpu": round(1e4 / f["calm_100"]["cpu_us"], 2)}
+    f["calm_100_real_time_factor"] = {
+        "wall": round(1e4 / f["calm_100"]["us"], 2),
+        "cpu": round(1e4 / f["calm_100"]["cpu_us"], 2),
+    }
     f["calm_100_speed_over_bare_mujoco"] = ratio(f, "bare_mujoco_100", "calm_100")
     f["sea_state_4_200_over_100"] = ratio(f, "sea_state_4_200", "sea_state_4_100")
     print("fleets", f, flush=True)

@@ -68,7 +68,9 @@ def test_fused_froude_krylov_heads_equal_the_two_pass_sums_bit_for_bit():
     ref = np.empty(len(PX))
     pressure.FFT_HEAD[0](ref_x0, ref_y0, pz, ref_eta, field.geometry.tiles, field.update(2.2), field.inv_cells,
                          pressure.height_decay_wavenumbers(field), ref)  # fmt: skip
-    assert np.array_equal(eta, ref_eta) and np.array_equal(zeta, ref) and (pz < eta).any() and (pz > eta).any()
+    assert (
+        np.array_equal(eta, ref_eta) and np.array_equal(zeta, ref) and (pz < eta).any() and (pz > eta).any()
+    )
 
 
 def test_velocity_spectra_made_beside_the_geometry_equal_their_own_transforms():

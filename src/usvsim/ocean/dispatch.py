@@ -25,7 +25,9 @@ PARALLEL_MIN_POINTS: int | None = None  # no batch size is reliably faster with 
 
 def _renamed(fn, suffix: str):
     """A copy of function `fn` whose (qualified) name ends with `suffix`: its own numba cache entry."""
-    copy = types.FunctionType(fn.__code__, fn.__globals__, fn.__name__ + suffix, fn.__defaults__, fn.__closure__)
+    copy = types.FunctionType(
+        fn.__code__, fn.__globals__, fn.__name__ + suffix, fn.__defaults__, fn.__closure__
+    )
     copy.__qualname__ = fn.__qualname__ + suffix
     copy.__doc__, copy.__module__ = fn.__doc__, fn.__module__
     return copy
