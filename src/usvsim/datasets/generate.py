@@ -5,14 +5,15 @@ without its sensors (only the dataset's cameras render, and only the frames writ
 simulation is reset, the scene and look values are drawn, buoys and the camera's vessel are moved by the drawn
 offsets, and physics runs `settle_s`; later frames of the episode follow `frame_interval_s` apart. Frame:
 each camera renders RGB, depth and segmentation from its (jittered) pose under the drawn look; masks and
-labels come from the segmentation (datasets/labels.py) and are written (datasets/writers.py) by worker
-threads. One generator seeded with `seed` draws every value in a fixed order: the same seed gives the same
-bytes.
+labels come from the segmentation (datasets/labels.py); the look's image effects, masks and files
+(datasets/writers.py) are done by worker threads. One generator seeded with `seed` draws every value in a
+fixed order: the same seed gives the same bytes.
 """
 
 from __future__ import annotations
 
 import math
+from collections import deque
 from collections.abc import Callable
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import asdict, dataclass
@@ -156,8 +157,9 @@ class DatasetGenerator:
 
     def run(self, progress: Callable[[int], None] | None = None) -> Path:
         spec, per_episode = self.spec, (1 if self.rnd.per == "frame" else self.rnd.frames_per_episode)
-        with ThreadPoolExecutor(max(1, spec.workers)) as pool:
-            jobs = []
+        workers = max(1, spec.workers)
+        with ThreadPoolExecutor(workers) as pool:
+            pending: deque = deque()
             for i in range(spec.frames):
                 if i % per_episode == 0:
                     look, scene = self._episode()
@@ -166,11 +168,13 @@ class DatasetGenerator:
                 split = SPLITS[
                     int(np.searchsorted(np.cumsum(spec.splits), self.rng.random(), side="right").clip(0, 2))
                 ]
-                jobs += self._frame(i, split, look, scene, pool)
+                pending += self._frame(i, split, look, scene, pool)
+                while len(pending) > 2 * workers:  # bounded: each frame in flight holds ~3.5 MB of images
+                    self.writer.add_coco(pending.popleft().result())
                 if progress:
                     progress(i + 1)
-            for job in jobs:
-                job.result()
+            while pending:
+                self.writer.add_coco(pending.popleft().result())
         self.writer.finish({**asdict(spec), "out": str(spec.out), "environment": self.environment,
                             "randomization": self.rnd.model_dump(mode="json")})  # fmt: skip
         return spec.out
@@ -193,27 +197,34 @@ class DatasetGenerator:
         return look, scene
 
     def _frame(self, i: int, split: str, look, scene: dict, pool) -> list:
+        """Renders and labels frame i on this thread (the GL context and the simulation state live here);
+        the look's image effects, masks, COCO RLE and file writing run on the pool (numba, OpenCV and zlib
+        release the GIL). Returns the jobs' futures (each gives the frame's COCO records)."""
         jobs, sim = [], self.sim
         for k, ((vessel, cam), lab, adapter) in enumerate(zip(self.cameras, self.labellers, self.looks)):
             stem = f"{i:06d}_{cam.cfg.name}" if len(self.cameras) > 1 or k else f"{i:06d}"
             pos, rot = jittered_pose(cam, sim, scene)
             adapter.before(look)
             images = cam.render(sim, pose=(pos, rot), streams=("rgb", "depth", "segmentation"))
-            frame_rng = np.random.default_rng([self.spec.seed, i, k])
-            rgb = adapter.after(look, images["rgb"], images["depth"], frame_rng)
-            instance, semantic = lab.masks(images["segmentation"])
             labels = lab.objects_in(sim, images["segmentation"], pos, rot @ OPTICAL_ROT,
                                     self.spec.min_visible_pixels, self.spec.min_visible_fraction)  # fmt: skip
-            image_id = i * len(self.cameras) + k + 1
-            self.writer.add_coco(split, stem, image_id, rgb.shape, instance, labels)
             meta = frame_metadata(
                 sim, i, f"{vessel}/{cam.cfg.name}", split, look, scene, self.environment, pos, rot
             )
             meta["objects"] = [asdict(x) for x in labels]
-            jobs.append(
-                pool.submit(self.writer.frame, split, stem, image_id, rgb, instance, semantic, labels, meta)
-            )
+            image_id = i * len(self.cameras) + k + 1
+            jobs.append(pool.submit(self._finish, adapter, lab, look, images, labels, (split, stem, image_id),
+                                    meta, [self.spec.seed, i, k]))  # fmt: skip
         return jobs
+
+    def _finish(self, adapter, lab, look, images, labels, where, meta, rng_key):
+        """Worker thread: look on the image, masks, COCO records, files."""
+        split, stem, image_id = where
+        rgb = adapter.after(look, images["rgb"], images["depth"], np.random.default_rng(rng_key))
+        instance, semantic = lab.masks(images["segmentation"])
+        records = self.writer.coco_records(split, stem, image_id, rgb.shape, instance, labels)
+        self.writer.frame(split, stem, image_id, rgb, instance, semantic, labels, meta)
+        return records
 
 
 def _camera_config(cfg: dict):

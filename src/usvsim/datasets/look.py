@@ -19,10 +19,27 @@ import mujoco
 import numpy as np
 
 from usvsim.config.rendering import Rendering, sun_angles_deg, sun_direction_enu
-from usvsim.datasets.look_kernels import finish_look, gaussian_blur, to_uint8_noisy
+from usvsim.datasets.look_kernels import finish_look, to_uint8_noisy
 
 KOSCHMIEDER = 3.912  # extinction coefficient x visibility at 2 % contrast
 SKY_FOG_M = 1000.0  # the sky counts as this far away in fog
+NOISE_BANK_FRAMES = 4  # image noise: a window of a fixed bank of normals, 4 frames long, at a drawn offset
+
+
+def gaussian_blur(img: np.ndarray, sigma_px: float) -> np.ndarray:
+    """Separable Gaussian blur of an (H, W, 3) float32 image (radius 3σ, edges repeated; OpenCV)."""
+    import cv2
+
+    r = max(1, int(math.ceil(3.0 * sigma_px)))
+    return cv2.GaussianBlur(img, (2 * r + 1, 2 * r + 1), sigma_px, borderType=cv2.BORDER_REPLICATE)
+
+
+def noise_window(bank: np.ndarray, shape, rng: np.random.Generator) -> np.ndarray:
+    """Standard-normal noise of `shape` (float32): a contiguous window of `bank` at an offset drawn from
+    `rng` (a draw of 900 k fresh normals per frame cost more than the rest of the look)."""
+    n = int(np.prod(shape))
+    start = int(rng.integers(0, bank.size - n + 1))
+    return bank[start : start + n].reshape(shape)
 
 
 def sun_color(elevation_deg: float) -> np.ndarray:
@@ -41,8 +58,14 @@ class LookAdapter:
         m = sim.model
         self.sun = mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_LIGHT, "sun")
         self.base_diffuse = m.light_diffuse[self.sun].copy()
-        self.ray_scale: np.ndarray | None = None
-        self.radius2: np.ndarray | None = None
+        self.bank = np.random.default_rng(0x5EED).standard_normal(
+            NOISE_BANK_FRAMES * cam.height * cam.width * 3, dtype=np.float32
+        )
+        h, w = cam.height, cam.width  # per-pixel ray length scale and vignetting radius
+        xy = cam.rays()  # the published (distorted) pixels' rays: distance = depth · ray_scale
+        self.ray_scale = np.sqrt(1.0 + (xy**2).sum(axis=2)).astype(np.float32)
+        v, u = np.mgrid[0:h, 0:w].astype(np.float32)
+        self.radius2 = ((u - (w - 1) / 2) ** 2 + (v - (h - 1) / 2) ** 2) / ((w / 2) ** 2 + (h / 2) ** 2)
 
     def before(self, look: Rendering) -> None:
         self.sim.look = look
@@ -60,30 +83,22 @@ class LookAdapter:
         self, look: Rendering, rgb: np.ndarray, depth: np.ndarray, rng: np.random.Generator
     ) -> np.ndarray:
         """Fog, exposure, vignetting, blur and noise on an (H, W, 3) uint8 image; returns a new image. Under the
-        shader look the camera drew all but the noise."""
+        shader look the camera drew all but the noise. Thread-safe (worker threads call it)."""
         h, w = depth.shape
         cam = look.camera
+        noise = (
+            noise_window(self.bank, (h, w, 3), rng) if cam.noise_stddev > 0 else np.empty((0, 0, 3), np.float32)
+        )
         if look.renderer == "shader":
-            noise = rng.standard_normal((h, w, 3), dtype=np.float32) if cam.noise_stddev > 0 else np.empty((0, 0, 3), np.float32)
             out = np.empty((h, w, 3), np.uint8)
             to_uint8_noisy(rgb.astype(np.float32) / np.float32(255.0), noise, np.float32(cam.noise_stddev), out)
             return out
-        if self.ray_scale is None or self.ray_scale.shape != depth.shape:
-            xy = self.cam.rays()  # the published (distorted) pixels' rays: distance = depth · ray_scale
-            self.ray_scale = np.sqrt(1.0 + (xy**2).sum(axis=2)).astype(np.float32)
-            v, u = np.mgrid[0:h, 0:w].astype(np.float32)
-            self.radius2 = ((u - (w - 1) / 2) ** 2 + (v - (h - 1) / 2) ** 2) / ((w / 2) ** 2 + (h / 2) ** 2)
-        cam, fog = look.camera, look.fog.visibility_m
+        fog = look.fog.visibility_m
         img = np.empty((h, w, 3), np.float32)  # exposure on gamma-encoded values: 2^ev in linear light
         finish_look(rgb, depth, self.ray_scale, KOSCHMIEDER / fog if fog else 0.0, np.asarray(look.fog.color, np.float32),
                     SKY_FOG_M, 2.0 ** (cam.exposure_ev / 2.2), (cam.vignetting * self.radius2).astype(np.float32), img)  # fmt: skip
         if cam.blur_sigma_px > 0:
             img = gaussian_blur(img, cam.blur_sigma_px)
-        noise = (
-            rng.standard_normal((h, w, 3), dtype=np.float32)
-            if cam.noise_stddev > 0
-            else np.empty((0, 0, 3), np.float32)
-        )
         out = np.empty((h, w, 3), np.uint8)
         to_uint8_noisy(img, noise, np.float32(cam.noise_stddev), out)
         return out

@@ -27,41 +27,6 @@ def finish_look(rgb, depth, ray_scale, fog_per_m, fog_rgb, sky_m, gain, vignette
 
 
 @njit(cache=True, nogil=True)
-def blur_axis(src, taps, axis, out):
-    """Convolve an (H, W, C) image along `axis` (0: columns, 1: rows) with a symmetric kernel `taps` (centre
-    first), edges repeated; the innermost loops run over contiguous memory."""
-    h, w, ch = src.shape
-    r = len(taps) - 1
-    for v in range(h):
-        for u in range(w):
-            for c in range(ch):
-                out[v, u, c] = taps[0] * src[v, u, c]
-        for k in range(1, r + 1):
-            t = taps[k]
-            if axis == 0:
-                lo, hi = max(v - k, 0), min(v + k, h - 1)
-                for u in range(w):
-                    for c in range(ch):
-                        out[v, u, c] += t * (src[lo, u, c] + src[hi, u, c])
-            else:
-                for u in range(w):
-                    lo, hi = max(u - k, 0), min(u + k, w - 1)
-                    for c in range(ch):
-                        out[v, u, c] += t * (src[v, lo, c] + src[v, hi, c])
-
-
-def gaussian_blur(img: np.ndarray, sigma_px: float) -> np.ndarray:
-    """Separable Gaussian blur of an (H, W, 3) float32 image (radius 3σ, edges repeated)."""
-    r = max(1, int(math.ceil(3.0 * sigma_px)))
-    taps = np.exp(-0.5 * (np.arange(r + 1) / sigma_px) ** 2)
-    taps = (taps / (taps[0] + 2.0 * taps[1:].sum())).astype(np.float32)
-    tmp, out = np.empty_like(img), np.empty_like(img)
-    blur_axis(img, taps, 1, tmp)
-    blur_axis(tmp, taps, 0, out)
-    return out
-
-
-@njit(cache=True, nogil=True)
 def to_uint8_noisy(img, normal, stddev, out):
     """out = clip(img · (1 + stddev · n)) as 8-bit; `normal` may be empty (no noise)."""
     h, w, ch = img.shape

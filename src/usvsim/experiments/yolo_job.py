@@ -3,7 +3,8 @@ has `ultralytics` (AGPL: a test-only extra, kept in its own process). Imports no
 
     python yolo_job.py JOB.json   # {"train": data.yaml, "evals": {name: data.yaml}, "epochs", "imgsz", "out"}
 Writes <out>/yolo_result.json: per evaluation set mAP50 (all classes and per class) and predictions per
-validation image (class, confidence, box x0 y0 x1 y1 in pixels) for the caller's own confusion matrix.
+validation image (class, confidence, box x0 y0 x1 y1 in pixels; confidence >= job["conf"]) for the caller's own
+confusion matrix and COCO evaluation. job["train_args"]: further Ultralytics training arguments.
 """
 
 import json
@@ -19,7 +20,8 @@ def main(job_path: str) -> None:
     model = YOLO(job.get("model", "yolov8n.yaml"))  # architecture only: random weights, nothing downloaded
     model.train(data=job["train"], epochs=job["epochs"], imgsz=job["imgsz"], device="cpu", workers=0,
                 pretrained=False, amp=False, plots=False, project=str(out), name="train", exist_ok=True,
-                seed=job.get("seed", 0), deterministic=True, verbose=False, batch=job.get("batch", 8))  # fmt: skip
+                seed=job.get("seed", 0), deterministic=True, verbose=False, batch=job.get("batch", 8),
+                **job.get("train_args", {}))  # fmt: skip
     result = {"epochs": job["epochs"], "imgsz": job["imgsz"], "evals": {}}
     for name, data in job.get("evals", {}).items():
         metrics = model.val(data=data, split="val", imgsz=job["imgsz"], device="cpu", plots=False,
@@ -30,7 +32,8 @@ def main(job_path: str) -> None:
         images = sorted((Path(data).parent / "images" / "val").glob("*.png"))
         preds = {}
         for r in model.predict(
-            [str(p) for p in images], imgsz=job["imgsz"], device="cpu", conf=0.25, verbose=False, stream=True
+            [str(p) for p in images], imgsz=job["imgsz"], device="cpu", conf=job.get("conf", 0.25), verbose=False,
+            stream=True
         ):
             boxes = r.boxes
             preds[Path(r.path).name] = [[int(c), float(s), *map(float, b)]
