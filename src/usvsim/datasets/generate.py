@@ -17,6 +17,7 @@ from collections import deque
 from collections.abc import Callable
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import asdict, dataclass
+from functools import partial
 from pathlib import Path
 
 import mujoco
@@ -27,6 +28,7 @@ from pydantic import ValidationError
 from usvsim.config.loader import parse_scenario, resolve
 from usvsim.core.errors import UsvsimError
 from usvsim.core.transforms import quat_from_rpy, quat_multiply
+from usvsim.datasets.amodal import AmodalCounter
 from usvsim.datasets.labels import Labeller
 from usvsim.datasets.look import LookAdapter
 from usvsim.datasets.randomization import draw, draw_all, load_randomization, nested
@@ -53,6 +55,7 @@ class DatasetSpec:
     settle_s: float = 0.5
     frame_interval_s: float = 0.2
     workers: int = 2
+    horizontal_fov_deg: float | None = None  # for every camera; None: the scenario's
 
     def __post_init__(self):
         bad = set(self.formats) - set(FORMATS)
@@ -78,6 +81,8 @@ def _scenario(spec: DatasetSpec, environment: dict):
                 s = {**s, "streams": ["rgb", "depth", "segmentation"], "detections": None, "rate_hz": 10}
                 if spec.resolution:
                     s["width"], s["height"] = spec.resolution
+                if spec.horizontal_fov_deg:
+                    s["horizontal_fov_deg"] = spec.horizontal_fov_deg
                 cameras.append((v["name"], s))
     if not cameras:
         raise UsvsimError(f"scenario {spec.scenario}: no camera sensor to render a data set from")
@@ -128,11 +133,12 @@ def jittered_pose(cam: Camera, sim: Simulation, values: dict):
 class DatasetGenerator:
     """Renders and writes the frames of a `DatasetSpec`; `run(progress)` calls progress(frames_done)."""
 
-    def __init__(self, spec: DatasetSpec):
+    def __init__(self, spec: DatasetSpec, environment: dict | None = None):
+        """`environment`: drawn environment values to use instead of drawing them (re-rendering a frame)."""
         self.spec = spec
         self.rnd = load_randomization(spec.randomize)
         self.rng = np.random.default_rng(spec.seed)
-        self.environment = draw_all(self.rnd.environment, self.rng)
+        self.environment = draw_all(self.rnd.environment, self.rng) if environment is None else environment
         scenario, camera_cfgs = _scenario(spec, self.environment)
         try:  # a wrong key path in `look` fails here, before any frame
             scenario.rendering.updated(nested(draw_all(self.rnd.look, np.random.default_rng(0))))
@@ -147,12 +153,13 @@ class DatasetGenerator:
         ]
         objects = catalogue(self.sim.world)
         self.buoys = [o.name for o in objects if o.category == "buoy"]
-        self.labellers, self.looks = [], []
+        self.labellers, self.looks, self.amodals = [], [], []
         for vessel, cam in self.cameras:
             mine = [o for o in objects if o.name != vessel]
             self.labellers.append(Labeller(self.sim.model, mine, cam.intrinsics, cam.cfg.near_m,
                                            camera_planes(cam.intrinsics, cam.cfg.near_m)))  # fmt: skip
             self.looks.append(LookAdapter(self.sim.world, cam.renderer, cam.intrinsics))
+            self.amodals.append(AmodalCounter(self.sim.model, mine, self.labellers[-1].owner))
         self.writer = DatasetWriter(spec.out, spec.formats)
 
     def run(self, progress: Callable[[int], None] | None = None) -> Path:
@@ -189,7 +196,7 @@ class DatasetGenerator:
 
     def _episode(self):
         sim = self.sim
-        sim.reset()
+        sim.reset(seed=int(self.rng.integers(2**31)))  # a new ocean (wave phases) every episode
         look = sim.scenario.rendering.updated(nested(draw_all(self.rnd.look, self.rng)))
         scene = draw_scene(self.rnd.scene, self.buoys, self.rng)
         apply_scene(sim, scene, self.cameras[0][0])
@@ -201,21 +208,28 @@ class DatasetGenerator:
         the look's image effects, masks, COCO RLE and file writing run on the pool (numba, OpenCV and zlib
         release the GIL). Returns the jobs' futures (each gives the frame's COCO records)."""
         jobs, sim = [], self.sim
-        for k, ((vessel, cam), lab, adapter) in enumerate(zip(self.cameras, self.labellers, self.looks)):
+        for k, (vessel, cam) in enumerate(self.cameras):
             stem = f"{i:06d}_{cam.cfg.name}" if len(self.cameras) > 1 or k else f"{i:06d}"
             pos, rot = jittered_pose(cam, sim, scene)
-            adapter.before(look)
-            images = cam.render(sim, pose=(pos, rot), streams=("rgb", "depth", "segmentation"))
-            labels = lab.objects_in(sim, images["segmentation"], pos, rot @ OPTICAL_ROT,
-                                    self.spec.min_visible_pixels, self.spec.min_visible_fraction)  # fmt: skip
+            images, labels = self.render(k, pos, rot, look)
             meta = frame_metadata(
                 sim, i, f"{vessel}/{cam.cfg.name}", split, look, scene, self.environment, pos, rot
             )
             meta["objects"] = [asdict(x) for x in labels]
             image_id = i * len(self.cameras) + k + 1
-            jobs.append(pool.submit(self._finish, adapter, lab, look, images, labels, (split, stem, image_id),
-                                    meta, [self.spec.seed, i, k]))  # fmt: skip
+            jobs.append(pool.submit(self._finish, self.looks[k], self.labellers[k], look, images, labels,
+                                    (split, stem, image_id), meta, [self.spec.seed, i, k]))  # fmt: skip
         return jobs
+
+    def render(self, k: int, pos, rot, look):
+        """Camera k's images (rgb, depth, segmentation) from pose (pos ENU m, FLU → world rotation) under
+        `look`, and its object labels (amodal masks rendered for the visible fractions)."""
+        (_, cam), lab, sim = self.cameras[k], self.labellers[k], self.sim
+        self.looks[k].before(look)
+        images = cam.render(sim, pose=(pos, rot), streams=("rgb", "depth", "segmentation"))
+        labels = lab.objects_in(sim, images["segmentation"], pos, rot @ OPTICAL_ROT, self.spec.min_visible_pixels,
+                                self.spec.min_visible_fraction, partial(self.amodals[k].counts, cam, sim, (pos, rot)))  # fmt: skip
+        return images, labels
 
     def _finish(self, adapter, lab, look, images, labels, where, meta, rng_key):
         """Worker thread: look on the image, masks, COCO records, files."""
@@ -236,13 +250,14 @@ def _camera_config(cfg: dict):
 
 
 def frame_metadata(sim, i, camera, split, look, scene, environment, pos, rot) -> dict:
-    """Everything that made the frame: look, drawn values, poses, full qpos and time (to re-render it)."""
-    bodies = {name: {"position_m": sim.state.pos[v.index].round(6).tolist(), "quat_wxyz": sim.body_quat(v.index).round(8).tolist()}
+    """Everything that made the frame, floats exact (JSON keeps a float's shortest round-trip form): look,
+    drawn values, poses, the world's seed, clock steps and full qpos (datasets/rerender.py re-renders it)."""
+    bodies = {name: {"position_m": sim.state.pos[v.index].tolist(), "quat_wxyz": sim.body_quat(v.index).tolist()}
               for name, v in sim.vessels.items()}  # fmt: skip
-    return {"frame": i, "camera": camera, "split": split, "seed": sim.seed, "time_s": round(sim.time, 9),
-            "look": look.model_dump(mode="json"), "scene": scene, "environment": environment,
-            "vessels": bodies, "camera_position_m": np.round(pos, 6).tolist(),
-            "camera_rotation_flu_to_world": np.round(rot, 8).tolist(), "qpos": np.round(sim.data.qpos, 9).tolist()}  # fmt: skip
+    return {"frame": i, "camera": camera, "split": split, "seed": sim.seed, "time_s": sim.time,
+            "clock_steps": sim.world.clock.steps, "look": look.model_dump(mode="json"), "scene": scene,
+            "environment": environment, "vessels": bodies, "camera_position_m": np.asarray(pos).tolist(),
+            "camera_rotation_flu_to_world": np.asarray(rot).tolist(), "qpos": sim.data.qpos.tolist()}  # fmt: skip
 
 
 def generate(spec: DatasetSpec, progress: Callable[[int], None] | None = None) -> Path:

@@ -8,8 +8,8 @@ Boxes are in pixel-edge coordinates (COCO: the pixel at column u covers [u, u + 
 - visible box: the tight box of the object's visible pixels (modal; occluders and the image edge cut it);
 - amodal box: the object's 3D box projected, clipped against the view frustum and the image
   (sensors/camera/clip.py): where the whole object would be if nothing hid it;
-- visible_fraction: area(visible box) / area(amodal box), in 0–1 (1: fully in view and unoccluded, within a
-  pixel); truncated: the amodal box reaches the image edge.
+- visible_fraction: visible pixels / pixels of the amodal mask (the object drawn alone, clipped to the
+  image; datasets/amodal.py), in 0–1 (1: unoccluded); truncated: the amodal box reaches the image edge.
 """
 
 from __future__ import annotations
@@ -64,28 +64,40 @@ class Labeller:
         """(instance mask uint16: object index + 1, 0 none; semantic mask uint8: class id) of a segmentation."""
         return self.instance_lut[seg], self.semantic_lut[seg]
 
-    def objects_in(self, sim, seg: np.ndarray, pos_world, rot_optical, min_pixels: int, min_fraction: float):
-        """ObjectLabel of every object with at least `min_pixels` visible pixels and `min_fraction`."""
+    def objects_in(self, sim, seg: np.ndarray, pos_world, rot_optical, min_pixels: int, min_fraction: float,
+                   amodal_pixels=None):  # fmt: skip
+        """ObjectLabel of every object with at least `min_pixels` visible pixels and `min_fraction`.
+        `amodal_pixels(indices, boxes)` → {object index: amodal mask pixels} (datasets/amodal.py); None: the
+        fraction falls back to the boxes' area ratio."""
         counts, bounds = label_stats(seg, self.owner, len(self.objects))
+        found = [int(k) for k in np.flatnonzero(counts[1:] >= max(min_pixels, 1))]
+        boxes = {k: self._boxes(sim, k, bounds[k + 1], pos_world, rot_optical) for k in found}
+        amodal_n = None
+        if amodal_pixels is not None and found:
+            amodal_n = amodal_pixels(found, np.array([boxes[k][1] for k in found]))
         w, h = self.cam.width, self.cam.height
         out = []
-        for k in np.flatnonzero(counts[1:] >= max(min_pixels, 1)):
-            obj = self.objects[k]
-            amodal = image_box((obj.corners_world(sim) - pos_world) @ rot_optical, self.cam, self.planes)
-            visible = bounds[k + 1].astype(float) + np.array([0.0, 0.0, 1.0, 1.0])  # pixel edges
-            if amodal is None:  # rendered pixels of a box the projection misses: only at the rim, by rounding
-                amodal = visible - 0.5
-            amodal = np.minimum(
-                np.maximum(amodal + 0.5, 0.0), [w, h, w, h]
-            )  # pixel-centre → edge coordinates
-            amodal = np.concatenate(
-                [np.minimum(amodal[:2], visible[:2]), np.maximum(amodal[2:], visible[2:])]
-            )
-            area = (amodal[2] - amodal[0]) * (amodal[3] - amodal[1])
-            fraction = float((visible[2] - visible[0]) * (visible[3] - visible[1]) / area)
+        for k in found:
+            visible, amodal = boxes[k]
+            if amodal_n is not None:
+                fraction = counts[k + 1] / max(amodal_n[k], counts[k + 1])
+            else:
+                area = (amodal[2] - amodal[0]) * (amodal[3] - amodal[1])
+                fraction = float((visible[2] - visible[0]) * (visible[3] - visible[1]) / area)
             if fraction < min_fraction:
                 continue
             truncated = bool(amodal[0] <= 0 or amodal[1] <= 0 or amodal[2] >= w or amodal[3] >= h)
-            out.append(ObjectLabel(int(k + 1), obj.name, obj.label, tuple(visible.tolist()), tuple(amodal.tolist()),
-                                   int(counts[k + 1]), min(fraction, 1.0), truncated))  # fmt: skip
+            out.append(ObjectLabel(int(k + 1), self.objects[k].name, self.objects[k].label, tuple(visible.tolist()),
+                                   tuple(amodal.tolist()), int(counts[k + 1]), min(float(fraction), 1.0), truncated))  # fmt: skip
         return out
+
+    def _boxes(self, sim, k: int, pixel_bounds, pos_world, rot_optical):
+        """(visible box, amodal box) of object k in pixel-edge coordinates; the amodal box contains the visible."""
+        w, h = self.cam.width, self.cam.height
+        obj = self.objects[k]
+        amodal = image_box((obj.corners_world(sim) - pos_world) @ rot_optical, self.cam, self.planes)
+        visible = pixel_bounds.astype(float) + np.array([0.0, 0.0, 1.0, 1.0])  # pixel edges
+        if amodal is None:  # rendered pixels of a box the projection misses: only at the rim, by rounding
+            amodal = visible - 0.5
+        amodal = np.minimum(np.maximum(amodal + 0.5, 0.0), [w, h, w, h])  # pixel-centre → edge coordinates
+        return visible, np.concatenate([np.minimum(amodal[:2], visible[:2]), np.maximum(amodal[2:], visible[2:])])
