@@ -51,7 +51,9 @@ class MarinePass:
         )
         self.label = ctx.program(vertex_shader=shaders.LABEL_VS, fragment_shader=shaders.LABEL_FS)
         self.fullscreen = {p: ctx.vertex_array(p, []) for p in (self.sky, self.fog)}
-        self._grids: dict[tuple[int, int], tuple] = {}  # viewport size → (water vao, label vao, cell, feedback, buffers)
+        self._grids: dict[
+            tuple[int, int], tuple
+        ] = {}  # viewport size → (water vao, label vao, cell, feedback, buffers)
         self._surface_key = None  # what the displaced grid in the feedback buffer was computed for
         self._geo = self._slope = self._depth = self._periodic = None
         self._sky = ctx.texture((SKY_TEXELS, SKY_TEXELS), 3, dtype="f4")
@@ -111,9 +113,16 @@ class MarinePass:
                   "u_fog": (fog_sigma, look.fog.height_falloff_m, 3.912 / look.haze.visibility_m, HAZE_HEIGHT_M)}  # fmt: skip
         for prog in (self.sky, self.fog, self.water, self.surface):
             _set(prog, **common)
-        sky_key = (tuple(light.sun_dir), tuple(light.zenith), tuple(light.coeffs.ravel()), look.haze.visibility_m)
+        sky_key = (
+            tuple(light.sun_dir),
+            tuple(light.zenith),
+            tuple(light.coeffs.ravel()),
+            look.haze.visibility_m,
+        )
         if sky_key != self._sky_key:
-            self._sky.write(hazy_sky_table(light, 3.912 / look.haze.visibility_m * HAZE_HEIGHT_M, SKY_TEXELS).tobytes())
+            self._sky.write(
+                hazy_sky_table(light, 3.912 / look.haze.visibility_m * HAZE_HEIGHT_M, SKY_TEXELS).tobytes()
+            )
             self._sky_key = sky_key
         self._surface_key = None
         self._look = (look.water.foam, look.water.glint, FOAM_CHOPPINESS)

@@ -11,6 +11,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+from numba import njit
 
 PATCH_POINTS, PATCH_SIZE_M = 128, 256.0
 
@@ -39,9 +40,7 @@ def surface_data(ocean, t: float, center_xy) -> SurfaceData:
         tiles = waves.tiles(t)  # (bands, 4, N, N): h, Dx, Dy, w
         sizes = tuple(float(s) for s in waves.sizes)
         s = waves.ramp(t)
-        geo, slope = _layers(
-            tiles[:, 0], tiles[:, 1], tiles[:, 2], np.array(sizes) / tiles.shape[-1], periodic=True
-        )
+        geo, slope = _periodic_layers(np.ascontiguousarray(tiles), tiles.shape[-1] / np.array(sizes))
         return SurfaceData(
             geo, slope, sizes, s, s * waves.choppiness, ocean.level_m, (0.0, 0.0, 0.0), ("fft", t)
         )
@@ -55,25 +54,44 @@ def _patch(ocean, t: float, center_xy) -> SurfaceData:
     gx, gy = np.meshgrid(cx + axis, cy + axis)
     grid = ocean.render_grid((cx, cy), PATCH_SIZE_M, PATCH_POINTS, t)
     h, dx, dy = grid[..., 2] - ocean.level_m, gx - grid[..., 0], gy - grid[..., 1]  # X = x0 - D
-    geo, slope = _layers(h[None], dx[None], dy[None], np.array([step]), periodic=False)
+    geo, slope = _layers(h[None], dx[None], dy[None], np.array([step]))
     size = PATCH_SIZE_M + step  # texel centres sit on the grid points
     return SurfaceData(
         geo, slope, (size,), 1.0, 1.0, ocean.level_m, (cx, cy, 0.5 * size), ("patch", t, cx, cy)
     )
 
 
-def _layers(h, dx, dy, cell_m, periodic: bool) -> tuple[np.ndarray, np.ndarray]:
-    """(bands, N, N) fields [iy, ix] → geometry and slope layers (bands, N, N, 4) float32."""
+def _layers(h, dx, dy, cell_m) -> tuple[np.ndarray, np.ndarray]:
+    """(bands, N, N) fields [iy, ix] of a patch → geometry and slope layers (bands, N, N, 4) float32."""
     inv = (1.0 / cell_m)[:, None, None]
-    d_dx = _diff(dx, 2, periodic) * inv, _diff(dx, 1, periodic) * inv
+    d_dx = _diff(dx, 2) * inv, _diff(dx, 1) * inv
     geo = np.stack([h, dx, dy, d_dx[1]], axis=-1).astype(np.float32)
-    slope = np.stack([_diff(h, 2, periodic) * inv, _diff(h, 1, periodic) * inv, d_dx[0],
-                      _diff(dy, 1, periodic) * inv], axis=-1).astype(np.float32)  # fmt: skip
+    slope = np.stack([_diff(h, 2) * inv, _diff(h, 1) * inv, d_dx[0], _diff(dy, 1) * inv], axis=-1).astype(np.float32)  # fmt: skip
     return geo, slope
 
 
-def _diff(f: np.ndarray, axis: int, periodic: bool) -> np.ndarray:
-    """Central difference in cells along `axis` (periodic wrap, or one-sided at the edges)."""
-    if periodic:
-        return 0.5 * (np.roll(f, -1, axis) - np.roll(f, 1, axis))
+@njit(cache=True, nogil=True)
+def _periodic_layers(tiles, inv_cell):
+    """`_layers` of periodic tiles (bands, 4, N, N) [h, Dx, Dy, w; iy, ix] with central differences, in one pass."""
+    bands, n = tiles.shape[0], tiles.shape[2]
+    geo, slope = np.empty((bands, n, n, 4), np.float32), np.empty((bands, n, n, 4), np.float32)
+    for b in range(bands):
+        k = 0.5 * inv_cell[b]
+        for iy in range(n):
+            up, down = (iy + 1) % n, (iy - 1) % n
+            for ix in range(n):
+                right, left = (ix + 1) % n, (ix - 1) % n
+                geo[b, iy, ix, 0] = tiles[b, 0, iy, ix]
+                geo[b, iy, ix, 1] = tiles[b, 1, iy, ix]
+                geo[b, iy, ix, 2] = tiles[b, 2, iy, ix]
+                geo[b, iy, ix, 3] = k * (tiles[b, 1, up, ix] - tiles[b, 1, down, ix])
+                slope[b, iy, ix, 0] = k * (tiles[b, 0, iy, right] - tiles[b, 0, iy, left])
+                slope[b, iy, ix, 1] = k * (tiles[b, 0, up, ix] - tiles[b, 0, down, ix])
+                slope[b, iy, ix, 2] = k * (tiles[b, 1, iy, right] - tiles[b, 1, iy, left])
+                slope[b, iy, ix, 3] = k * (tiles[b, 2, up, ix] - tiles[b, 2, down, ix])
+    return geo, slope
+
+
+def _diff(f: np.ndarray, axis: int) -> np.ndarray:
+    """Central difference in cells along `axis` (one-sided at the edges)."""
     return np.gradient(f, axis=axis)
