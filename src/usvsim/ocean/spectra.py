@@ -10,7 +10,6 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from scipy.special import gammaln
 
 G = 9.81
 PM_ALPHA = 8.1e-3
@@ -69,7 +68,7 @@ def vrx_pms(omega: np.ndarray, period: float) -> np.ndarray:
 
 def cos2s_norm(s: float) -> float:
     """C(s) = Γ(s+1) / (2 √π Γ(s+1/2)), so that ∫_{-π}^{π} C(s) cos^{2s}(θ/2) dθ = 1."""
-    return math.exp(gammaln(s + 1.0) - gammaln(s + 0.5)) / (2.0 * math.sqrt(math.pi))
+    return math.exp(math.lgamma(s + 1.0) - math.lgamma(s + 0.5)) / (2.0 * math.sqrt(math.pi))
 
 
 def cos2s(theta: np.ndarray, mean_direction: float, s: float) -> np.ndarray:

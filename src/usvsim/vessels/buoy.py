@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import numpy as np
-import trimesh
 
 from usvsim.config.objects import COLORS, Buoy
 from usvsim.config.vessel import StateSpaceDrag
@@ -13,6 +12,8 @@ from usvsim.vessels.parts import Mesh, Part
 
 def build(cfg: Buoy) -> BodyModel:
     """A sphere of radius r (frame origin at its centre), CoM 0.3 r below the centre (ballast)."""
+    import trimesh  # here: importing trimesh takes ~0.5 s, and a scene without buoys never needs it
+
     r, m = cfg.radius_m, cfg.mass_kg
     sphere = trimesh.creation.icosphere(subdivisions=1, radius=r)
     hull = Mesh(np.asarray(sphere.vertices), np.asarray(sphere.faces))

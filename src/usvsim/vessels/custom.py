@@ -5,7 +5,6 @@ from __future__ import annotations
 from pathlib import Path
 
 import numpy as np
-import trimesh
 
 from usvsim.config.vessel import StateSpaceDrag
 from usvsim.core.errors import MeshError
@@ -21,6 +20,8 @@ def load_mesh(path: Path, scale: float = 1.0, key: str = "hull_mesh", require_cl
         raise MeshError(f"{key}: mesh file not found: {path}")
     if path.stat().st_size > MAX_MESH_BYTES:
         raise MeshError(f"{key}: {path} is larger than {MAX_MESH_BYTES >> 20} MiB; decimate the mesh")
+    import trimesh  # here (and below): importing trimesh takes ~0.5 s, and the built-in vessels never need it
+
     try:
         loaded = trimesh.load(path, force="mesh", process=False)
     except Exception as exc:  # trimesh raises many types for unreadable files
@@ -47,6 +48,8 @@ def load_mesh(path: Path, scale: float = 1.0, key: str = "hull_mesh", require_cl
 
 def solid_mass_properties(mesh: Mesh, mass_kg: float) -> tuple[np.ndarray, np.ndarray]:
     """CoM and inertia about it (body axes) of the hull as a solid of uniform density with this mass."""
+    import trimesh
+
     tm = trimesh.Trimesh(mesh.vertices, mesh.faces, process=False)
     tm.density = mass_kg / tm.volume
     return np.asarray(tm.center_mass), np.asarray(tm.moment_inertia)

@@ -6,7 +6,6 @@ from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
-import trimesh
 
 from usvsim.config.vessel import Vessel
 from usvsim.core.errors import ScenarioError
@@ -35,6 +34,8 @@ def vessel_model(cfg: Vessel, index: int, base_dir: Path, source: str) -> BodyMo
 
 
 def _custom(cfg: Vessel, key: str, base_dir: Path, source: str) -> BodyModel:
+    import trimesh  # here: ~0.5 s to import, and the built-in vessels never need it
+
     if cfg.mass.mass_kg is None:
         raise ScenarioError(source, f"{key}.mass.mass_kg", "required for a custom vessel")
     hull = load_mesh(base_dir / cfg.hull_mesh, cfg.mesh_scale, key=f"{source}: {key}.hull_mesh")
