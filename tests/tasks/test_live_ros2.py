@@ -28,11 +28,11 @@ THRUST_N = 200.0
 
 
 class QuickPerception(Perception):
-    """VRX's practice objects, shown for 1.5 s each one after another (VRX: 5 s each, 10 s apart)."""
+    """VRX's practice objects, shown for 2 s each one after another (VRX: 5 s each, 10 s apart)."""
 
-    schedule = [(1.0, "mb_marker_buoy_red", (7.8, 2.1), "red"), (3.0, "mb_marker_buoy_green", (8.3, 0.1), "green"),
-                (5.0, "mb_marker_buoy_white", (4.9, -2.32), "white")]  # fmt: skip
-    duration_s = 1.5
+    schedule = [(1.0, "mb_marker_buoy_red", (7.8, 2.1), "red"), (3.5, "mb_marker_buoy_green", (8.3, 0.1), "green"),
+                (6.0, "mb_marker_buoy_white", (4.9, -2.32), "white")]  # fmt: skip
+    duration_s = 2.0
 
 
 def _lat_lon(sim, x, y):
@@ -43,7 +43,7 @@ def _lat_lon(sim, x, y):
 
 def test_an_external_stack_over_dds_drives_the_boat_and_is_scored(tmp_path):
     domain = 150 + os.getpid() % 80  # apart from the other DDS tests running on this machine
-    task = QuickPerception(0, 0, TaskTiming(ready_s=0.5, running_s=7.0))
+    task = QuickPerception(0, 0, TaskTiming(ready_s=0.5, running_s=8.5))
     seen: dict = {}
 
     def start_peer(sim):

@@ -147,7 +147,7 @@ def main(domain_id: int, objects: list, thrust_n: float) -> dict:
         for w in thrust:
             w.write(Float64(thrust_n))
         for kind, t0, dur, lat, lon in objects:
-            if t0 + 0.2 * dur < sim_s < t0 + 0.6 * dur and kind not in reported:  # shown now: report it once
+            if t0 + 0.15 * dur < sim_s < t0 + 0.5 * dur and kind not in reported:  # shown now: report it once
                 header = Header(Time(int(sim_s), int(sim_s % 1 * 1e9)), kind)
                 landmark.write(GeoPoseStamped(header, GeoPose(GeoPoint(lat, lon, 0.0), Quaternion(0, 0, 0, 1))))
                 reported.add(kind)
