@@ -48,7 +48,9 @@ class HybridAStarPlanner:
         (s, g) = grid.cells(np.array([start_xy[:2], goal_xy[:2]], float))
         if not (_inside(grid, s) and _inside(grid, g)) or not np.isfinite(cost[g[0], g[1]]):
             return None
-        allowed = np.isfinite(cost) | (gp.distance_m >= min(gp.clearance_m, gp.distance_m[s[0], s[1]]))
+        dist = gp.distance_m
+        assert dist is not None  # cost_map sets it
+        allowed = np.isfinite(cost) | (dist >= min(gp.clearance_m, dist[s[0], s[1]]))
         cost = np.where(
             allowed, np.where(np.isfinite(cost), cost, 4.0), np.inf
         )  # the start may lie in the band

@@ -18,6 +18,7 @@ import numpy as np
 
 from usvsim.autonomy.grid import OccupancyGrid
 from usvsim.autonomy.guidance import LosGuidance
+from usvsim.autonomy.hybrid import HybridAStarPlanner
 from usvsim.autonomy.planner import GridPlanner
 
 
@@ -30,7 +31,7 @@ class NavigatorConfig:
     corridor_margin_m: float = 0.7
     stop_distance_m: float = 3.0
     guidance: LosGuidance = field(default_factory=LosGuidance)
-    planner: GridPlanner = field(default_factory=GridPlanner)
+    planner: GridPlanner | HybridAStarPlanner = field(default_factory=GridPlanner)
 
 
 def nearest_per_bearing(xy: np.ndarray, origin: np.ndarray, bins: int = 512) -> np.ndarray:
