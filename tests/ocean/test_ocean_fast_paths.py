@@ -1,10 +1,13 @@
 """Speed paths that must not change a single bit: heights without displacement (no Newton inversion), the fused
 Froude–Krylov heads, a still ocean's constant wind and current; serial/parallel kernel builds (own cache entries)."""
 
+import math
+
 import numpy as np
+import pytest
 
 from usvsim.ocean import direct, fft_kernels, pressure, spectra
-from usvsim.ocean.components import vrx_pms_components
+from usvsim.ocean.components import from_arrays, vrx_pms_components
 from usvsim.ocean.current import Current
 from usvsim.ocean.direct import DirectWaveField
 from usvsim.ocean.fft import FFTWaveField, cascade_sizes, directional_spectrum
@@ -88,3 +91,18 @@ def test_velocity_spectra_made_beside_the_geometry_equal_their_own_transforms():
             fft_kernels.kinematic_spectra(field._amp[b], field._omega[b], field._khx[b], field._khy[b],
                                           ring._held[b, r], False, spec)  # fmt: skip
             assert np.array_equal(ring.tiles[b, r], scipy.fft.ifft2(spec, norm="forward", workers=1))
+
+
+@pytest.mark.parametrize("depth", [math.inf, 6.0])
+def test_fused_direct_froude_krylov_heads_equal_the_two_pass_sums_bit_for_bit(depth):
+    k = np.array([0.05, 0.3, 1.2, 4.0])
+    comps = from_arrays([0.4, 0.2, 0.05, 0.01], k, [0.1, 1.0, -0.7, 2.0], [0.3, 1.1, 2.0, -1.0], 0.0, depth)
+    field = DirectWaveField(comps, depth=depth, ramp_time_s=1.0)
+    pz = RNG.uniform(-5.0, 0.5, len(PX))
+    eta, zeta = pressure.surface_and_dynamic_head(field, PX, PY, pz, 3.3)
+    ref = _newton(direct.INVERT[0], 3.3, *field._args, field.ramp(3.3), field.tol, field.max_iter)
+    head = np.empty(len(PX))
+    pressure.DIRECT_HEAD[0](ref[0], ref[1], pz, ref[2], 3.3, *field._args[:5], field.ramp(3.3), depth, head)
+    assert (
+        np.array_equal(eta, ref[2]) and np.array_equal(zeta, head) and (pz < eta).any() and (pz > eta).any()
+    )

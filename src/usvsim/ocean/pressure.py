@@ -21,7 +21,7 @@ import math
 import weakref
 
 import numpy as np
-from numba import prange
+from numba import njit, prange
 
 from usvsim.ocean.direct import DirectWaveField
 from usvsim.ocean.dispatch import pick, serial_and_parallel
@@ -69,6 +69,36 @@ def _fft_head_impl(x0, y0, zrel, eta, geo, wts, inv_cells, decay_k, out):
             h, _, _ = _bilinear(a00, a10, a01, a11, fx, fy, inv_cells[b])
             acc += math.exp(decay_k[b] * zp) * h
         out[p] = acc
+
+
+@njit(cache=True)
+def _direct_surface_and_head(px, py, zrel, t, amp, kx, ky, om, ph, s, depth, k_abs, cos_th, eta_out, zeta_out):
+    """η and ζ at world points of a direct sea without displacement (labels = points) in one pass over the
+    components: each cos θ once (kept in `cos_th`), η summed as `direct._heights_impl` sums it and ζ as
+    `_direct_head_impl` does, so both equal the two-pass results bit for bit. Serial (one scratch row)."""
+    deep = math.isinf(depth)
+    for i in range(amp.shape[0]):
+        k_abs[i] = math.hypot(kx[i], ky[i])
+    for p in range(px.shape[0]):
+        z = 0.0
+        for i in range(amp.shape[0]):
+            c = math.cos(kx[i] * px[p] + ky[i] * py[p] - om[i] * t + ph[i])
+            cos_th[i] = c
+            z += s * amp[i] * c
+        eta_out[p] = z
+        if zrel[p] >= z:
+            zeta_out[p] = z
+            continue
+        zp = zrel[p] - z if deep else max((zrel[p] - z) * depth / (depth + z), -depth)
+        acc = 0.0
+        for i in range(amp.shape[0]):
+            k = k_abs[i]
+            if deep or k * depth > 20.0:
+                f = math.exp(k * zp)
+            else:
+                f = math.cosh(k * (zp + depth)) / math.cosh(k * depth)
+            acc += amp[i] * cos_th[i] * f
+        zeta_out[p] = s * acc
 
 
 def _fft_surface_and_head_impl(px, py, zrel, geo, wts, inv_cells, decay_k, band_h, eta_out, zeta_out):
@@ -120,7 +150,11 @@ def surface_and_dynamic_head(waves: WaveField, x, y, z, t: float) -> tuple[np.nd
     px, py, pz = as_points(x, y, z)
     n = len(px)
     zeta = np.empty(n)
-    if isinstance(waves, DirectWaveField):
+    if isinstance(waves, DirectWaveField) and waves._flat_labels:  # labels = points
+        eta, scratch = np.empty(n), np.empty((2, len(waves._args[0])))
+        _direct_surface_and_head(px, py, pz, float(t), *waves._args[:5], waves.ramp(t), waves.depth, scratch[0],
+                                 scratch[1], eta, zeta)  # fmt: skip
+    elif isinstance(waves, DirectWaveField):
         x0, y0, eta = waves.surface_labels(px, py, t)  # the inversion (skipped without displacement)
         pick(DIRECT_HEAD, n)(x0, y0, pz, eta, float(t), *waves._args[:5], waves.ramp(t), waves.depth, zeta)
     elif isinstance(waves, FFTWaveField) and waves.choppiness == 0.0:  # deep water, labels = points
