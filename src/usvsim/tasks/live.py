@@ -21,7 +21,7 @@ from usvsim.tasks.base import Task
 from usvsim.tasks.library import TASKS
 from usvsim.tasks.ros_inputs import register_task_inputs
 from usvsim.tasks.ros_topics import task_envelopes
-from usvsim.tasks.solutions import _drive, reference_controller
+from usvsim.tasks.solutions import drive, reference_controller
 from usvsim.tasks.timing import TaskTiming
 
 PUBLISH_RATE_HZ = 1.0
@@ -61,7 +61,7 @@ def run_live(name: str | Task, difficulty: int = 0, seed: int = 0, timing: TaskT
                 on_ready(sim)
             controller = None if external else reference_controller(sim)
             publisher = TaskPublisher(task, sim)
-            report = _drive(task, sim, controller, after_step=publisher,
+            report = drive(task, sim, controller, after_step=publisher,
                             realtime=external if realtime is None else realtime)  # fmt: skip
             sim.publish(task_envelopes(task, sim.clock_ns))  # the final state (finished, score)
         report["bridges"] = {type(b).__name__: dict(b.stats) for b in opened}

@@ -31,12 +31,12 @@ def run_trial(name: str, difficulty: int = 0, seed: int = 0, timing: TaskTiming 
     task = TASKS[name](difficulty, seed, timing, sea_state)
     sim = Simulation(task.scenario({"mass": {"mass_kg": mass_kg}} if mass_kg else None), seed=seed)
     try:
-        return _drive(task, sim, reference_controller(sim, hold), trace)
+        return drive(task, sim, reference_controller(sim, hold), trace)
     finally:
         sim.close()
 
 
-def _drive(task, sim, controller, trace=None, after_step=None, realtime: bool = False) -> dict:
+def drive(task, sim, controller, trace=None, after_step=None, realtime: bool = False) -> dict:
     """Step `sim` until the task finishes. `controller` None: the boat is left to commands arriving through
     the bridges (an external stack); `after_step()` runs after every scored step; `realtime` paces to the wall
     clock (what a stack on the other side of a bridge lives by)."""
