@@ -38,3 +38,20 @@ def test_confusion_matrix_matches_by_iou(tmp_path):
     n = len(DETECTABLE)
     assert m[red, red] == 1 and m[green, red] == 1 and m[n, red] == 1 and m.sum() == 3
     assert np.count_nonzero(m) == 3
+
+
+def test_coco_map50_by_pycocotools(tmp_path):
+    from usvsim.datasets.labels import CLASSES
+    from usvsim.experiments.detection_robustness import coco_map50
+
+    red, green = DETECTABLE.index("buoy_red"), DETECTABLE.index("buoy_green")
+    anns = [{"id": i + 1, "image_id": 1, "category_id": CLASSES.index(DETECTABLE[c]), "bbox": box, "area": 400,
+             "iscrowd": 0} for i, (c, box) in enumerate([(red, [10, 10, 20, 20]), (green, [60, 60, 20, 20])])]  # fmt: skip
+    cats = [{"id": CLASSES.index(c), "name": c} for c in DETECTABLE]
+    (tmp_path / "annotations").mkdir()
+    coco = {"images": [{"id": 1, "file_name": "val/a.png", "width": 100, "height": 100}], "annotations": anns, "categories": cats}
+    (tmp_path / "annotations" / "val.json").write_text(__import__("json").dumps(coco))
+    hit = [red, 0.9, 10.0, 10.0, 30.0, 30.0]
+    assert coco_map50(tmp_path, {"a.png": [hit, [green, 0.8, 60.0, 60.0, 80.0, 80.0]]})["map50"] == pytest.approx(1.0)
+    half = coco_map50(tmp_path, {"a.png": [hit, [green, 0.8, 0.0, 60.0, 20.0, 80.0]]})  # the green box missed
+    assert half["per_class"] == {"buoy_red": pytest.approx(1.0), "buoy_green": 0.0} and half["map50"] == pytest.approx(0.5)

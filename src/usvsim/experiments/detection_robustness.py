@@ -3,12 +3,16 @@
 Two data sets of the `buoy_field` scenario: `clear_calm` (train + held-out val) and `foggy_wavy` (val only),
 different seeds. A YOLOv8n is trained from scratch on the CPU on the clear training images (Ultralytics, an
 AGPL test-only extra, run in its own process by experiments/yolo_job.py with the Python named by
-USVSIM_YOLO_PYTHON, or this one if it has `ultralytics`), then evaluated on both held-out sets: mAP50 overall
-and per class, and a confusion matrix per set (rows: true class and background, columns: predicted; matched
-one to one at IoU >= 0.5, normalized per true class), written as JSON and PNG.
+USVSIM_YOLO_PYTHON, or this one if it has `ultralytics`), then evaluated on both held-out sets: mAP50 overall and per class
+by pycocotools' COCOeval on the sets' COCO files (the independent evaluator; Ultralytics' own figure is kept
+beside it), and a confusion matrix per set (rows: true class and background, columns: predicted with
+confidence >= 0.25; matched one to one at IoU >= 0.5, normalized per true class), written as JSON and PNG.
+The camera's field of view is halved (35°) so that the buoys are large enough for a detector trained from
+scratch on a CPU budget; objects with fewer visible pixels than USVSIM_DR_MIN_PIXELS are not labelled.
 
-Sizes come from the environment (defaults in brackets): USVSIM_DR_TRAIN [160] clear frames (80 % train),
-USVSIM_DR_FOGGY [40], USVSIM_DR_EPOCHS [40], USVSIM_DR_IMGSZ [320]. PASS: foggy mAP50 < clear mAP50.
+Sizes come from the environment (defaults in brackets): USVSIM_DR_TRAIN [120] clear frames (80 % train),
+USVSIM_DR_FOGGY [40], USVSIM_DR_EPOCHS [40], USVSIM_DR_IMGSZ [256], USVSIM_DR_MIN_PIXELS [40].
+PASS: foggy mAP50 < clear mAP50.
 """
 
 from __future__ import annotations
