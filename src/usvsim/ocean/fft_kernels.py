@@ -34,13 +34,12 @@ def _rows(n, iy):
 
 
 @njit(cache=True)
-def geometry_spectra(amp, omega, khx, khy, t, choppy, out):
-    """One band's geometry spectra at time t into out[0] (h + i·w) and, when `choppy`, out[1] (Dx + i·Dy).
-
-    Each (k, -k) pair is evaluated once (one sine and cosine per pair); bins without amplitude are zeroed.
-    With a real field f = IFFT(F): f + i·g = IFFT(F + i·G), so two real fields cost one complex transform.
-    """
+def geometry_and_velocity_spectra(amp, omega, khx, khy, t, choppy, out, vel):
+    """`geometry_spectra` into `out` and, unless `vel` has no slots, `kinematic_spectra` (velocity) into `vel` in one
+    pass: each (k, -k) pair's sine, cosine and H, G once for both; every velocity value is the same expression as
+    in `kinematic_spectra` (bit-identical)."""
     n = amp.shape[0]
+    with_vel = vel.shape[0] > 0
     for iy in range(n // 2 + 1):
         jy = (n - iy) % n
         for ix in range(_rows(n, iy)):
@@ -49,6 +48,8 @@ def geometry_spectra(amp, omega, khx, khy, t, choppy, out):
                 out[0, iy, ix] = out[0, jy, jx] = 0
                 if choppy:
                     out[1, iy, ix] = out[1, jy, jx] = 0
+                if with_vel:
+                    vel[0, iy, ix] = vel[0, jy, jx] = 0
                 continue
             h, g, _ = _pair(amp, omega, iy, ix, jy, jx, t)
             out[0, iy, ix] = h + 1j * g
@@ -57,6 +58,20 @@ def geometry_spectra(amp, omega, khx, khy, t, choppy, out):
                 hx, hy = khx[iy, ix], khy[iy, ix]
                 out[1, iy, ix] = h * complex(hy, -hx)
                 out[1, jy, jx] = h.conjugate() * complex(-hy, hx)
+            if with_vel:
+                rot = 1j * khx[iy, ix] - khy[iy, ix]
+                vel[0, iy, ix] = g * rot
+                vel[0, jy, jx] = -g.conjugate() * rot
+
+
+@njit(cache=True)
+def geometry_spectra(amp, omega, khx, khy, t, choppy, out):
+    """One band's geometry spectra at time t into out[0] (h + i·w) and, when `choppy`, out[1] (Dx + i·Dy).
+
+    Each (k, -k) pair is evaluated once (one sine and cosine per pair); bins without amplitude are zeroed.
+    With a real field f = IFFT(F): f + i·g = IFFT(F + i·G), so two real fields cost one complex transform.
+    """
+    geometry_and_velocity_spectra(amp, omega, khx, khy, t, choppy, out, out[:0])
 
 
 @njit(cache=True)
@@ -81,33 +96,6 @@ def kinematic_spectra(amp, omega, khx, khy, t, acceleration, out):
             else:
                 out[0, iy, ix] = g * rot
                 out[0, jy, jx] = -g.conjugate() * rot
-
-
-@njit(cache=True)
-def geometry_and_velocity_spectra(amp, omega, khx, khy, t, choppy, out, vel):
-    """`geometry_spectra` into `out` and `kinematic_spectra` (velocity) into `vel` in one pass: each (k, -k) pair's
-    sine, cosine and H, G once for both; every value is the same expression as in those kernels (bit-identical)."""
-    n = amp.shape[0]
-    for iy in range(n // 2 + 1):
-        jy = (n - iy) % n
-        for ix in range(_rows(n, iy)):
-            jx = (n - ix) % n
-            if amp[iy, ix] == 0 and amp[jy, jx] == 0:
-                out[0, iy, ix] = out[0, jy, jx] = 0
-                if choppy:
-                    out[1, iy, ix] = out[1, jy, jx] = 0
-                vel[0, iy, ix] = vel[0, jy, jx] = 0
-                continue
-            h, g, _ = _pair(amp, omega, iy, ix, jy, jx, t)
-            out[0, iy, ix] = h + 1j * g
-            out[0, jy, jx] = h.conjugate() + 1j * g.conjugate()
-            if choppy:
-                hx, hy = khx[iy, ix], khy[iy, ix]
-                out[1, iy, ix] = h * complex(hy, -hx)
-                out[1, jy, jx] = h.conjugate() * complex(-hy, hx)
-            rot = 1j * khx[iy, ix] - khy[iy, ix]
-            vel[0, iy, ix] = g * rot
-            vel[0, jy, jx] = -g.conjugate() * rot
 
 
 @njit(cache=True, inline="always")
@@ -209,6 +197,15 @@ def _invert(px, py, geo, wts, inv_cells, chop, tol, max_iter, x0_out, y0_out, z_
         it_out[p] = it
 
 
+@njit(cache=True, inline="always")
+def band_height(geo, wts, inv_cell, mask, b, x, y):
+    """Band b's bilinear height at label (x, y): the value `_evaluate` adds for that band (same expression)."""
+    ix0, ix1, fx = _cell(x, inv_cell, mask)
+    iy0, iy1, fy = _cell(y, inv_cell, mask)
+    a00, a10, a01, a11 = _blend4_real(geo, wts, b, 0, iy0, iy1, ix0, ix1)
+    return a00 * (1 - fx) * (1 - fy) + a10 * fx * (1 - fy) + a01 * (1 - fx) * fy + a11 * fx * fy
+
+
 def _heights(px, py, geo, wts, inv_cells, z_out):
     """Heights at world points of a sea without choppy displacement (labels = points): z summed exactly as
     `_evaluate` sums it, so bit for bit what `_invert` returns at its first iteration, without the gradients."""
@@ -216,10 +213,7 @@ def _heights(px, py, geo, wts, inv_cells, z_out):
     for p in prange(px.shape[0]):
         z = 0.0
         for b in range(geo.shape[0]):
-            ix0, ix1, fx = _cell(px[p], inv_cells[b], mask)
-            iy0, iy1, fy = _cell(py[p], inv_cells[b], mask)
-            a00, a10, a01, a11 = _blend4_real(geo, wts, b, 0, iy0, iy1, ix0, ix1)
-            z += a00 * (1 - fx) * (1 - fy) + a10 * fx * (1 - fy) + a01 * (1 - fx) * fy + a11 * fx * fy
+            z += band_height(geo, wts, inv_cells[b], mask, b, px[p], py[p])
         z_out[p] = z
 
 

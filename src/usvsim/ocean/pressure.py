@@ -26,7 +26,7 @@ from numba import njit, prange
 from usvsim.ocean.direct import DirectWaveField
 from usvsim.ocean.dispatch import pick, serial_and_parallel
 from usvsim.ocean.fft import FFTWaveField
-from usvsim.ocean.fft_kernels import _bilinear, _blend4_real, _cell
+from usvsim.ocean.fft_kernels import _bilinear, _blend4_real, _cell, band_height
 from usvsim.ocean.field import WaveField, as_points
 from usvsim.ocean.spectra import G
 
@@ -109,10 +109,7 @@ def _fft_surface_and_head_impl(px, py, zrel, geo, wts, inv_cells, decay_k, band_
     for p in prange(px.shape[0]):
         z = 0.0
         for b in range(geo.shape[0]):
-            ix0, ix1, fx = _cell(px[p], inv_cells[b], mask)
-            iy0, iy1, fy = _cell(py[p], inv_cells[b], mask)
-            a00, a10, a01, a11 = _blend4_real(geo, wts, b, 0, iy0, iy1, ix0, ix1)
-            h = a00 * (1 - fx) * (1 - fy) + a10 * fx * (1 - fy) + a01 * (1 - fx) * fy + a11 * fx * fy
+            h = band_height(geo, wts, inv_cells[b], mask, b, px[p], py[p])
             band_h[p, b] = h
             z += h
         eta_out[p] = z
