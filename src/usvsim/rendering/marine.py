@@ -15,7 +15,7 @@ import numpy as np
 
 from usvsim.rendering import shaders
 from usvsim.rendering.gl import attach_current
-from usvsim.rendering.grid import FAR_M, screen_grid
+from usvsim.rendering.grid import CELL_PX, FAR_M, screen_grid
 from usvsim.rendering.sky import Daylight, hazy_sky_table
 from usvsim.rendering.surface import SurfaceData
 
@@ -167,7 +167,7 @@ class MarinePass:
                 _set(prog, u_cam=tuple(eye), u_inv_view_proj=inv)
             for prog in (self.fog, self.water):
                 _set(prog, u_near_far=(near, far), u_viewport=viewport[:2])
-            _set(self.water, u_look=(*self._look, time_s), **grid)
+            _set(self.water, u_look=(*self._look, time_s), u_pixel=cell_tan / CELL_PX, **grid)
             self._fullscreen(self.fog, "<", blend=True)  # only where a geom was drawn (depth > 0)
             GL.glClear(GL.GL_STENCIL_BUFFER_BIT)
             self._water(water_vao, stencil=True)

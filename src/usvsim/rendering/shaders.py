@@ -139,10 +139,12 @@ void main() {
         float lod = log2(max(spacing * u_surface.w / u_tile[b], 1.0));
         vec3 uvw = vec3(tile_uv(label, b), b);
         vec4 g = textureLod(u_geo, uvw, lod);
-        vec4 s = textureLod(u_slope, uvw, lod);
         disp += vec3(g.y, g.z, g.x);
-        v_slope += s.xy;
-        v_jac += vec3(s.zw, 0.0);
+        if (b < u_bands - 1 || u_bands == 1) {  // the shortest band's slopes: per pixel (WATER_FS)
+            vec4 s = textureLod(u_slope, uvw, lod);
+            v_slope += s.xy;
+            v_jac += vec3(s.zw, 0.0);
+        }
     }
     if (u_patch.z > 0.0) {
         vec2 r = abs(label - u_patch.xy) / u_patch.z;
@@ -196,11 +198,13 @@ void main() { gl_Position = u_view_proj * vec4(in_world, 1.0); }
 
 WATER_FS = (
     COMMON
+    + TILES
     + """
+uniform sampler2DArray u_slope;
 uniform sampler2D u_depth;
 uniform vec3 u_water;
 uniform vec4 u_look;     // foam, glint, render choppiness for whitecaps, time (s)
-uniform vec4 u_surface;  // height scale s, displacement scale k, still-water level, texel count N
+uniform float u_pixel;   // view width of one pixel at unit distance
 uniform vec2 u_near_far;
 uniform vec2 u_viewport;
 in vec2 v_label;
@@ -214,6 +218,13 @@ out vec4 f_color;
 void main() {
     vec2 zs = v_slope;
     vec3 jac = v_jac;
+    if (u_bands > 1) {  // the shortest band per pixel, filtered by the footprint across the ray: distant glitter
+        int b = u_bands - 1;
+        float footprint = length(u_cam - v_world) * u_pixel;
+        vec4 s = textureLod(u_slope, vec3(tile_uv(v_label, b), b), log2(max(footprint * u_surface.w / u_tile[b], 1.0)));
+        zs += s.xy;
+        jac += vec3(s.zw, 0.0);
+    }
     float k = u_surface.y, kf = max(u_look.z, k);
     vec3 tx = vec3(1.0 - k * jac.x, -k * jac.z, u_surface.x * zs.x);
     vec3 ty = vec3(-k * jac.z, 1.0 - k * jac.y, u_surface.x * zs.y);
