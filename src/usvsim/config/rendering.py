@@ -84,7 +84,7 @@ class CameraLook(Section):
 
 class Rendering(Section):
     """`renderer: shader` draws sky, water, fog and camera effects with GLSL shaders around MuJoCo's geoms;
-    `renderer: mujoco` (the default while the shader is 3-8x slower on a CPU, docs/rendering.md) is MuJoCo's
+    `renderer: mujoco` (the default while the shader is ~1.5x slower on a CPU, docs/rendering.md) is MuJoCo's
     plain fixed-function look (flat painted sky, tinted height field)."""
 
     renderer: Literal["shader", "mujoco"] = "mujoco"
