@@ -20,7 +20,6 @@ from collections.abc import Callable
 from functools import partial
 
 import numpy as np
-import scipy.fft
 
 from usvsim.ocean import fft_kernels as kern
 from usvsim.ocean.components import WaveComponents
@@ -95,6 +94,9 @@ class FFTWaveField(WaveField):
         time_tolerance: float = 1e-3,
     ):
         super().__init__(ramp_time_s)
+        import scipy.fft  # here: ~0.4 s to import, and only FFT seas need it (a process start pays it otherwise)
+
+        self._ifft2 = scipy.fft.ifft2
         self.sizes = np.asarray(tile_sizes_m, dtype=float)
         self.n = int(resolution)
         self.choppiness = float(choppiness)
@@ -195,7 +197,7 @@ class FFTWaveField(WaveField):
             self._vel_spectra[(b, t)] = vel
         else:
             kern.geometry_spectra(*args)
-        out[:] = scipy.fft.ifft2(spec, norm="forward", workers=1)
+        out[:] = self._ifft2(spec, norm="forward", workers=1)
 
     def _kinematic_snapshot(self, acceleration: bool, b: int, t: float, out: np.ndarray) -> None:
         spec = None if acceleration else self._vel_spectra.pop((b, t), None)
@@ -204,7 +206,7 @@ class FFTWaveField(WaveField):
             kern.kinematic_spectra(
                 self._amp[b], self._omega[b], self._khx[b], self._khy[b], t, acceleration, spec
             )
-        out[:] = scipy.fft.ifft2(spec, norm="forward", workers=1)
+        out[:] = self._ifft2(spec, norm="forward", workers=1)
 
     def update(self, t: float) -> np.ndarray:
         """Make the geometry snapshots around time t (s) present; returns the blend weights (ramp included)."""
