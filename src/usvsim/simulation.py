@@ -34,7 +34,7 @@ class Simulation:
     """A scenario running in MuJoCo with marine physics. `seed` drives every random stream."""
 
     def __init__(self, scenario: Scenario, seed: int = 0):
-        self.world = world = World(scenario, seed, kinematic_bodies(scenario))  # traffic ships: mocap bodies
+        self.world = world = World(scenario, seed, kinematic_bodies(scenario))  # traffic ships: moving world geoms
         scenario = world.scenario  # with a real place's parts resolved (geo/)
         self._controller_configs = {v.name: v.controller for v in scenario.vessels if v.controller is not None}
         self.controllers = {name: control_loop(world, name, c) for name, c in self._controller_configs.items()}

@@ -1,15 +1,18 @@
-"""Traffic in a running simulation: mocap ships on their tracks, collisions, LiDAR returns, ground-truth
+"""Traffic in a running simulation: kinematic ships (world-body geoms) on their tracks, collisions, LiDAR returns, ground-truth
 situation (CPA/TCPA vs closed form) in an MCAP read back by rosbags and mcap-ros2, reset = fresh start."""
 
 import math
 
 import numpy as np
+import pymap3d
 import pytest
 from readers import read_with_mcap_ros2, read_with_rosbags
 
+from usvsim.config.scenario import GeodeticOrigin
 from usvsim.core.errors import ScenarioError
 from usvsim.io.mcap_recorder import McapRecorder
 from usvsim.simulation import Simulation
+from usvsim.traffic.motion import KNOT_MPS
 
 OWN = {"name": "wamv", "model": "wamv", "command_timeout_s": 0.0}
 
@@ -40,8 +43,9 @@ def test_kinematic_ships_follow_their_tracks_and_situation_matches_closed_form(c
         sim.subscribe(rec.write)
         sim.run(10.0)
     t = sim.time
-    ferry = sim.model.body("ferry").id
-    np.testing.assert_allclose(sim.data.xpos[ferry, :2], [20, 200 - 5 * t], atol=1e-9)  # drawn where the track is
+    ferry = sim.model.geom("kinematic/ferry/col0").id  # its box, centred on the ship
+    np.testing.assert_allclose(sim.data.geom_xpos[ferry, :2], [20, 200 - 5 * t], atol=1e-9)  # where the track is
+    np.testing.assert_allclose(sim.data.geom_xmat[ferry].reshape(3, 3)[:2, 0], [0, -1], atol=1e-9)  # heading south
     np.testing.assert_allclose(sim.traffic.fleet.pos_enu[1], [300 - 3 * t, 100], atol=1e-9)
     for messages in (read_with_rosbags(path), read_with_mcap_ros2(path)):
         situations = [m for topic, _, m in messages if topic == "/traffic/situation"]
@@ -70,6 +74,17 @@ def test_report_has_min_distance_per_target(crossing):
     assert report["tug"]["min_distance_m"] == pytest.approx(math.hypot(150.0, 100.0), abs=2.0)  # still closing
 
 
+def test_report_never_looks_past_the_end_of_the_run(crossing):
+    """Both targets still closing at the end of a 30 s run: their least distance is the one at t = 30 s, not an
+    extrapolation to the next sample (the report said t = 31 s)."""
+    sim = Simulation(crossing)
+    sim.run(30.0)
+    report, now = sim.traffic.report(), sim.traffic.situation.compute(sim.world)
+    for j, name in enumerate(("ferry", "tug")):
+        assert report[name]["t_min_distance_s"] == pytest.approx(30.0, abs=1e-9)
+        assert report[name]["min_distance_m"] == pytest.approx(now["range"][j], rel=1e-9)
+
+
 def test_reset_equals_fresh_start(crossing):
     a = Simulation(crossing)
     a.run(3.0)
@@ -77,7 +92,8 @@ def test_reset_equals_fresh_start(crossing):
     a.run(2.0)
     b = Simulation(crossing)
     b.run(2.0)
-    np.testing.assert_array_equal(a.data.mocap_pos, b.data.mocap_pos)
+    np.testing.assert_array_equal(a.model.geom_pos, b.model.geom_pos)  # the kinematic ships' geoms
+    np.testing.assert_array_equal(a.model.geom_quat, b.model.geom_quat)
     np.testing.assert_array_equal(a.data.qpos, b.data.qpos)
 
 
@@ -124,3 +140,31 @@ def test_physics_ship_follows_its_route(scenario_of):
     x, y, _ = sim.vessels["other"].position
     assert 15.0 < x < 35.0 and abs(y - 20.0) < 2.0  # on the leg, at roughly the leg speed
     assert sim.traffic.fleet.vel_enu[0][0] == pytest.approx(1.0, abs=0.25)
+
+
+def test_physics_ship_follows_a_replayed_ais_track(scenario_of, tmp_path):
+    """An Otter (full physics, velocity controller) on a recorded track: 1.2 m/s north, then a turn to the east on
+    a 40 m circle. At every AIS sample its position stays close to the recording's."""
+    speed, radius = 1.2, 40.0
+    rows = [(t, 0.0, speed * t, speed / KNOT_MPS, 0.0, 0.0) for t in range(0, 20, 5)]  # (t, east, north, kn, cog, hdg)
+    for k in range(9):  # a quarter circle to the east from (0, 24)
+        a = k * math.pi / 16
+        t = 20.0 + radius * a / speed
+        rows.append((t, radius * (1 - math.cos(a)), 24.0 + radius * math.sin(a), speed / KNOT_MPS, math.degrees(a), math.degrees(a)))
+    lines = ["time,lat,lon,sog,cog,heading"]
+    for t, e, n, sog, cog, hdg in rows:
+        lat, lon, _ = pymap3d.enu2geodetic(e, n, 0.0, GeodeticOrigin().latitude_deg, GeodeticOrigin().longitude_deg, 0.0)
+        lines.append(f"{t},{lat:.9f},{lon:.9f},{sog},{cog},{hdg}")
+    (tmp_path / "track.csv").write_text("\n".join(lines) + "\n")
+    other = {"name": "other", "model": "otter", "pose": {"position": [0, 0, 0], "yaw_deg": 90},
+             "controller": {"type": "velocity"}, "command_timeout_s": 0.0}
+    sc = scenario_of({"vessels": [{**OWN, "pose": {"position": [-60, 0, 0]}}, other], "traffic": {"ships": [
+        ship("otter_ship", 257000005, {"type": "ais_replay", "path": "track.csv"}, vessel="other", length_m=2, beam_m=1)]}},
+        base_dir=tmp_path)  # fmt: skip
+    sim = Simulation(sc)
+    errors = []
+    for t, e, n, *_ in rows[1:]:
+        sim.run(t - sim.time)
+        errors.append(math.dist(sim.vessels["other"].position[:2], (e, n)))
+    assert max(errors) < 3.0, errors  # bounded all along, the turn included
+    assert errors[-1] < 2.0, errors

@@ -36,6 +36,7 @@ from foxglove.messages import (
 )
 
 from usvsim.core.transforms import matrix_from_quat, quat_multiply
+from usvsim.world.builder import kinematic_geoms
 
 if TYPE_CHECKING:
     from usvsim.simulation import Simulation
@@ -213,7 +214,10 @@ def static_geoms(model: mujoco.MjModel) -> Primitives:
     prims = Primitives()
     kinds = {int(mujoco.mjtGeom.mjGEOM_BOX): "box", int(mujoco.mjtGeom.mjGEOM_CYLINDER): "cylinder",
              int(mujoco.mjtGeom.mjGEOM_SPHERE): "sphere", int(mujoco.mjtGeom.mjGEOM_MESH): "mesh"}  # fmt: skip
-    for g in np.flatnonzero((model.geom_bodyid == 0) & (model.geom_group == VISUAL_GROUP)):
+    moving = kinematic_geoms(model)[1]  # traffic ships: world-body geoms that move, not obstacles
+    static = (model.geom_bodyid == 0) & (model.geom_group == VISUAL_GROUP)
+    static[moving] = False
+    for g in np.flatnonzero(static):
         kind = kinds.get(int(model.geom_type[g]))
         if kind is None:
             continue

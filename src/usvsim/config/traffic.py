@@ -3,9 +3,10 @@
 Positions are world ENU metres (x east, y north). Courses and headings are nautical: degrees clockwise
 from north, as on a chart, in AIS and in COLREG practice. Speeds are m/s (AIS messages carry knots).
 
-A ship moves `kinematic`ally (a MuJoCo mocap body on its track: cameras, LiDAR and radar see it, and
-physics vessels collide with it) unless `vessel` names a scenario vessel with a velocity controller: then
-that vessel follows the route with full physics (line-of-sight guidance feeding its controller).
+A ship moves `kinematic`ally (world-body geoms on its track: cameras, LiDAR and radar see it, and physics
+vessels collide with it) unless `vessel` names a scenario vessel with a velocity controller: then that vessel
+follows the route with full physics (line-of-sight guidance, or for a recorded track time-based track following,
+feeding its controller).
 """
 
 from __future__ import annotations

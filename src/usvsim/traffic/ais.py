@@ -20,6 +20,7 @@ to the equipment). A ship is taken as moored when it moves slower than 0.1 kn (n
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass
 
@@ -83,6 +84,7 @@ def _dimensions(length_m: float, beam_m: float) -> dict[str, int]:
     return {"to_bow": half_l, "to_stern": half_l, "to_port": half_b, "to_starboard": half_b}
 
 
+@functools.lru_cache(maxsize=4096)  # the same every 6 minutes: encode once per ship, sequence id and channel
 def static_sentences(mmsi: int, name: str, ship_type: int, callsign: str, length_m: float, beam_m: float,
                      draft_m: float, ais_class: str, seq_id: int, channel: str = "A") -> list[str]:  # fmt: skip
     """Type 5 (Class A, two sentences) or type 24 parts A and B (Class B)."""

@@ -1,9 +1,9 @@
 """`Fleet`: the scenario's traffic ships at run time.
 
-Kinematic ships are MuJoCo mocap bodies (built by `kinematic_bodies` into the model after the floating
-bodies): before each physics step `before_step` puts every one at its track's pose for the time the step
-ends at (one numba call for all ships), so after `mj_step` cameras, ray sensors and contacts see them where
-the clock says. Physics ships are scenario vessels whose velocity controller gets its reference from a LOS
+Kinematic ships are world-body geoms of the MuJoCo model (built by `kinematic_bodies`; no MuJoCo bodies, which
+would cost per body in every stage of `mj_step`): before each physics step `before_step` evaluates every track for
+the time the step ends at and writes all their geoms' poses into `model.geom_pos`/`geom_quat` (two numba calls
+for all ships), so after `mj_step` cameras, ray sensors and contacts see them where the clock says. Physics ships are scenario vessels whose velocity controller gets its reference from a LOS
 pilot. `pos_enu`, `vel_enu`, `yaw_rad` hold every ship's horizontal state at the current time, in the
 order of `traffic.ships` (world ENU m, m/s; ENU yaw rad).
 """
@@ -13,16 +13,17 @@ from __future__ import annotations
 import math
 from typing import TYPE_CHECKING
 
+import mujoco
 import numpy as np
 
 from usvsim.config.loader import base_dir, source_of
 from usvsim.config.traffic import Route
 from usvsim.core.errors import ScenarioError
-from usvsim.traffic.kernels import TrackTable
+from usvsim.traffic.kernels import TrackTable, place_ships
 from usvsim.traffic.motion import make_track
-from usvsim.traffic.pilot import LosPilot
+from usvsim.traffic.pilot import LosPilot, TrackPilot
 from usvsim.traffic.ships import ship_parts
-from usvsim.world.builder import KinematicBody
+from usvsim.world.builder import KinematicBody, kinematic_geoms
 
 if TYPE_CHECKING:
     from usvsim.config.scenario import Scenario
@@ -56,7 +57,7 @@ def kinematic_bodies(scenario: Scenario) -> tuple[KinematicBody, ...]:
     return tuple(out)
 
 
-def _pilot(world: World, controllers: dict, ship, key: str) -> LosPilot:
+def _pilot(world: World, controllers: dict, ship, key: str) -> LosPilot | TrackPilot:
     source = source_of(world.scenario)
     if ship.vessel not in world.vessels or ship.vessel not in controllers:
         raise ScenarioError(source, f"{key}.vessel", f"{ship.vessel!r} must be a scenario vessel with a velocity "
@@ -68,11 +69,56 @@ def _pilot(world: World, controllers: dict, ship, key: str) -> LosPilot:
         c = math.radians(m.course_deg)
         far = (m.position[0] + 1e6 * math.sin(c), m.position[1] + 1e6 * math.cos(c))
         points, speeds = [m.position, far], [m.speed_mps, m.speed_mps]
-    else:
-        raise ScenarioError(source, f"{key}.motion.type", "a physics ship follows a route or a constant course; "
-                            "replay AIS tracks kinematically (leave out 'vessel')")  # fmt: skip
+    else:  # a recorded track: followed in time
+        track = make_track(m, world.scenario.world.origin, base_dir(world.scenario), source, f"{key}.motion")
+        return TrackPilot(TrackTable.of([track]))
     lookahead = max(2.0 * ship.length_m, 10.0)
     return LosPilot(points, speeds, lookahead, accept_m=lookahead)
+
+
+class _ShipGeoms:
+    """The kinematic ships' geoms in the MuJoCo model, with their poses in the ship frame (from the build, where
+    ship k stood at pos0[k], yaw0[k]). A ship's collision box pairs with floating bodies only while one is within
+    reach (bounding spheres plus `MARGIN_M`); MuJoCo's midphase, whose world-body tree is built once and so
+    knows no moved geom, is off only while some box is near."""
+
+    MARGIN_M = 5.0  # > the distance a ship and a body close in one step (25 m/s each at 100 Hz: 0.5 m)
+
+    def __init__(self, world: World, names: list[str], pos0: np.ndarray, yaw0: np.ndarray):
+        m = world.model
+        built, geoms, owner = kinematic_geoms(m)
+        order = {n: k for k, n in enumerate(names)}
+        owner = np.array([order[built[k]] for k in owner], int)
+        self.owner_geom = np.ascontiguousarray(np.c_[owner, geoms])
+        self.geom_pos, self.geom_quat, self.conaffinity = m.geom_pos, m.geom_quat, m.geom_conaffinity  # in place
+        c, s = np.cos(yaw0[owner]), np.sin(yaw0[owner])
+        d = m.geom_pos[geoms, :2] - pos0[owner]
+        w, z = np.cos(0.5 * yaw0[owner]), -np.sin(0.5 * yaw0[owner])  # (w, 0, 0, z): the inverse yaw
+        q = m.geom_quat[geoms]
+        self.local = np.ascontiguousarray(np.c_[c * d[:, 0] + s * d[:, 1], -s * d[:, 0] + c * d[:, 1], m.geom_pos[geoms, 2],
+                                                w * q[:, 0] - z * q[:, 3], w * q[:, 1] - z * q[:, 2],
+                                                w * q[:, 2] + z * q[:, 1], w * q[:, 3] + z * q[:, 0]])  # fmt: skip
+        solid = m.geom_conaffinity[geoms] > 0
+        self.affinity = int(m.geom_conaffinity[geoms[solid]][0]) if solid.any() else 0
+        self.box = np.zeros(len(names), int)
+        self.box[owner[solid]] = geoms[solid]
+        self.radius = m.geom_rbound[self.box] + self.MARGIN_M
+        self.body_radius = np.array([_reach(m, b + 1) for b in range(len(world.bodies))])
+        self.opt, self.midphase_off = m.opt, None
+
+    def place(self, world: World, pos: np.ndarray, yaw: np.ndarray) -> None:
+        near = place_ships(pos, yaw, self.owner_geom, self.local, self.geom_pos, self.geom_quat, self.box, self.radius,
+                           world.state.pos, self.body_radius, self.conaffinity, self.affinity)  # fmt: skip
+        if (near > 0) is not self.midphase_off:
+            self.midphase_off = near > 0
+            bit = int(mujoco.mjtDisableBit.mjDSBL_MIDPHASE)
+            self.opt.disableflags = (self.opt.disableflags | bit) if self.midphase_off else (self.opt.disableflags & ~bit)
+
+
+def _reach(m: mujoco.MjModel, body: int) -> float:
+    """Radius (m) around body's origin that holds its collision geoms (0 without any)."""
+    g = np.flatnonzero((m.geom_bodyid == body) & ((m.geom_contype > 0) | (m.geom_conaffinity > 0)))
+    return float(np.max(np.linalg.norm(m.geom_pos[g], axis=1) + m.geom_rbound[g])) if len(g) else 0.0
 
 
 class Fleet:
@@ -91,7 +137,10 @@ class Fleet:
             self._kpos, self._kvel, self._kyaw = np.zeros((nk, 2)), np.zeros((nk, 2)), np.zeros(nk)
         else:  # all kinematic: the kernel fills the public arrays directly
             self._kpos, self._kvel, self._kyaw = self.pos_enu, self.vel_enu, self.yaw_rad
-        self.mocap = slice(0, nk)  # the traffic ships are the only mocap bodies, in this order
+        pos0, yaw0 = np.zeros((nk, 2)), np.zeros(nk)  # where the build put them
+        if nk:
+            self.table.evaluate(0.0, pos0, np.zeros((nk, 2)), yaw0)
+        self._geoms = _ShipGeoms(world, [ships[k].name for k in self.kinematic], pos0, yaw0)
         self._t_eval = math.nan
         self.update(world)
 
@@ -107,16 +156,12 @@ class Fleet:
             loop = self.controllers[name]
             if world.clock.steps % loop.every == 0:  # at the controller's rate
                 i = world.vessels[name].index
-                loop.reference = pilot.reference(world.state.pos[i], _yaw(world.state.rot[i]))
+                loop.reference = pilot.reference(world.state.pos[i], _yaw(world.state.rot[i]), world.time)
 
     def _place(self, world: World, t_s: float) -> None:
         self.table.evaluate(t_s, self._kpos, self._kvel, self._kyaw)
         self._t_eval = t_s
-        data = world.data
-        data.mocap_pos[self.mocap, :2] = self._kpos
-        half = 0.5 * self._kyaw
-        data.mocap_quat[self.mocap, 0] = np.cos(half)
-        data.mocap_quat[self.mocap, 3] = np.sin(half)
+        self._geoms.place(world, self._kpos, self._kyaw)
 
     def update(self, world: World) -> None:
         """Refresh pos_enu / vel_enu / yaw_rad for the current time (after the step)."""

@@ -84,3 +84,38 @@ def evaluate(t_s, first, count, period, t0, t1, p0, p1, v0, v1, yaw0, yaw1, line
             pos[k, i] = h00 * p0[s, i] + h10 * h * v0[s, i] + h01 * p1[s, i] + h11 * h * v1[s, i]
             vel[k, i] = (d00 * p0[s, i] + d10 * h * v0[s, i] + d01 * p1[s, i] + d11 * h * v1[s, i]) / h
         yaw[k] = (yaw0[s] + u * (yaw1[s] - yaw0[s]) + math.pi) % (2.0 * math.pi) - math.pi
+
+
+@njit(cache=True)
+def place_ships(pos, yaw, owner_geom, local, geom_pos, geom_quat, box, radius, body_pos, body_radius, conaffinity,
+                affinity):  # fmt: skip
+    """Put the kinematic ships' geoms where the ships are and let a ship's collision box pair with floating bodies
+    only while it is near one. Ship k: pos (N, 2) ENU m, yaw (N,) rad, collision box geom box[k] with bounding
+    radius radius[k] m. Geom j (owner_geom[j] = ship, geom id): pose in its ship's frame local[j] = (x, y, z m,
+    w, x, y, z quaternion). Floating bodies: body_pos (B, 3) m, body_radius (B,) m, margin included. Writes
+    MuJoCo's geom_pos, geom_quat and conaffinity (`affinity` near, 0 far); returns the number of boxes near."""
+    n = len(yaw)
+    trig = np.empty((n, 4))
+    near = 0
+    for k in range(n):
+        w, z = math.cos(0.5 * yaw[k]), math.sin(0.5 * yaw[k])
+        trig[k, 0], trig[k, 1], trig[k, 2], trig[k, 3] = w * w - z * z, 2.0 * w * z, w, z  # cos, sin of yaw
+        hit = False
+        for b in range(len(body_radius)):
+            dx, dy = body_pos[b, 0] - pos[k, 0], body_pos[b, 1] - pos[k, 1]
+            reach = radius[k] + body_radius[b]
+            if dx * dx + dy * dy < reach * reach:
+                hit = True
+                break
+        conaffinity[box[k]] = affinity if hit else 0
+        near += hit
+    for j in range(len(owner_geom)):
+        k, g = owner_geom[j, 0], owner_geom[j, 1]
+        c, s, w, z = trig[k, 0], trig[k, 1], trig[k, 2], trig[k, 3]
+        geom_pos[g, 0] = pos[k, 0] + c * local[j, 0] - s * local[j, 1]
+        geom_pos[g, 1] = pos[k, 1] + s * local[j, 0] + c * local[j, 1]
+        geom_pos[g, 2] = local[j, 2]
+        qw, qx, qy, qz = local[j, 3], local[j, 4], local[j, 5], local[j, 6]  # (w, 0, 0, z) * local quaternion
+        geom_quat[g, 0], geom_quat[g, 1] = w * qw - z * qz, w * qx - z * qy
+        geom_quat[g, 2], geom_quat[g, 3] = w * qy + z * qx, w * qz + z * qw
+    return near

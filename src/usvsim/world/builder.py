@@ -21,6 +21,8 @@ from usvsim.vessels.parts import Part
 from usvsim.world.water_visual import add_water_surface
 
 COLLISION_GROUP, VISUAL_GROUP, WATER_GROUP = 3, 1, 2
+KINEMATIC_PREFIX = "kinematic/"
+SOLID, STRUCK_BY_KINEMATIC = 1, 2  # contype/conaffinity bits: kinematic geoms only pair with floating bodies
 _KIND = {
     "box": mujoco.mjtGeom.mjGEOM_BOX,
     "sphere": mujoco.mjtGeom.mjGEOM_SPHERE,
@@ -47,8 +49,10 @@ class FloatingBody:
 
 @dataclass(frozen=True)
 class KinematicBody:
-    """A body moved along a prescribed track (a MuJoCo mocap body): drawn, seen by ray sensors, and floating
-    bodies collide with it; it does not respond to forces. Parts are in its body frame (FLU)."""
+    """A body moved along a prescribed track: drawn, seen by ray sensors, and floating bodies collide with it; it
+    does not respond to forces. Parts are in its body frame (FLU). It is no MuJoCo body (50 bodies would cost
+    more than the whole harbour): its geoms belong to the world body, named `kinematic/<name>/<part>`, and whoever
+    moves it writes their `model.geom_pos`/`geom_quat` (see `kinematic_geoms`)."""
 
     name: str
     collision: tuple[Part, ...]
@@ -99,7 +103,7 @@ def _add_geom(spec: mujoco.MjSpec, parent, part: Part, group: int, collide: bool
     geom.pos, geom.quat = list(part.pos), list(part.quat)
     geom.group = group
     geom.rgba = list(part.rgba) if not collide else [0.5, 0.5, 0.5, 0.0]
-    geom.contype = geom.conaffinity = 1 if collide else 0
+    geom.contype = geom.conaffinity = SOLID if collide else 0
     geom.friction = [0.6, 0.005, 0.0001]
     geom.mass = 0.0
 
@@ -127,6 +131,7 @@ def _add_floating(spec: mujoco.MjSpec, fb: FloatingBody) -> None:
     body.mass, body.ipos, body.iquat, body.inertia = model.mass_kg, [0.0, 0.0, 0.0], list(iquat), list(moments)
     for k, part in enumerate(model.collision):
         _add_geom(spec, body, _shifted(part, com), COLLISION_GROUP, True, f"{fb.name}_col{k}")
+        body.geoms[-1].contype = SOLID | STRUCK_BY_KINEMATIC
     for k, part in enumerate(model.visuals):
         _add_geom(spec, body, _shifted(part, com), VISUAL_GROUP, False, f"{fb.name}_vis{k}")
     if fb.anchor is not None:
@@ -139,12 +144,46 @@ def _add_floating(spec: mujoco.MjSpec, fb: FloatingBody) -> None:
 
 
 def _add_kinematic(spec: mujoco.MjSpec, kb: KinematicBody) -> None:
-    body = spec.worldbody.add_body(name=kb.name, mocap=True, pos=list(kb.position), quat=list(kb.quat))
-    for k, part in enumerate(kb.collision):
-        _add_geom(spec, body, part, COLLISION_GROUP, True, f"{kb.name}_col{k}")
-        body.geoms[-1].contype = 0  # touches floating bodies and static parts (conaffinity 1), not other mocap ships
-    for k, part in enumerate(kb.visuals):
-        _add_geom(spec, body, part, VISUAL_GROUP, False, f"{kb.name}_vis{k}")
+    """The body's parts as world-body geoms at its initial pose (collision box: conaffinity STRUCK_BY_KINEMATIC
+    only, so it pairs with floating bodies, never with static parts or other kinematic bodies)."""
+    pos, quat = np.asarray(kb.position, float), np.asarray(kb.quat, float)
+    rot = np.zeros(9)
+    mujoco.mju_quat2Mat(rot, quat)
+    parts = [(p, True, f"col{k}") for k, p in enumerate(kb.collision)]
+    parts += [(p, False, f"vis{k}") for k, p in enumerate(kb.visuals)]
+    for part, collide, tag in parts:
+        name = f"{KINEMATIC_PREFIX}{kb.name}/{tag}"
+        _add_geom(spec, spec.worldbody, part, COLLISION_GROUP if collide else VISUAL_GROUP, collide, name)
+        geom, q = spec.worldbody.geoms[-1], np.zeros(4)
+        mujoco.mju_mulQuat(q, quat, np.asarray(part.quat, float))
+        geom.name, geom.pos, geom.quat = name, (pos + rot.reshape(3, 3) @ np.asarray(part.pos, float)).tolist(), q.tolist()
+        if collide:
+            geom.contype, geom.conaffinity = 0, STRUCK_BY_KINEMATIC
+
+
+def kinematic_geoms(model: mujoco.MjModel) -> tuple[list[str], np.ndarray, np.ndarray]:
+    """(names of the kinematic bodies in build order, their geom ids, each geom's index into the names)."""
+    names: list[str] = []
+    geoms, owner = [], []
+    for g in range(model.ngeom):
+        name = model.geom(g).name
+        if name.startswith(KINEMATIC_PREFIX):
+            body = name[len(KINEMATIC_PREFIX) :].rsplit("/", 1)[0]
+            if not names or names[-1] != body:
+                names.append(body)
+            geoms.append(g)
+            owner.append(len(names) - 1)
+    return names, np.array(geoms, int), np.array(owner, int)
+
+
+def geom_owners(model: mujoco.MjModel) -> list[str]:
+    """Per geom, the name of what it belongs to: its body ('world' for static parts) or its kinematic body."""
+    bodies = [model.body(b).name for b in range(model.nbody)]
+    out = [bodies[b] for b in model.geom_bodyid]
+    names, geoms, owner = kinematic_geoms(model)
+    for g, k in zip(geoms, owner):
+        out[g] = names[k]
+    return out
 
 
 def build_model(floating: list[FloatingBody], static: list[Part], dt: float, gravity: float,
@@ -152,7 +191,8 @@ def build_model(floating: list[FloatingBody], static: list[Part], dt: float, gra
                 kinematic: tuple[KinematicBody, ...] = ()) -> mujoco.MjModel:  # fmt: skip
     """Compile the world. Body i+1 of the result is floating[i] (body 0 is the world). `static` parts are
     drawn and solid; `visual_only` (after them, in order) and `collision_only` parts one or the other.
-    Kinematic (mocap) bodies follow the floating ones: body len(floating)+1+j is kinematic[j] (mocap id j)."""
+    Kinematic bodies are world-body geoms (`kinematic_geoms`), free to move: MuJoCo recomputes their frames
+    from `model.geom_pos`/`geom_quat` every step."""
     spec = mujoco.MjSpec()
     spec.modelname = "usvsim"
     spec.nuser_body = 3  # base_offset: each floating body's CoM in base_link
@@ -182,4 +222,8 @@ def build_model(floating: list[FloatingBody], static: list[Part], dt: float, gra
         _add_floating(spec, fb)
     for kb in kinematic:
         _add_kinematic(spec, kb)
-    return spec.compile()
+    if kinematic:  # the world body's bounding volume tree is built once; moved geoms would fall outside it
+        spec.option.disableflags |= mujoco.mjtDisableBit.mjDSBL_MIDPHASE
+    model = spec.compile()
+    model.geom_sameframe[kinematic_geoms(model)[1]] = 0  # frames from geom_pos/geom_quat, not the world's
+    return model

@@ -39,7 +39,7 @@ from usvsim.ocean.pressure import surface_and_dynamic_head
 from usvsim.vessel import Body, Thruster, Vessel
 from usvsim.vessels import buoy
 from usvsim.vessels.library import vessel_model
-from usvsim.world.builder import FloatingBody, KinematicBody, build_model
+from usvsim.world.builder import FloatingBody, KinematicBody, build_model, geom_owners
 from usvsim.world.divergence import DivergenceGuard
 from usvsim.world.obstacles import static_parts
 from usvsim.world.poses import PoseLike, pose_arrays, twist_array
@@ -52,8 +52,8 @@ BAD_QPOS, BAD_QVEL, BAD_QACC = (int(mujoco.mjtWarning.mjWARN_BADQPOS), int(mujoc
 
 class World:
     """The state of one scenario: physics, ocean, bodies, thrusters, clock. `seed` drives every random stream.
-    `kinematic` bodies (mocap, e.g. traffic ships) are built after the floating ones; whoever moves them sets
-    `data.mocap_pos`/`mocap_quat` (a reset puts them back at their t = 0 poses)."""
+    `kinematic` bodies (e.g. traffic ships) are world-body geoms (`builder.kinematic_geoms`); whoever moves them
+    writes their `model.geom_pos`/`geom_quat` (and puts them back at their t = 0 poses on a reset)."""
 
     def __init__(self, scenario: Scenario, seed: int = 0, kinematic: tuple[KinematicBody, ...] = ()):
         scenario = resolve_geo(scenario)
@@ -76,6 +76,7 @@ class World:
         static = static_parts(scenario.objects, base_dir(scenario), source_of(scenario))
         geo = geo_parts(self.place) if self.place else GeoParts([], [])
         self.model = build_model(floating, static, self.clock.dt, self.g, geo.visual, geo.collision, kinematic)
+        self._geom_owners: list[str] | None = None
         if self.place:
             set_clip_planes(self.model, self.place.settings.extent_m)
         self.data = mujoco.MjData(self.model)
@@ -338,9 +339,7 @@ class World:
 
     def contacts(self) -> list[tuple[str, str, float]]:
         """Active contacts as (body name, other body name or 'world', penetration depth m >= 0)."""
-        names = [self.model.body(b).name for b in range(self.model.nbody)]  # world, floating, kinematic
-        out = []
-        for c in self.data.contact[: self.data.ncon]:
-            b1, b2 = self.model.geom_bodyid[c.geom[0]], self.model.geom_bodyid[c.geom[1]]
-            out.append((names[b1], names[b2], max(0.0, -float(c.dist))))
-        return out
+        if self._geom_owners is None:
+            self._geom_owners = geom_owners(self.model)  # body names, kinematic bodies' for their geoms
+        names = self._geom_owners
+        return [(names[c.geom[0]], names[c.geom[1]], max(0.0, -float(c.dist))) for c in self.data.contact[: self.data.ncon]]

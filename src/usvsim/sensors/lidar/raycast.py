@@ -105,10 +105,10 @@ class RayWorld:
         self.center_body_m = np.array([b.center_body_m for b in self.bodies]).reshape(-1, 3)
         self.radius_m = np.array([b.radius_m for b in self.bodies])
         self.body_index = np.array([b.body for b in self.bodies], int)
-        # kinematic (mocap) bodies, e.g. traffic ships, are placed by `data.mocap_pos`/`mocap_quat`, not `sim.state`
-        self.mocap_id = sim.model.body_mocapid[self.body_index + 1] if len(self.bodies) else np.zeros(0, int)
-        self._mocap = np.flatnonzero(self.mocap_id >= 0)
-        self._floating = np.flatnonzero(self.mocap_id < 0)
+        # kinematic bodies (world-body geoms, e.g. traffic ships) are placed by their anchor geom's model.geom_pos/quat
+        self.anchor = np.array([b.anchor for b in self.bodies], int)
+        self._kinematic = np.flatnonzero(self.anchor >= 0)
+        self._floating = np.flatnonzero(self.anchor < 0)
 
     def scene_of(self, body: int) -> int | None:
         """Index into `bodies` of the scene of `sim.state` body `body` (None: it has no triangles)."""
@@ -118,13 +118,13 @@ class RayWorld:
     def poses(self) -> tuple[np.ndarray, np.ndarray]:
         """World positions (B, 3) and rotations (B, 3, 3, body → world) of the moving scenes now."""
         s = self.sim.state
-        if not len(self._mocap):
+        if not len(self._kinematic):
             return s.pos[self.body_index], s.rot[self.body_index]
         pos, rot = np.empty((len(self.bodies), 3)), np.empty((len(self.bodies), 3, 3))
         pos[self._floating], rot[self._floating] = s.pos[self.body_index[self._floating]], s.rot[self.body_index[self._floating]]
-        ids, data = self.mocap_id[self._mocap], self.sim.data
-        pos[self._mocap] = data.mocap_pos[ids]
-        rot[self._mocap] = quat_matrices(data.mocap_quat[ids])
+        anchors, m = self.anchor[self._kinematic], self.sim.model
+        pos[self._kinematic] = m.geom_pos[anchors]
+        rot[self._kinematic] = quat_matrices(m.geom_quat[anchors])
         return pos, rot
 
     def cast(self, origins: np.ndarray, dirs: np.ndarray, max_range: float, prior=None, skip: int | None = None):

@@ -10,6 +10,7 @@ Embree geometry; `prim_geom[primID]` gives the MuJoCo geom id. Water (group 2) i
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import dataclass
 
@@ -20,11 +21,12 @@ from embreex import rtcore_scene as rtcs
 from embreex.mesh_construction import TriangleMesh
 
 from usvsim.core.transforms import matrix_from_quat
-from usvsim.world.builder import base_offset
+from usvsim.world.builder import base_offset, kinematic_geoms
 
 TOL_M = 0.004  # max distance of tessellated primitives from the true surface
 NO_HIT = -1
 STATIC = -1  # `BodyScene.body` of the static world scene
+KINEMATIC = -2  # `BodyScene.body` of a kinematic body's scene (world-body geoms that move, e.g. traffic ships)
 _G = mujoco.mjtGeom
 
 
@@ -73,13 +75,14 @@ class BodyScene:
 
     scene: rtcs.EmbreeScene
     prim_geom: np.ndarray  # (triangles,) int32: MuJoCo geom id of each triangle
-    body: int  # index into `sim.state` arrays; STATIC for the world scene (frame = world)
+    body: int  # index into `sim.state` arrays; STATIC for the world scene (frame = world); KINEMATIC: see anchor
     center_body_m: np.ndarray  # (3,) bounding sphere centre, body frame
     radius_m: float
     part_centers_m: np.ndarray  # (geoms, 3) bounding sphere centre of each geom, body frame
     part_radii_m: np.ndarray  # (geoms,)
     box_lo_m: np.ndarray  # (3,) corners of the bounding box, body frame, 1 mm margin
     box_hi_m: np.ndarray
+    anchor: int = -1  # KINEMATIC scenes: the geom whose frame (model.geom_pos/quat, moved in place) is the scene's
 
 
 def bounding_sphere(verts: np.ndarray) -> tuple[np.ndarray, float]:
@@ -109,5 +112,28 @@ def body_scenes(model: mujoco.MjModel, group: int) -> tuple[BodyScene | None, li
         geoms, tri_list = by_body.setdefault(int(model.geom_bodyid[g]), ([], []))
         geoms.append(g)
         tri_list.append(tris)
-    static = _body_scene(*by_body.pop(0), STATIC) if 0 in by_body else None
-    return static, [_body_scene(*by_body[b], b - 1) for b in sorted(by_body)]
+    moving = _kinematic_scenes(model, by_body.get(0, ([], [])))
+    static = _body_scene(*by_body.pop(0), STATIC) if by_body.get(0, ([],))[0] else None
+    return static, [_body_scene(*by_body[b], b - 1) for b in sorted(by_body) if b] + moving
+
+
+def _kinematic_scenes(model: mujoco.MjModel, world: tuple[list[int], list[np.ndarray]]) -> list[BodyScene]:
+    """Take the kinematic bodies' geoms out of the world body's lists: one scene each, in the frame of its first
+    geom (triangles as built, in the world frame, moved into that frame)."""
+    names, kin, owner = kinematic_geoms(model)
+    geoms, tris = world
+    by_owner: dict[int, tuple[list[int], list[np.ndarray]]] = {}
+    for g, t in zip(list(geoms), list(tris)):
+        found = np.flatnonzero(kin == g)
+        if len(found):
+            k = geoms.index(g)
+            geoms.pop(k), tris.pop(k)
+            parts = by_owner.setdefault(int(owner[found[0]]), ([], []))
+            parts[0].append(g), parts[1].append(t)
+    out = []
+    for gs, ts in by_owner.values():
+        anchor = gs[0]
+        rot, pos = matrix_from_quat(model.geom_quat[anchor]), model.geom_pos[anchor]
+        scene = _body_scene(gs, [(t - pos) @ rot for t in ts], KINEMATIC)
+        out.append(dataclasses.replace(scene, anchor=anchor))
+    return out

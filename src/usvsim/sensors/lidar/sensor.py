@@ -36,6 +36,7 @@ from usvsim.sensors.lidar.scene import NO_HIT
 from usvsim.sensors.lidar.water import sunk_hits, surface_hits
 from usvsim.sensors.messages import POINT_DTYPE, laser_scan_msg, point_cloud2_msg
 from usvsim.sensors.navigation import mount_velocity_world
+from usvsim.world.builder import geom_owners
 
 if TYPE_CHECKING:
     from usvsim.world.world import World
@@ -50,9 +51,8 @@ def reflectivities(sim: World, overrides: dict[str, float]) -> np.ndarray:
     m = sim.model
     luminance = m.geom_rgba[:, :3] @ np.array([0.2126, 0.7152, 0.0722])
     refl = np.clip(luminance, 0.05, 1.0)
-    names = [m.body(b).name for b in range(m.nbody)]  # "world", floating bodies, traffic ships
-    for g in range(m.ngeom):
-        refl[g] = overrides.get(names[m.geom_bodyid[g]], refl[g])
+    for g, owner in enumerate(geom_owners(m)):  # "world", floating bodies, traffic ships
+        refl[g] = overrides.get(owner, refl[g])
     return np.append(refl, [0.0, 0.0]).astype(np.float32)
 
 
