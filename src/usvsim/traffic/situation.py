@@ -61,9 +61,11 @@ class SituationPublisher:
         if world.clock.steps % self.every != 0 or not self.targets:
             return []
         s = self.compute(world)
-        ahead, when = aw.min_distance_over(s["rel_pos"], s["rel_vel"], self.period_s)
-        closer = ahead < self.min_dist
-        self.min_dist[closer], self.t_min[closer] = ahead[closer], world.time + when[closer]
+        # the interval since the previous sample, straight motion back from now: never past the present (a
+        # look ahead reported passes after the run's end, e.g. t = 31 s in a 30 s run with targets still closing)
+        back, ago = aw.min_distance_over(s["rel_pos"], -s["rel_vel"], min(self.period_s, world.time))
+        closer = back < self.min_dist
+        self.min_dist[closer], self.t_min[closer] = back[closer], world.time - ago[closer]
         closing = s["tcpa"] > 0
         self.min_cpa[closing] = np.minimum(self.min_cpa[closing], s["cpa"][closing])
         return [Envelope(self.cfg.topic, world.clock.now_ns, self._message(world.clock.now_ns, s))]
