@@ -36,6 +36,5 @@ def test_drives_around_a_block_to_the_goal(odometry):
     occupied = nav.grid.occupied()
     real = true_occupancy(sim, nav.grid, "wamv", nav.config.slice_m)
     stray = (occupied & ~binary_dilation(real)).sum()  # more than a cell (0.25 m) from any wall
-    limit = 0.05 if odometry == "kiss_icp" else 0.1  # the odometry sensor's pose does not deskew the sweep
-    assert occupied.sum() > 100 and stray < limit * occupied.sum(), (stray, occupied.sum())
+    assert occupied.sum() > 100 and stray < 0.05 * occupied.sum(), (stray, occupied.sum())  # both deskew
     sim.close()
