@@ -71,6 +71,9 @@ class WaterLook(Section):
     color: Rgb = (0.012, 0.09, 0.12)  # colour of light scattered back from inside the water body
     foam: NonNegativeFloat = 1.0  # whitecap and waterline foam amount (0: none)
     glint: NonNegativeFloat = 1.0  # strength of the sun's specular reflection
+    clarity_m: PositiveFloat | None = (
+        2.0  # path in the water over which the seabed or a hull fades by e; None: opaque
+    )
 
 
 class CameraLook(Section):

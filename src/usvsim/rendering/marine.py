@@ -127,7 +127,7 @@ class MarinePass:
         self._surface_key = None
         self._look = (look.water.foam, look.water.glint, FOAM_CHOPPINESS)
         self._level_m, self._fog_height_m = level_m, look.fog.height_falloff_m
-        _set(self.water, u_water=tuple(look.water.color))
+        _set(self.water, u_water=tuple(look.water.color), u_clarity=float(look.water.clarity_m or 0.0))
 
     def draw(
         self, camera, rect, labels: tuple[float, float, float] | None = None, time_s: float = 0.0
@@ -160,7 +160,7 @@ class MarinePass:
             self._surface_key = key
         if labels is not None:
             _set(self.label, u_id_color=labels, **grid)
-            self._water(label_vao, stencil=False)
+            self._water(label_vao, stencil=False, blend=False)
         else:
             self._copy_depth(fbo, viewport)
             for prog in (self.sky, self.fog):
@@ -170,14 +170,14 @@ class MarinePass:
             _set(self.water, u_look=(*self._look, time_s), u_pixel=cell_tan / CELL_PX, **grid)
             self._fullscreen(self.fog, "<", blend=True)  # only where a geom was drawn (depth > 0)
             GL.glClear(GL.GL_STENCIL_BUFFER_BIT)
-            self._water(water_vao, stencil=True)
+            self._water(water_vao, stencil=True, blend=True)
             GL.glStencilFunc(GL.GL_EQUAL, 0, 0xFF)  # the sky where neither geoms nor water were drawn
             GL.glStencilOp(GL.GL_KEEP, GL.GL_KEEP, GL.GL_KEEP)
             self._fullscreen(self.sky, ">=", blend=False)
             GL.glDisable(GL.GL_STENCIL_TEST)
         self.restore()
 
-    def _water(self, vao, stencil: bool) -> None:
+    def _water(self, vao, stencil: bool, blend: bool) -> None:
         from OpenGL import GL
 
         ctx = self.ctx
@@ -188,9 +188,13 @@ class MarinePass:
             GL.glStencilFunc(GL.GL_ALWAYS, 1, 0xFF)
             GL.glStencilOp(GL.GL_KEEP, GL.GL_KEEP, GL.GL_REPLACE)
             GL.glStencilMask(0xFF)
+        if blend:  # over the geoms behind the surface (clear water); alpha 1 where nothing shows through
+            ctx.enable(ctx.BLEND)
+            ctx.blend_func = ctx.SRC_ALPHA, ctx.ONE_MINUS_SRC_ALPHA
         ctx.enable_direct(GL_DEPTH_CLAMP)
         vao.render()
         ctx.disable_direct(GL_DEPTH_CLAMP)
+        ctx.disable(ctx.BLEND)
 
     def _fullscreen(self, prog, depth_func: str, blend: bool) -> None:
         """A triangle over the view at depth 0 (the far plane), shaded only where the depth test passes."""

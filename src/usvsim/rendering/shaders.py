@@ -205,6 +205,7 @@ uniform sampler2D u_depth;
 uniform vec3 u_water;
 uniform vec4 u_look;     // foam, glint, render choppiness for whitecaps, time (s)
 uniform float u_pixel;   // view width of one pixel at unit distance
+uniform float u_clarity; // distance (m) in the water over which a geom behind the surface fades by e (0: opaque)
 uniform vec2 u_near_far;
 uniform vec2 u_viewport;
 in vec2 v_label;
@@ -262,8 +263,12 @@ void main() {
     float contact = (1.0 - smoothstep(0.0, 0.35 + 0.002 * dist, behind)) * (0.6 + 0.4 * grain);
     float foam = clamp(u_look.x * max(whitecap, contact), 0.0, 1.0);
     vec3 foam_light = vec3(0.85) * (u_ambient * 2.5 + u_sun_color * max(u_sun_dir.z, 0.0));
-    c = mix(c, foam_light, foam * (1.0 - smoothstep(200.0, 2000.0, dist)));
-    f_color = vec4(display(c * v_atm.x + v_atm.yzw), 1.0);
+    foam *= 1.0 - smoothstep(200.0, 2000.0, dist);
+    c = mix(c, foam_light, foam);
+    // clear shallow water: the geom behind the surface (seabed, a hull's underwater part) shows through what
+    // is not reflected or foam, fading with the path in the water (blended over it: alpha = 1 - that share)
+    float seen = raw > 0.0 && u_clarity > 0.0 ? (1.0 - fresnel) * (1.0 - foam) * exp(-behind / u_clarity) : 0.0;
+    f_color = vec4(display(c * v_atm.x + v_atm.yzw), 1.0 - seen * v_atm.x);
 }
 """
 )
