@@ -114,7 +114,7 @@ class Simulation:
         for loop in self.controllers.values():
             loop(world)
         world.step_physics()
-        measurements = self.traffic.on_step(world) + self.sensors.on_step(world)  # IMU: every step
+        measurements = self.traffic.on_step(world, bool(self._subscribers)) + self.sensors.on_step(world)  # IMU: every step
         if self._subscribers:
             self._emit(self.ground_truth.due(world.clock.steps, world.clock.now_ns) + measurements)
 

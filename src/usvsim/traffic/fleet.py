@@ -42,7 +42,7 @@ def _tracks(scenario: Scenario) -> list:
 
 
 def kinematic_bodies(scenario: Scenario) -> tuple[KinematicBody, ...]:
-    """The mocap bodies of the kinematic ships, at their t = 0 poses (world ENU, waterline at z = 0)."""
+    """The kinematic ships (world-body geoms), at their t = 0 poses (world ENU, waterline at z = 0)."""
     ships = [s for s in scenario.traffic.ships if s.vessel is None]
     if not ships:
         return ()

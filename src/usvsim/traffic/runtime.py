@@ -30,12 +30,13 @@ class Traffic:
         if self._active:
             self.fleet.before_step(world)
 
-    def on_step(self, world: World) -> list[Envelope]:
-        """After the step (clock ticked, kinematics updated): messages due now."""
+    def on_step(self, world: World, publish: bool = True) -> list[Envelope]:
+        """After the step (clock ticked, kinematics updated): messages due now (the situation message is only
+        built when `publish`, i.e. someone listens; the run report is kept either way)."""
         if not self._active:
             return []
         self.fleet.update(world)
-        out = self.situation.due(world) if self.situation is not None else []
+        out = self.situation.due(world, publish) if self.situation is not None else []
         return out + self.ais.due(world) if self.ais is not None else out
 
     def report(self) -> dict:
