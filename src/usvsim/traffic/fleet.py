@@ -19,7 +19,7 @@ import numpy as np
 from usvsim.config.loader import base_dir, source_of
 from usvsim.config.traffic import Route
 from usvsim.core.errors import ScenarioError
-from usvsim.traffic.kernels import TrackTable, place_ships
+from usvsim.traffic.kernels import TrackTable, evaluate_and_place
 from usvsim.traffic.motion import make_track
 from usvsim.traffic.pilot import LosPilot, TrackPilot
 from usvsim.traffic.ships import ship_parts
@@ -106,13 +106,20 @@ class _ShipGeoms:
         self.body_radius = np.array([_reach(m, b + 1) for b in range(len(world.bodies))])
         self.opt, self.midphase_off = m.opt, None
 
-    def place(self, world: World, pos: np.ndarray, yaw: np.ndarray) -> None:
-        near = place_ships(pos, yaw, self.owner_geom, self.local, self.geom_pos, self.geom_quat, self.box, self.radius,
-                           world.state.pos, self.body_radius, self.conaffinity, self.affinity)  # fmt: skip
-        if (near > 0) is not self.midphase_off:
-            self.midphase_off = near > 0
+    def bind(self, world: World, table: TrackTable, pos: np.ndarray, vel: np.ndarray, yaw: np.ndarray) -> None:
+        """Fix the kernel's arguments once (all arrays written in place): a step then costs one numba dispatch."""
+        tb = table
+        self._args = (tb.first, tb.count, tb.period_s, tb.t0, tb.t1, tb.p0, tb.p1, tb.v0, tb.v1, tb.yaw0, tb.yaw1,
+                      tb.linear, pos, vel, yaw, self.owner_geom, self.local, self.geom_pos, self.geom_quat, self.box,
+                      self.radius, world.state.pos, self.body_radius, self.conaffinity, self.affinity)  # fmt: skip
+
+    def place(self, t_s: float) -> None:
+        """Evaluate every track at t_s into the bound pos, vel, yaw and put the ships' geoms there."""
+        near = evaluate_and_place(t_s, *self._args) > 0
+        if near is not self.midphase_off:
+            self.midphase_off = near
             bit = int(mujoco.mjtDisableBit.mjDSBL_MIDPHASE)
-            self.opt.disableflags = (self.opt.disableflags | bit) if self.midphase_off else (self.opt.disableflags & ~bit)
+            self.opt.disableflags = (self.opt.disableflags | bit) if near else (self.opt.disableflags & ~bit)
 
 
 def _reach(m: mujoco.MjModel, body: int) -> float:
@@ -141,6 +148,7 @@ class Fleet:
         if nk:
             self.table.evaluate(0.0, pos0, np.zeros((nk, 2)), yaw0)
         self._geoms = _ShipGeoms(world, [ships[k].name for k in self.kinematic], pos0, yaw0)
+        self._geoms.bind(world, self.table, self._kpos, self._kvel, self._kyaw)
         self._t_eval = math.nan
         self.update(world)
 
@@ -159,9 +167,8 @@ class Fleet:
                 loop.reference = pilot.reference(world.state.pos[i], _yaw(world.state.rot[i]), world.time)
 
     def _place(self, world: World, t_s: float) -> None:
-        self.table.evaluate(t_s, self._kpos, self._kvel, self._kyaw)
+        self._geoms.place(t_s)
         self._t_eval = t_s
-        self._geoms.place(world, self._kpos, self._kyaw)
 
     def update(self, world: World) -> None:
         """Refresh pos_enu / vel_enu / yaw_rad for the current time (after the step)."""
@@ -181,5 +188,6 @@ class Fleet:
         for _, pilot in self.pilots.values():
             pilot.reset()
         if len(self.kinematic):
+            self._geoms.bind(world, self.table, self._kpos, self._kvel, self._kyaw)  # world.state may be new
             self._place(world, 0.0)
         self.update(world)

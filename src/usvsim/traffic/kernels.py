@@ -119,3 +119,13 @@ def place_ships(pos, yaw, owner_geom, local, geom_pos, geom_quat, box, radius, b
         geom_quat[g, 0], geom_quat[g, 1] = w * qw - z * qz, w * qx - z * qy
         geom_quat[g, 2], geom_quat[g, 3] = w * qy + z * qx, w * qz + z * qw
     return near
+
+
+@njit(cache=True)
+def evaluate_and_place(t_s, first, count, period, t0, t1, p0, p1, v0, v1, yaw0, yaw1, linear, pos, vel, yaw,
+                       owner_geom, local, geom_pos, geom_quat, box, radius, body_pos, body_radius, conaffinity,
+                       affinity):  # fmt: skip
+    """`evaluate` then `place_ships` in one call (one dispatch per physics step)."""
+    evaluate(t_s, first, count, period, t0, t1, p0, p1, v0, v1, yaw0, yaw1, linear, pos, vel, yaw)
+    return place_ships(pos, yaw, owner_geom, local, geom_pos, geom_quat, box, radius, body_pos, body_radius,
+                       conaffinity, affinity)  # fmt: skip
