@@ -12,6 +12,8 @@ from __future__ import annotations
 
 import numpy as np
 
+PAD_PX = np.array([-1.0, -1.0, 1.0, 1.0])  # boxes grown by a pixel for grouping: rasterization at the rims
+
 
 def groups_without_overlap(boxes: np.ndarray) -> list[list[int]]:
     """Greedy colouring: indices of boxes (n, 4: x0 y0 x1 y1, edge coordinates) in groups whose boxes are
@@ -40,7 +42,7 @@ class AmodalCounter:
         m, out = self.model, {}
         alpha = m.geom_rgba[:, 3].copy()
         try:
-            for group in groups_without_overlap(boxes):
+            for group in groups_without_overlap(boxes + PAD_PX):
                 m.geom_rgba[:, 3] = 0.0
                 for j in group:
                     geoms = self.objects[indices[j]].geoms
