@@ -12,6 +12,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from usvsim.sensors.camera.boxes2d import label_stats
+
 PAD_PX = np.array([-1.0, -1.0, 1.0, 1.0])  # boxes grown by a pixel for grouping: rasterization at the rims
 
 
@@ -48,7 +50,7 @@ class AmodalCounter:
                     geoms = self.objects[indices[j]].geoms
                     m.geom_rgba[geoms, 3] = alpha[geoms]
                 seg = cam.render(sim, pose=pose, streams=("segmentation",))["segmentation"]
-                pixels = np.bincount(self.owner[seg].ravel(), minlength=len(self.objects) + 1)
+                pixels, _ = label_stats(seg, self.owner, len(self.objects))
                 out.update({indices[j]: int(pixels[indices[j] + 1]) for j in group})
         finally:
             m.geom_rgba[:, 3] = alpha
