@@ -56,6 +56,7 @@ class DatasetSpec:
     frame_interval_s: float = 0.2
     workers: int = 2
     horizontal_fov_deg: float | None = None  # for every camera; None: the scenario's
+    amodal_masks: bool = True  # visible_fraction from amodal masks (extra passes); False: box area ratio
 
     def __post_init__(self):
         bad = set(self.formats) - set(FORMATS)
@@ -228,7 +229,8 @@ class DatasetGenerator:
         self.looks[k].before(look)
         images = cam.render(sim, pose=(pos, rot), streams=("rgb", "depth", "segmentation"))
         labels = lab.objects_in(sim, images["segmentation"], pos, rot @ OPTICAL_ROT, self.spec.min_visible_pixels,
-                                self.spec.min_visible_fraction, partial(self.amodals[k].counts, cam, sim, (pos, rot)))  # fmt: skip
+                                self.spec.min_visible_fraction,
+                                partial(self.amodals[k].counts, cam, sim, (pos, rot)) if self.spec.amodal_masks else None)  # fmt: skip
         return images, labels
 
     def _finish(self, adapter, lab, look, images, labels, where, meta, rng_key):
