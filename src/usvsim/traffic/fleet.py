@@ -2,9 +2,10 @@
 
 Kinematic ships are world-body geoms of the MuJoCo model (built by `kinematic_bodies`; no MuJoCo bodies, which
 would cost per body in every stage of `mj_step`): before each physics step `before_step` evaluates every track for
-the time the step ends at and writes all their geoms' poses into `model.geom_pos`/`geom_quat` (two numba calls
-for all ships), so after `mj_step` cameras, ray sensors and contacts see them where the clock says. Physics ships are scenario vessels whose velocity controller gets its reference from a LOS
-pilot. `pos_enu`, `vel_enu`, `yaw_rad` hold every ship's horizontal state at the current time, in the
+the time the step ends at and writes all their geoms' poses into `model.geom_pos`/`geom_quat` (one numba call for
+all ships), so after `mj_step` cameras, ray sensors and contacts see them where the clock says. Physics ships are
+scenario vessels whose velocity controller gets its reference from a pilot (LOS on a route or course, time-based
+track following on a recorded track). `pos_enu`, `vel_enu`, `yaw_rad` hold every ship's horizontal state at the current time, in the
 order of `traffic.ships` (world ENU m, m/s; ENU yaw rad).
 """
 
