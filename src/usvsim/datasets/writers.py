@@ -39,6 +39,8 @@ def write_png(path: Path, array: np.ndarray) -> None:
         import cv2
 
         ok, data = cv2.imencode(".png", array[:, :, ::-1], _rgb_png_params())
+        if not ok:
+            raise OSError(f"{path}: OpenCV could not encode the image as PNG")
         path.write_bytes(data.tobytes())
     else:
         Image.fromarray(array).save(path, format="PNG", compress_level=1)
