@@ -30,14 +30,15 @@ RESULTS = Path(__file__).parent / "results"
 FOG = {"fog": {"visibility_m": 2000.0}}
 
 
-def _sim(renderer: str, width: int = 640, height: int = 480):
+def _sim(renderer: str, width: int = 640, height: int = 480, look: dict | None = None):
     import tempfile
 
     import yaml
 
     from usvsim.simulation import Simulation
 
-    raw = scenario_dict(sea_state=4, look={"renderer": renderer, **FOG}, width=width, height=height)
+    look = {"renderer": renderer, **FOG, **(look or {})}
+    raw = scenario_dict(sea_state=4, look=look, width=width, height=height)
     path = Path(tempfile.mkdtemp()) / "bench.yaml"
     path.write_text(yaml.safe_dump(raw))
     sim = Simulation(load_scenario(path))
@@ -85,10 +86,37 @@ def viewer_case(renderer: str, frames: int) -> dict:
         sim.close()
 
 
+EFFECTS = {  # name: the look's changes from the shader baseline (each effect alone, measured in the same run)
+    "short_waves_off": {"water": {"short_waves": 0.0}},
+}
+
+
+def effects(frames: int) -> dict:
+    """The camera case with each optional effect against the shader baseline, interleaved in one run."""
+    out = {}
+    for name, look in (("baseline", {}), *EFFECTS.items()):
+        sim = _sim("shader", look=look)
+        camera = sim.sensors["wamv/camera"]
+        try:
+            out[name] = _time(lambda: camera.sample(sim, sim.clock_ns), sim, frames)
+        finally:
+            sim.close()
+        if name != "baseline":
+            out[name]["over_baseline_cpu"] = out[name]["cpu_median_ms"] / out["baseline"]["cpu_median_ms"]
+        print(name, json.dumps(out[name]))
+    return out
+
+
 def main() -> None:
     parser = argparse.ArgumentParser()
     parser.add_argument("--frames", type=int, default=12)
+    parser.add_argument("--effects", action="store_true", help="only the optional effects' cost (camera case)")
     args = parser.parse_args()
+    if args.effects:
+        out = {"frames": args.frames, "camera_640x480_ss4_effects": effects(args.frames)}
+        RESULTS.mkdir(exist_ok=True)
+        (RESULTS / "rendering_effects.json").write_text(json.dumps(out, indent=2) + "\n")
+        return
     out = {
         "machine": platform.processor() or platform.machine(),
         "cpus": os.cpu_count(),

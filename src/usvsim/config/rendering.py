@@ -71,6 +71,8 @@ class WaterLook(Section):
     color: Rgb = (0.012, 0.09, 0.12)  # colour of light scattered back from inside the water body
     foam: NonNegativeFloat = 1.0  # whitecap and waterline foam amount (0: none)
     glint: NonNegativeFloat = 1.0  # strength of the sun's specular reflection
+    short_waves: Annotated[float, Field(ge=0, le=4)] = 1.0  # slopes of the waves shorter than the physics resolves
+    # (the spectrum's tail, drawn as normals only; 0: none); rendering/detail.py
     clarity_m: PositiveFloat | None = (
         2.0  # path in the water over which the seabed or a hull fades by e; None: opaque
     )

@@ -19,11 +19,27 @@ def prepare(marine, sim, center_xy) -> Daylight:
     """Upload the ocean at `sim.time` and set the light of `sim.look`; returns the frame's daylight."""
     origin = sim.scenario.world.origin
     light = daylight(sim.look, origin.latitude_deg, origin.longitude_deg)
-    marine.upload(surface_data(sim.ocean, sim.time, center_xy))
+    detail, whitecap = sea_extras(marine.sea_cache, sim.ocean, sim.look)
+    marine.upload(surface_data(sim.ocean, sim.time, center_xy, detail, whitecap))
     marine.set_light(light, sim.look, sim.ocean.level_m)
     marine.restore()  # setting uniforms binds programs: MuJoCo's fixed-function pipeline needs none bound
     marine.daylight = light
     return light
+
+
+def sea_extras(cache: dict, ocean, look):
+    """(the FFT field's `DetailBand` or None, the whitecap slope) of `ocean`, made once per wave field."""
+    from usvsim.rendering.detail import DetailBand, fft_waves, resolved_statistics, whitecap_threshold
+
+    waves = fft_waves(ocean)
+    if waves is None:
+        return None, float("inf")  # a patch measures its own whitecap slope (surface.py)
+    if cache.get("waves") is not waves:
+        cache.clear()
+        cache.update(waves=waves, whitecap=whitecap_threshold(*resolved_statistics(waves)), detail=None)
+    if look.water.short_waves > 0 and cache["detail"] is None:
+        cache["detail"] = DetailBand(waves)
+    return (cache["detail"] if look.water.short_waves > 0 else None), cache["whitecap"]
 
 
 def apply_lights(scene: mujoco.MjvScene, light: Daylight) -> None:

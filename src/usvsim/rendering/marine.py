@@ -62,6 +62,8 @@ class MarinePass:
         self._noise = ctx.texture((64, 64), 1, noise.tobytes(), dtype="f4")
         self._key, self._sky_key, self._fbos = None, None, {}
         self.daylight = None
+        self.sea_cache: dict = {}  # per wave field: the short-wave band and the whitecap slope (frame.py)
+        self._whitecap_slope, self._short_waves = 1e6, 0.0
 
     def _grid(self, width: int, height: int) -> tuple:
         if (width, height) not in self._grids:
@@ -100,8 +102,9 @@ class MarinePass:
         surface = (data.height_scale, data.displacement_scale, data.level_m, float(n))
         self._surface_key = None
         for prog in (self.surface, self.water):
-            _set(prog, u_tile=tuple(data.tiles_m) + (1.0,) * (4 - len(data.tiles_m)), u_bands=bands,
-                 u_surface=surface, u_patch=(*data.patch, 0.0))  # fmt: skip
+            _set(prog, u_tile=tuple(data.tiles_m) + (1.0,) * (5 - len(data.tiles_m)), u_bands=bands,
+                 u_detail=data.detail, u_surface=surface, u_patch=(*data.patch, 0.0))  # fmt: skip
+        self._whitecap_slope = min(data.whitecap_slope, 1e6)
 
     def set_light(self, light: Daylight, look, level_m: float) -> None:
         """Sun, sky, fog and water uniforms for this frame."""
@@ -128,6 +131,7 @@ class MarinePass:
         self._look = (look.water.foam, look.water.glint, FOAM_CHOPPINESS)
         self._level_m, self._fog_height_m = level_m, look.fog.height_falloff_m
         _set(self.water, u_water=tuple(look.water.color), u_clarity=float(look.water.clarity_m or 0.0))
+        self._short_waves = look.water.short_waves
 
     def draw(
         self, camera, rect, labels: tuple[float, float, float] | None = None, time_s: float = 0.0
@@ -167,7 +171,8 @@ class MarinePass:
                 _set(prog, u_cam=tuple(eye), u_inv_view_proj=inv)
             for prog in (self.fog, self.water):
                 _set(prog, u_near_far=(near, far), u_viewport=viewport[:2])
-            _set(self.water, u_look=(*self._look, time_s), u_pixel=cell_tan / CELL_PX, **grid)
+            _set(self.water, u_look=(*self._look, time_s), u_pixel=cell_tan / CELL_PX,
+                 u_sea=(self._short_waves, self._whitecap_slope), **grid)  # fmt: skip
             self._fullscreen(self.fog, "<", blend=True)  # only where a geom was drawn (depth > 0)
             GL.glClear(GL.GL_STENCIL_BUFFER_BIT)
             self._water(water_vao, stencil=True, blend=True)

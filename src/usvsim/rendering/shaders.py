@@ -97,8 +97,9 @@ void main() {
 
 TILES = """
 uniform sampler2DArray u_geo;
-uniform float u_tile[4];
+uniform float u_tile[5];
 uniform int u_bands;
+uniform int u_detail;  // 1: the last layer is the unresolved short waves (slopes only, per pixel)
 uniform vec4 u_surface;  // height scale s, displacement scale k, still-water level, texel count N
 uniform vec4 u_patch;    // patch mode: centre x, y, half size (0: periodic tiles), unused
 vec2 tile_uv(vec2 label, int b) {  // texel centres on the tile vertices
@@ -135,12 +136,13 @@ void main() {
     vec3 disp = vec3(0.0);
     v_slope = vec2(0.0);
     v_jac = vec3(0.0);
-    for (int b = 0; b < u_bands; b++) {  // sampled per vertex, filtered to the grid's cell (~CELL_PX pixels)
+    int bands = u_bands - u_detail;
+    for (int b = 0; b < bands; b++) {  // sampled per vertex, filtered to the grid's cell (~CELL_PX pixels)
         float lod = log2(max(spacing * u_surface.w / u_tile[b], 1.0));
         vec3 uvw = vec3(tile_uv(label, b), b);
         vec4 g = textureLod(u_geo, uvw, lod);
         disp += vec3(g.y, g.z, g.x);
-        if (b < u_bands - 1 || u_bands == 1) {  // the shortest band's slopes: per pixel (WATER_FS)
+        if (b < bands - 1 || bands == 1) {  // the shortest band's slopes: per pixel (WATER_FS)
             vec4 s = textureLod(u_slope, uvw, lod);
             v_slope += s.xy;
             v_jac += vec3(s.zw, 0.0);
@@ -204,6 +206,7 @@ uniform sampler2DArray u_slope;
 uniform sampler2D u_depth;
 uniform vec3 u_water;
 uniform vec4 u_look;     // foam, glint, render choppiness for whitecaps, time (s)
+uniform vec2 u_sea;      // gain on the short-wave slopes, resolved slope above which the surface breaks
 uniform float u_pixel;   // view width of one pixel at unit distance
 uniform float u_clarity; // distance (m) in the water over which a geom behind the surface fades by e (0: opaque)
 uniform vec2 u_near_far;
@@ -219,12 +222,21 @@ out vec4 f_color;
 void main() {
     vec2 zs = v_slope;
     vec3 jac = v_jac;
-    if (u_bands > 1) {  // the shortest band per pixel, filtered by the footprint across the ray: distant glitter
-        int b = u_bands - 1;
-        float footprint = length(u_cam - v_world) * u_pixel;
+    float footprint = length(u_cam - v_world) * u_pixel;
+    int bands = u_bands - u_detail;
+    vec2 zr = zs;  // whitecaps: where the shortest resolved waves are steepest
+    if (bands > 1) {  // the shortest band per pixel, filtered by the footprint across the ray: distant glitter
+        int b = bands - 1;
         vec4 s = textureLod(u_slope, vec3(tile_uv(v_label, b), b), log2(max(footprint * u_surface.w / u_tile[b], 1.0)));
         zs += s.xy;
         jac += vec3(s.zw, 0.0);
+        zr = s.xy;
+    }
+    if (u_detail == 1) {  // the short waves, where the pixel resolves them (beyond: only the glint's roughness)
+        int b = u_bands - 1;
+        float lod = log2(max(footprint * u_surface.w / u_tile[b], 1.0));
+        if (lod < log2(u_surface.w) - 1.0)
+            zs += u_sea.x * textureLod(u_slope, vec3(tile_uv(v_label, b), b), lod).xy;
     }
     float k = u_surface.y, kf = max(u_look.z, k);
     vec3 tx = vec3(1.0 - k * jac.x, -k * jac.z, u_surface.x * zs.x);
@@ -255,7 +267,8 @@ void main() {
     vec3 c = mix(body, reflected, fresnel) + glint;
     // foam: whitecaps where the choppy surface folds, broken up by noise; and along hulls at the waterline
     float grain = noise(v_label * 1.7 + u_look.w * 0.3);
-    float steep = smoothstep(0.17, 0.3, u_surface.x * length(zs));  // without horizontal displacement: steep faces
+    float gust = 0.7 + 0.6 * noise(v_label * 0.23 - u_look.w * 0.05);  // breaking is patchy: crests break here and there
+    float steep = smoothstep(0.8, 1.0, gust * u_surface.x * length(zr) / u_sea.y);  // the steepest faces: Monahan's share
     float whitecap = max(smoothstep(0.6, 0.1, det), steep) * (0.55 + 0.45 * grain);
     float raw = texelFetch(u_depth, ivec2(gl_FragCoord.xy - u_viewport), 0).r;
     float n0 = u_near_far.x, f0 = u_near_far.y;
@@ -263,7 +276,7 @@ void main() {
     float contact = (1.0 - smoothstep(0.0, 0.35 + 0.002 * dist, behind)) * (0.6 + 0.4 * grain);
     float foam = clamp(u_look.x * max(whitecap, contact), 0.0, 1.0);
     vec3 foam_light = vec3(0.85) * (u_ambient * 2.5 + u_sun_color * max(u_sun_dir.z, 0.0));
-    foam *= 1.0 - smoothstep(200.0, 2000.0, dist);
+    foam *= 1.0 - smoothstep(1000.0, 6000.0, dist);
     c = mix(c, foam_light, foam);
     // clear shallow water: the geom behind the surface (seabed, a hull's underwater part) shows through what
     // is not reflected or foam, fading with the path in the water (blended over it: alpha = 1 - that share)

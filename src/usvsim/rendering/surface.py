@@ -26,10 +26,13 @@ class SurfaceData:
     level_m: float
     patch: tuple[float, float, float]  # centre x, y, half side; half side 0 = periodic tiles
     key: tuple  # what the data depends on: equal keys → no upload
+    detail: int = 0  # 1: the last layer is the unresolved short waves (rendering/detail.py), slopes only
+    whitecap_slope: float = float("inf")  # resolved slope above which the surface breaks (rendering/detail.py)
 
 
-def surface_data(ocean, t: float, center_xy) -> SurfaceData:
-    """Textures of the ocean's surface at time `t` (s); `center_xy` (world ENU, m) centres a patch."""
+def surface_data(ocean, t: float, center_xy, detail=None, whitecap_slope: float = float("inf")) -> SurfaceData:
+    """Textures of the ocean's surface at time `t` (s); `center_xy` (world ENU, m) centres a patch. `detail`: a
+    `DetailBand` of the same FFT field, appended as the last layer; `whitecap_slope`: see `SurfaceData`."""
     waves = ocean.waves
     if waves is None:
         flat = np.zeros((1, 8, 8, 4), np.float32)
@@ -41,9 +44,15 @@ def surface_data(ocean, t: float, center_xy) -> SurfaceData:
         sizes = tuple(float(s) for s in waves.sizes)
         s = waves.ramp(t)
         geo, slope = _periodic_layers(np.ascontiguousarray(tiles), tiles.shape[-1] / np.array(sizes))
-        return SurfaceData(
-            geo, slope, sizes, s, s * waves.choppiness, ocean.level_m, (0.0, 0.0, 0.0), ("fft", t)
-        )
+        if detail is not None and detail.n == geo.shape[1]:
+            extra = np.zeros((1, *geo.shape[1:]), np.float32)
+            geo, sl = np.concatenate([geo, extra]), np.concatenate([slope, extra])
+            sl[-1, ..., :2] = detail.slopes(t)
+            slope, sizes = sl, sizes + (detail.size_m,)
+        else:
+            detail = None
+        return SurfaceData(geo, slope, sizes, s, s * waves.choppiness, ocean.level_m, (0.0, 0.0, 0.0),
+                           ("fft", t, detail is not None), int(detail is not None), whitecap_slope)  # fmt: skip
     return _patch(ocean, t, center_xy)
 
 
@@ -56,9 +65,11 @@ def _patch(ocean, t: float, center_xy) -> SurfaceData:
     h, dx, dy = grid[..., 2] - ocean.level_m, gx - grid[..., 0], gy - grid[..., 1]  # X = x0 - D
     geo, slope = _layers(h[None], dx[None], dy[None], np.array([step]))
     size = PATCH_SIZE_M + step  # texel centres sit on the grid points
-    return SurfaceData(
-        geo, slope, (size,), 1.0, 1.0, ocean.level_m, (cx, cy, 0.5 * size), ("patch", t, cx, cy)
-    )
+    from usvsim.rendering.detail import whitecap_threshold
+
+    whitecap = whitecap_threshold(4.0 * float(h.std()), float(np.mean(slope[0, ..., 0] ** 2 + slope[0, ..., 1] ** 2)))
+    return SurfaceData(geo, slope, (size,), 1.0, 1.0, ocean.level_m, (cx, cy, 0.5 * size), ("patch", t, cx, cy),
+                       0, whitecap)  # fmt: skip
 
 
 def _layers(h, dx, dy, cell_m) -> tuple[np.ndarray, np.ndarray]:
