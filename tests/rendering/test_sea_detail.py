@@ -1,0 +1,48 @@
+"""The short-wave render band continues the physics' spectrum; whitecap coverage follows Monahan's law."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from usvsim.rendering.detail import DetailBand, resolved_statistics, whitecap_fraction, whitecap_threshold
+from usvsim.rendering.gallery import load, scenario_dict
+
+
+@pytest.fixture(scope="module")
+def sea4():
+    raw = scenario_dict(4, {}, 64, 48)
+    raw["objects"] = []
+    sim = load(raw, seed=3)
+    yield sim.ocean.waves
+    sim.close()
+
+
+def test_short_waves_carry_the_spectrum_tail_slope_variance(sea4):
+    band = DetailBand(sea4)
+    # Phillips' saturation range: the same slope variance per e-fold as the physics' top octave, over ln 4
+    assert band.slope_var == pytest.approx(band.beta * math.log(4.0), rel=1e-9)
+    assert 0.002 < band.beta < 0.006  # α/2 with Phillips' α ≈ 0.0081 is 0.004
+    tiles = band.slopes(12.5)
+    assert tiles.shape == (sea4.n, sea4.n, 2) and tiles.dtype == np.float32
+    measured = float(np.mean(tiles[..., 0] ** 2 + tiles[..., 1] ** 2))
+    assert measured == pytest.approx(band.slope_var, rel=0.02)  # Parseval: the tiles hold the band's variance
+    assert abs(float(tiles.mean())) < 1e-6  # a band without a mean slope
+
+
+def test_short_waves_are_reproducible_and_move(sea4):
+    a, b = DetailBand(sea4), DetailBand(sea4)
+    assert np.array_equal(a.slopes(4.0), b.slopes(4.0))
+    assert not np.array_equal(a.slopes(4.0), a.slopes(4.5))
+
+
+def test_whitecap_threshold_gives_monahans_coverage(sea4):
+    hs, mss = resolved_statistics(sea4)
+    assert hs == pytest.approx(1.875, rel=0.1)
+    wind = math.sqrt(hs * 9.81 / 0.21)  # fully developed: Hs = 0.21 U²/g
+    assert whitecap_fraction(hs) == pytest.approx(3.84e-6 * wind**3.41)
+    tau = whitecap_threshold(hs, mss)
+    assert math.exp(-(tau**2) / mss) == pytest.approx(whitecap_fraction(hs), rel=1e-9)  # Rayleigh tail
+    assert whitecap_threshold(0.0, mss) == math.inf
