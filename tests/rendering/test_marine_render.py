@@ -70,3 +70,20 @@ def test_gallery_picture(tmp_path):
     path = render_look("dusk", tmp_path, 160, 90, settle_s=0.2)
     image = np.asarray(Image.open(path))
     assert image.shape == (90, 160, 3) and image.std() > 2
+
+
+@pytest.mark.parametrize(("sea_state", "mount"), [(4, None), (5, {"position": [0.0, 0.0, 50.0], "pitch_deg": 20.0}),
+                                                  (3, {"position": [0.0, 0.0, 0.5], "pitch_deg": -5.0})])  # fmt: skip
+def test_water_labels_from_the_colour_pass_equal_the_label_pass(sea_state, mount):
+    """A capture with RGB takes the water's labels from the stencil of its colour pass; a segmentation-only
+    capture draws the label pass. Both must label exactly the same pixels (harbour geoms in view)."""
+    sim, cam = _sim(sea_state, mount=mount)
+    for _ in range(2):
+        sim.step()
+        with_rgb = cam.renderer  # the same renderer, posed for this frame by cam.render
+        labels = cam.render(sim)["segmentation"]
+        alone = with_rgb.capture(rgb_depth=False, segmentation=True)["segmentation"]
+        water = labels == water_label(sim.model)
+        assert water.sum() > 500 and (labels != water_label(sim.model)).sum() > 0
+        assert np.array_equal(labels, alone)
+    sim.close()

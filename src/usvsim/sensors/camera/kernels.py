@@ -66,6 +66,21 @@ def finish_segmentation(rgb_gl, lut, out):
 
 
 @njit(cache=True, nogil=True)
+def finish_segmentation_water(rgb_gl, water_gl, lut, water, out):
+    """`finish_segmentation` with the label `water` wherever `water_gl` (bottom row first) is non-zero."""
+    height, width = out.shape
+    top = lut.shape[0] - 1
+    for row in range(height):
+        src = height - 1 - row
+        for col in range(width):
+            if water_gl[src, col] != 0:
+                out[row, col] = water
+                continue
+            idx = np.int64(rgb_gl[src, col, 0]) | (np.int64(rgb_gl[src, col, 1]) << 8) | (np.int64(rgb_gl[src, col, 2]) << 16)
+            out[row, col] = lut[min(idx, top)]
+
+
+@njit(cache=True, nogil=True)
 def remap_bilinear(src, corners, weights, out):
     """out.flat[i] = Σ_k weights[i, k] · src.flat[corners[i, k]] per channel, rounded (uint8 images)."""
     flat_src = src.reshape(-1, src.shape[-1])
@@ -88,16 +103,32 @@ def rgb_gain_noise(rgb, normal, stddev):
 
 
 @njit(cache=True, nogil=True)
-def expose_vignette(rgb, gain, vignetting, intrinsics):
-    """In place: rgb · gain · (1 - vignetting · r²/r_corner²), rounded and clipped; r from the principal point.
-    The factor is applied in 1/256 steps (integer arithmetic: a quarter of the float loop's time)."""
-    height, width = rgb.shape[0], rgb.shape[1]
+def vignette_factors(height, width, gain, vignetting, intrinsics):
+    """(height, width) int32 factors in 1/256 steps: 256 · gain · (1 - vignetting · r²/r_corner²), r from the
+    principal point (`expose_vignette` applies them; a camera computes them once per look)."""
     fx, fy, cx, cy = intrinsics[0], intrinsics[1], intrinsics[2], intrinsics[3]
     corner = max(cx * cx, (width - cx) ** 2) / (fx * fx) + max(cy * cy, (height - cy) ** 2) / (fy * fy)
+    out = np.empty((height, width), np.int32)
     for row in range(height):
         y2 = ((row - cy) / fy) ** 2
         for col in range(width):
             x = (col - cx) / fx
-            f = np.int32(256.0 * max(gain * (1.0 - vignetting * (x * x + y2) / corner), 0.0) + 0.5)
+            out[row, col] = np.int32(256.0 * max(gain * (1.0 - vignetting * (x * x + y2) / corner), 0.0) + 0.5)
+    return out
+
+
+@njit(cache=True, nogil=True)
+def apply_factors(rgb, factors):
+    """In place: rgb · factor / 256, rounded and clipped (integer arithmetic, one pass the compiler vectorizes)."""
+    height, width = factors.shape
+    for row in range(height):
+        for col in range(width):
+            f = factors[row, col]
             for c in range(3):
                 rgb[row, col, c] = np.uint8(min((np.int32(rgb[row, col, c]) * f + 128) >> 8, 255))
+
+
+def expose_vignette(rgb, gain, vignetting, intrinsics):
+    """In place: rgb · gain · (1 - vignetting · r²/r_corner²), rounded and clipped; r from the principal point.
+    The factor is applied in 1/256 steps (integer arithmetic: a quarter of the float loop's time)."""
+    apply_factors(rgb, vignette_factors(rgb.shape[0], rgb.shape[1], gain, vignetting, intrinsics))

@@ -29,7 +29,7 @@ import mujoco
 import numpy as np
 
 from usvsim.sensors.camera.intrinsics import Intrinsics
-from usvsim.sensors.camera.kernels import finish_rgb_depth, finish_segmentation
+from usvsim.sensors.camera.kernels import finish_rgb_depth, finish_segmentation, finish_segmentation_water
 from usvsim.world.water_visual import WaterUpload, refresh_water_visual
 
 _R = mujoco.mjtRndFlag
@@ -128,6 +128,7 @@ class PinholeRenderer:
         self._gl_rgb = np.empty((cam.height, cam.width, 3), np.uint8)
         self._gl_depth = np.empty((cam.height, cam.width), np.float32)
         self._gl_ids = np.empty((cam.height, cam.width, 3), np.uint8)
+        self._gl_water = np.empty((cam.height, cam.width), np.uint8)  # shader look: where the water is nearest
         self._intrinsics = np.array([cam.fx, cam.fy, cam.cx, cam.cy])
         self._up_optical = np.array([0.0, -1.0, 0.0])
         self.marine = None  # set per frame by `use_marine`: the shader passes, or None for MuJoCo's look
@@ -168,13 +169,13 @@ class PinholeRenderer:
             gl.frustum_bottom, gl.frustum_top = bottom, top
             gl.orthographic = 0
 
-    def _render(self, segment: bool) -> None:
+    def _render(self, segment: bool, water_label_pass: bool = True) -> None:
         self.context.gl.make_current()
         for flag, on in self.flags.items():
             self.scene.flags[flag] = on and not segment
         self.scene.flags[_R.mjRND_SEGMENT] = self.scene.flags[_R.mjRND_IDCOLOR] = segment
         mujoco.mjr_render(self.rect, self.scene, self.ctx)
-        if self.marine is not None:
+        if self.marine is not None and (water_label_pass or not segment):
             from usvsim.rendering.frame import id_color
 
             labels = id_color(self.scene.ngeom + 1) if segment else None
@@ -184,13 +185,18 @@ class PinholeRenderer:
         """'rgb' (H, W, 3) uint8 + 'depth' (H, W) float32 along optical z (m; NaN where nothing is nearer than
         `far`) from one GL pass, and 'segmentation' (H, W) uint16 (geom id + 1, 0 = background) from a second;
         top row first. The sky (empty depth) is painted from the skybox's gradient. The segmentation pass is
-        drawn by llvmpipe's threads while this thread finishes the RGB and depth images."""
+        drawn by llvmpipe's threads while this thread finishes the RGB and depth images. With the shader look,
+        the water's labels come from the colour pass (the stencil its water marked) when it was drawn, else from
+        a label pass that draws the water in its id colour."""
         out: dict[str, np.ndarray] = {}
+        water_mask = rgb_depth and segmentation and self.marine is not None
         if rgb_depth:
             self._render(segment=False)
             mujoco.mjr_readPixels(self._gl_rgb, self._gl_depth, self.rect, self.ctx)
+            if water_mask:
+                self.marine.read_water_mask(self.rect, self._gl_water)
         if segmentation:
-            self._render(segment=True)  # returns before the pixels are drawn
+            self._render(segment=True, water_label_pass=not water_mask)  # returns before the pixels are drawn
         if rgb_depth:
             out["rgb"], out["depth"] = np.empty_like(self._gl_rgb), np.empty_like(self._gl_depth)
             zero_near = self.ctx.readDepthMap == mujoco.mjtDepthMap.mjDEPTH_ZERONEAR  # else reversed Z
@@ -200,7 +206,11 @@ class PinholeRenderer:
         if segmentation:
             mujoco.mjr_readPixels(self._gl_ids, None, self.rect, self.ctx)
             out["segmentation"] = np.empty(self._gl_depth.shape, np.uint16)
-            finish_segmentation(self._gl_ids, self._segment_lut(), out["segmentation"])
+            lut = self._segment_lut()
+            if water_mask:
+                finish_segmentation_water(self._gl_ids, self._gl_water, lut, lut[-1], out["segmentation"])
+            else:
+                finish_segmentation(self._gl_ids, lut, out["segmentation"])
         return out
 
     def rgb_depth(self) -> tuple[np.ndarray, np.ndarray]:

@@ -24,7 +24,7 @@ from usvsim.messages.ros import image_msg
 from usvsim.sensors.base import OPTICAL_ROT, Sensor
 from usvsim.sensors.camera.boxes2d import BoxMaker
 from usvsim.sensors.camera.intrinsics import Intrinsics, Remap
-from usvsim.sensors.camera.kernels import expose_vignette, rgb_gain_noise
+from usvsim.sensors.camera.kernels import apply_factors, rgb_gain_noise, vignette_factors
 from usvsim.sensors.camera.render import PinholeRenderer, RenderContext
 from usvsim.sensors.detections import selected, shared_objects
 from usvsim.sensors.messages import camera_info_msg, detection_array_msg
@@ -35,15 +35,21 @@ if TYPE_CHECKING:
 GL_KEY = "camera/gl"  # the suite's one RenderContext in `shared`, closed by SensorSuite.close()
 
 
-def lens_effects(rgb: np.ndarray, camera_look, intrinsics: Intrinsics) -> None:
-    """In place: defocus blur, exposure (2^EV) and vignetting of an RGB image (config/rendering.CameraLook)."""
+def lens_effects(rgb: np.ndarray, camera_look, intrinsics: Intrinsics, cache: dict | None = None) -> None:
+    """In place: defocus blur, exposure (2^EV) and vignetting of an RGB image (config/rendering.CameraLook).
+    `cache` (a dict the caller keeps) holds the exposure-vignetting factors between frames of the same look."""
     if camera_look.blur_sigma_px > 0:
         from scipy.ndimage import gaussian_filter
 
         rgb[:] = gaussian_filter(rgb, sigma=(camera_look.blur_sigma_px, camera_look.blur_sigma_px, 0), mode="nearest")
     if camera_look.exposure_ev != 0 or camera_look.vignetting > 0:
         k = intrinsics
-        expose_vignette(rgb, 2.0**camera_look.exposure_ev, camera_look.vignetting, np.array([k.fx, k.fy, k.cx, k.cy]))
+        key = (rgb.shape[:2], camera_look.exposure_ev, camera_look.vignetting, k.fx, k.fy, k.cx, k.cy)
+        cache = {} if cache is None else cache
+        if cache.get("key") != key:
+            cache["key"], cache["factors"] = key, vignette_factors(rgb.shape[0], rgb.shape[1],
+                2.0**camera_look.exposure_ev, camera_look.vignetting, np.array([k.fx, k.fy, k.cx, k.cy]))  # fmt: skip
+        apply_factors(rgb, cache["factors"])
 
 
 class Camera(Sensor):
@@ -68,6 +74,7 @@ class Camera(Sensor):
             objects = selected(shared_objects(sim, shared), cfg.detections, vessel)
             self.boxes = BoxMaker(cfg.detections, objects, sim.model, self.intrinsics, cfg.near_m)
         self._rgb_normal = np.empty((cfg.height, cfg.width, 3) if cfg.rgb_noise_stddev > 0 else 0, np.float32)
+        self._lens: dict = {}  # exposure-vignetting factors of the current look (lens_effects)
         self._depth_normal = np.empty((cfg.height, cfg.width) if cfg.depth_noise_stddev_m > 0 else 0, np.float32)
 
     def render(self, sim: World, pose=None, streams=None) -> dict[str, np.ndarray]:
@@ -88,7 +95,7 @@ class Camera(Sensor):
         if self.remap is not None:
             out = {k: (self.remap.linear(v) if k == "rgb" else self.remap.closest(v)) for k, v in out.items()}
         if "rgb" in out and r.marine is not None:  # the shader look includes the camera's exposure and lens
-            lens_effects(out["rgb"], sim.look.camera, self.intrinsics)
+            lens_effects(out["rgb"], sim.look.camera, self.intrinsics, self._lens)
         return out
 
     def _noisy(self, images: dict[str, np.ndarray], look=None) -> dict[str, np.ndarray]:
