@@ -106,3 +106,23 @@ def test_fused_direct_froude_krylov_heads_equal_the_two_pass_sums_bit_for_bit(de
     assert (
         np.array_equal(eta, ref[2]) and np.array_equal(zeta, head) and (pz < eta).any() and (pz > eta).any()
     )
+
+
+def test_cached_tile_nodes_give_the_uncached_heights_and_heads_bit_for_bit():
+    """The node cache (fft_kernels.band_heights_cached) over a sequence of queries that changes the blend
+    weights, brings in new snapshots, goes back in time and interleaves other users of the tiles: every height
+    and Froude-Krylov head equals the per-point kernels' (HEIGHTS, FFT_SURFACE_AND_HEAD serial) exactly."""
+    field = FFTWaveField(JONSWAP, cascade_sizes(70.0, 3, 64), np.random.default_rng(5), 64, ramp_time_s=1.0)
+    px, py = RNG.uniform(-30.0, 30.0, 500), RNG.uniform(-30.0, 30.0, 500)  # a fleet's worth of shared nodes
+    pz = RNG.uniform(-1.5, 0.5, 500)
+    for t in (0.0, 0.01, 0.02, 0.02, 0.37, 3.9, 0.01, 12.345, 12.355):
+        z = field.surface_labels(px, py, t)[2]
+        ref = np.empty(len(px))
+        fft_kernels.HEIGHTS[0](px, py, field.geometry.tiles, field.update(t), field.inv_cells, ref)
+        assert np.array_equal(z, ref)
+        eta, zeta = pressure.surface_and_dynamic_head(field, px, py, pz, t)
+        ref_eta, ref_zeta, band_h = np.empty(len(px)), np.empty(len(px)), np.empty((len(px), 3))
+        pressure.FFT_SURFACE_AND_HEAD[0](px, py, pz, field.geometry.tiles, field.update(t), field.inv_cells,
+                                         pressure.height_decay_wavenumbers(field), band_h, ref_eta, ref_zeta)  # fmt: skip
+        assert np.array_equal(eta, ref_eta) and np.array_equal(zeta, ref_zeta)
+        field.tiles(t + 0.5)  # another blend of the same tiles in between (weights with scale 1, new snapshots)

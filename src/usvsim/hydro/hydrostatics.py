@@ -283,6 +283,25 @@ class HullSet:
         face_buffers = (np.zeros(nf), np.zeros((nf, 2, 3)), np.zeros(nf, dtype=np.int8))
         self._out = (*(np.zeros(shape) for shape in body_shapes), *face_buffers)
         self._result = HydrostaticsResult(*self._out)
+        self._flat = None  # FlatClusters (hydro/flat.py), made by `use_flat`
+
+    def use_flat(self, com_body: np.ndarray) -> None:
+        """Prepare `compute_flat` for bodies whose centres of mass are `com_body` (nb,3) m in the body frame."""
+        from usvsim.hydro.flat import FlatClusters
+
+        self._flat = FlatClusters(self.vertices_body, self.faces, self.face_offsets, self.vert_body, com_body)
+
+    def compute_flat(self, rot: np.ndarray, com_world: np.ndarray, level: float, rho: float, g: float
+                     ) -> HydrostaticsResult:  # fmt: skip
+        """Hydrostatics of all bodies under flat water at height `level` (m): `compute` with eta = level at every
+        vertex and no pressure heads, from rotations (nb,3,3) body → world and CoMs (nb,3) m (no world vertices
+        needed). Equal to `compute` up to rounding (hydro/flat.py); needs `use_flat` first."""
+        from usvsim.hydro.flat import flat_hydrostatics
+
+        fl = self._flat
+        flat_hydrostatics(fl.vertices, self.vert_offsets, self.faces, self.face_area, self.face_offsets, fl.body_ptr, fl.ptr, fl.faces,
+                          fl.coef, fl.box, fl.state, rot, com_world, level, rho, g, *self._out)  # fmt: skip
+        return self._result
 
     def world_vertices(self, pos: np.ndarray, rot: np.ndarray) -> np.ndarray:
         """Hull vertices in world ENU (m), (Nv,3), from body positions (nb,3) m and rotations
@@ -298,6 +317,8 @@ class HullSet:
         hull_hydrostatics(
             world_vertices, self.faces, self.face_area, self.face_offsets, eta, head, com_world, rho, g, *self._out
         )
+        if self._flat is not None:  # every per-face row was rewritten
+            self._flat.invalidate()
         return self._result
 
     def waterline(self, body_index: int) -> np.ndarray:

@@ -26,6 +26,7 @@ from usvsim.hydro.hydrostatics import HullSet, HydrostaticsResult
 from usvsim.hydro.kerner import KernerForces
 from usvsim.hydro.voxelize import voxelize
 from usvsim.hydro.voxels import VoxelSet
+from usvsim.hydro.wrenches import marine_tail
 from usvsim.vessels.model import BodyModel
 
 NO_KERNER = KernerHydrodynamics(viscous_scale=0.0, pressure_scale=0.0, slamming_scale=0.0, air_scale=0.0)
@@ -72,6 +73,7 @@ class MarineModels:
                                         rho_water=self.rho, rho_air=self.rho_air)  # fmt: skip
         self._fossen = self._build_fossen()
         self._build_wind()
+        self._tail = None  # the bound arguments of `tail`, made again after every rebuild
         self._voxel_index = [i for i, b in enumerate(self.buoyancy) if isinstance(b, VoxelBuoyancy)]
         self._voxels = None
         if self._voxel_index:
@@ -119,6 +121,31 @@ class MarineModels:
     def has_kerner(self) -> bool:
         return self._kerner is not None
 
+    @property
+    def simple(self) -> bool:
+        """Triangle buoyancy and state-space drag (+ wind) on every body: `tail` can do the whole step."""
+        return self._kerner is None and self._fossen is None and self._voxels is None
+
+    def tail(self, state, hydrostatics: HydrostaticsResult, water_vel_com: np.ndarray, wind_world: np.ndarray,
+             thrusters, com_body: np.ndarray, xfrc: np.ndarray, now_ns: int, dt: float) -> None:
+        """What `compute`, the thruster step and `wrenches.assemble` do for `simple` models, in one compiled call
+        (`wrenches.marine_tail`, the same operations in the same order) with its arguments bound once: relative
+        velocity into state.nu, world_force/torque, body_wrench, displaced volume, thrusters advanced, and the
+        world wrench about each CoM into xfrc (nb,6). The array arguments must keep their identity between
+        calls (the World's state, ocean rows and MuJoCo view do)."""
+        bound = self._tail
+        if bound is None or bound[0] is not state or bound[1] is not water_vel_com or bound[2] is not xfrc:
+            if self.displaced_volume_m3 is None:
+                self.displaced_volume_m3 = np.zeros(len(self.bodies))
+            t, s = thrusters, state
+            args = (s.rot, s.vcom_world, s.omega_body, water_vel_com, s.nu, hydrostatics.force, hydrostatics.torque,
+                    hydrostatics.volume, self._state_space, self._wind_kind, self._wind_coef, self.rho_air, wind_world,
+                    t.params, t.cmd_u, t.cmd_angle, t.last_cmd_ns, t.timeout_ns, t.thrust, t.angle, t.body, com_body,
+                    self.world_force, self.world_torque, self.displaced_volume_m3, self.body_wrench, self._scratch,
+                    t.wrench_body, xfrc)  # fmt: skip
+            self._tail = bound = (state, water_vel_com, xfrc, args)
+        marine_tail(*bound[3], now_ns, dt)
+
     def compute(self, state, hydrostatics: HydrostaticsResult | Callable[[], HydrostaticsResult], verts: np.ndarray,
                 eta: np.ndarray, ocean, t: float, dt: float, water_vel_com: np.ndarray,
                 wind_world: np.ndarray) -> HydrostaticsResult:  # fmt: skip
@@ -165,6 +192,7 @@ class MarineModels:
     def reset(self) -> None:
         """Forget model histories (after a simulation reset or a teleport)."""
         self.displaced_volume_m3 = None
+        self._tail = None
         if self._kerner is not None:
             self._kerner.reset()
         if self._fossen is not None:

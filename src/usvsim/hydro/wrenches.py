@@ -9,6 +9,10 @@ from __future__ import annotations
 
 from numba import njit
 
+from usvsim.hydro.statespace import drag_wrench
+from usvsim.hydro.thrusters import thruster_step
+from usvsim.hydro.wind import wind_wrenches
+
 
 @njit(cache=True)
 def body_kinematics(qpos, qvel, qpos_adr, qvel_adr, com_body, pos, rot, com_world, vcom_world, omega_body):
@@ -66,3 +70,37 @@ def assemble(rot, body_wrenches, world_force, world_torque, out):
                 t += rot[i, k, 2] * body_wrenches[j, i, 5]
                 out[i, k] += f
                 out[i, 3 + k] += t
+
+
+@njit(cache=True)
+def marine_tail(rot, vcom_world, omega_body, water_vel_world, nu, hs_force, hs_torque, hs_volume, ss_coef,
+                wind_kind, wind_coef, rho_air, wind_world, thruster_params, cmd_u, cmd_angle, last_cmd_ns, timeout_ns,
+                thrust, angle, thruster_body, com_body, world_force, world_torque, volume, body_wrench, scratch,
+                thrust_wrench, xfrc, now_ns, dt):  # fmt: skip
+    """One call for what follows the hydrostatics when a body has neither Kerner, Fossen nor voxel models
+    (world/world.py's simple step), the same operations in the same order as the separate kernels:
+    relative velocity `nu`; world_force/torque and volume = the hydrostatics'; body_wrench = state-space drag +
+    wind (statespace.py, wind.py); thrust_wrench = the thrusters' (thrusters.py, dynamics advanced); xfrc (nb,6)
+    = world wrench about each CoM (`assemble`)."""
+    relative_velocity_body(rot, vcom_world, omega_body, water_vel_world, nu)
+    world_force[:] = hs_force
+    world_torque[:] = hs_torque
+    volume[:] = hs_volume
+    drag_wrench(ss_coef, nu, body_wrench)
+    wind_wrenches(wind_kind, wind_coef, rho_air, rot, vcom_world, wind_world, scratch)
+    body_wrench += scratch
+    thruster_step(thruster_params, cmd_u, cmd_angle, last_cmd_ns, timeout_ns, now_ns, dt, thrust, angle,
+                  thruster_body, com_body, thrust_wrench)  # fmt: skip
+    for i in range(rot.shape[0]):  # assemble() over (body_wrench, thrust_wrench)
+        for k in range(3):
+            xfrc[i, k] = world_force[i, k]
+            xfrc[i, 3 + k] = world_torque[i, k]
+        for w in (body_wrench, thrust_wrench):
+            for k in range(3):
+                f = rot[i, k, 0] * w[i, 0] + rot[i, k, 1] * w[i, 1]
+                f += rot[i, k, 2] * w[i, 2]
+                t = rot[i, k, 0] * w[i, 3] + rot[i, k, 1] * w[i, 4]
+                t += rot[i, k, 2] * w[i, 5]
+                xfrc[i, k] += f
+                xfrc[i, 3 + k] += t
+

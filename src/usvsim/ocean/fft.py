@@ -114,6 +114,9 @@ class FFTWaveField(WaveField):
         self.decay_k = self._decay_wavenumbers()
         self._spec = np.zeros((3, self.n, self.n), np.complex64)  # one band's spectra (scratch)
         self._vel_spectra: dict[tuple[int, float], np.ndarray] = {}  # (band, t) → velocity spectrum made beside
+        self._node_heights = np.zeros((len(self.sizes), self.n, self.n))  # see node_cache
+        self._node_stamp = np.zeros((len(self.sizes), self.n, self.n), np.int64)
+        self._node_key, self._node_now = None, 0
         self.geometry = self._ring(
             time_tolerance, (0, 1), 2 if self.choppiness else 1, self._geometry_snapshot
         )
@@ -208,6 +211,15 @@ class FFTWaveField(WaveField):
             )
         out[:] = self._ifft2(spec, norm="forward", workers=1)
 
+    def node_cache(self) -> tuple[np.ndarray, np.ndarray, int]:
+        """(cache, stamp, now) for the cached height kernels (`fft_kernels._corner`): blended heights of the tile
+        nodes (bands, N, N) m, the blend state each holds, and the current state's number, which changes whenever
+        the geometry blend (its weights, or a snapshot) changes. Call after `update`."""
+        key = (self.geometry._key, self.geometry.transforms)
+        if key != self._node_key:
+            self._node_key, self._node_now = key, self._node_now + 1
+        return self._node_heights, self._node_stamp, self._node_now
+
     def update(self, t: float) -> np.ndarray:
         """Make the geometry snapshots around time t (s) present; returns the blend weights (ramp included)."""
         return self.geometry.prepare(float(t), self.ramp(t))
@@ -230,7 +242,12 @@ class FFTWaveField(WaveField):
         x0, y0, z = np.empty_like(px), np.empty_like(px), np.empty_like(px)
         iters = np.empty(px.shape, dtype=np.int64)
         if self.choppiness == 0.0:  # labels are the points: exactly the inversion's first (and last) iterate
-            pick(kern.HEIGHTS, len(px))(px, py, self.geometry.tiles, wts, self.inv_cells, z)
+            kernel = pick(kern.HEIGHTS, len(px))
+            if kernel is kern.HEIGHTS[0]:  # serial: blended tile nodes once per blend state
+                band_h = np.empty((len(px), len(self.sizes)))
+                kern.heights_cached(px, py, self.geometry.tiles, wts, self.inv_cells, z, band_h, *self.node_cache())
+            else:
+                kernel(px, py, self.geometry.tiles, wts, self.inv_cells, z)
             x0[:], y0[:], iters[:] = px, py, 0
             return (x0, y0, z, iters) if return_iterations else (x0, y0, z)
         args = (self.geometry.tiles, wts, self.inv_cells, self.choppiness, self.tol, self.max_iter)

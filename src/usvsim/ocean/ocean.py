@@ -35,6 +35,7 @@ class Ocean:
         self._wind_const = self.wind.velocity() if self.wind.constant else None
         self._current_const = self.current.surface_velocity() if self.current.constant else None
         self._current_rows = np.zeros((0, 3))  # the constant current, one row per queried point (reused)
+        self._steady_rows: np.ndarray | None = None  # see steady_velocity_rows
 
     def advance(self, t: float) -> None:
         """Bring wind gusts and current to time t (s) and prepare the wave tiles for t."""
@@ -86,6 +87,22 @@ class Ocean:
         if len(self._current_rows) != np.size(zrel):
             self._current_rows = np.tile(self._current_const, (np.size(zrel), 1))
         return self._current_rows.copy()
+
+    def steady_velocity_rows(self, n: int) -> np.ndarray | None:
+        """Still water with a constant uniform current: its velocity (n, 3), m/s ENU, as one read-only array
+        made once (the same array every call); None otherwise (use `velocity`)."""
+        if self.waves is not None or self._current_const is None or self.current.profile != "uniform":
+            return None
+        rows = self._steady_rows
+        if rows is None or len(rows) != n:
+            rows = self._steady_rows = np.tile(self._current_const, (n, 1))
+            rows.flags.writeable = False
+        return rows
+
+    @property
+    def wind_constant(self) -> bool:
+        """Whether `wind_velocity` is the same at every time (no gusts)."""
+        return self._wind_const is not None
 
     def acceleration(self, x, y, z, t: float) -> np.ndarray:
         """Water particle acceleration (n, 3), m/s² ENU (the current's slow variation is neglected)."""

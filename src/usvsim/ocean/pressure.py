@@ -26,7 +26,7 @@ from numba import njit, prange
 from usvsim.ocean.direct import DirectWaveField
 from usvsim.ocean.dispatch import pick, serial_and_parallel
 from usvsim.ocean.fft import FFTWaveField
-from usvsim.ocean.fft_kernels import _bilinear, _blend4_real, _cell, band_height
+from usvsim.ocean.fft_kernels import _bilinear, _blend4_real, _cell, band_height, band_heights_cached
 from usvsim.ocean.field import WaveField, as_points
 from usvsim.ocean.spectra import G
 
@@ -123,6 +123,27 @@ def _fft_surface_and_head_impl(px, py, zrel, geo, wts, inv_cells, decay_k, band_
         zeta_out[p] = acc
 
 
+@njit(cache=True)
+def fft_surface_and_head_cached(px, py, zrel, geo, wts, inv_cells, decay_k, band_h, eta_out, zeta_out, cache, stamp,
+                                now):  # fmt: skip
+    """`_fft_surface_and_head_impl` (serial) with the band heights from `fft_kernels.band_heights_cached` (each
+    blended tile node once per blend state): bit for bit the same η and ζ."""
+    band_heights_cached(px, py, geo, wts, inv_cells, band_h, cache, stamp, now)
+    for p in range(px.shape[0]):
+        z = 0.0
+        for b in range(geo.shape[0]):
+            z += band_h[p, b]
+        eta_out[p] = z
+        zp = zrel[p] - z
+        if zp >= 0.0:
+            zeta_out[p] = z
+            continue
+        acc = 0.0
+        for b in range(geo.shape[0]):
+            acc += math.exp(decay_k[b] * zp) * band_h[p, b]
+        zeta_out[p] = acc
+
+
 DIRECT_HEAD = serial_and_parallel(_direct_head_impl)
 FFT_SURFACE_AND_HEAD = serial_and_parallel(_fft_surface_and_head_impl)
 FFT_HEAD = serial_and_parallel(_fft_head_impl)
@@ -156,8 +177,13 @@ def surface_and_dynamic_head(waves: WaveField, x, y, z, t: float) -> tuple[np.nd
         pick(DIRECT_HEAD, n)(x0, y0, pz, eta, float(t), *waves._args[:5], waves.ramp(t), waves.depth, zeta)
     elif isinstance(waves, FFTWaveField) and waves.choppiness == 0.0:  # deep water, labels = points
         eta, band_h = np.empty(n), np.empty((n, len(waves.inv_cells)))
-        pick(FFT_SURFACE_AND_HEAD, n)(px, py, pz, waves.geometry.tiles, waves.update(t), waves.inv_cells,
-                                      height_decay_wavenumbers(waves), band_h, eta, zeta)  # fmt: skip
+        args = (px, py, pz, waves.geometry.tiles, waves.update(t), waves.inv_cells, height_decay_wavenumbers(waves),
+                band_h, eta, zeta)  # fmt: skip
+        kernel = pick(FFT_SURFACE_AND_HEAD, n)
+        if kernel is FFT_SURFACE_AND_HEAD[0]:  # serial: blended tile nodes once per blend state
+            fft_surface_and_head_cached(*args, *waves.node_cache())
+        else:
+            kernel(*args)
     elif isinstance(waves, FFTWaveField):  # deep water
         x0, y0, eta = waves.surface_labels(px, py, t)
         pick(FFT_HEAD, n)(x0, y0, pz, eta, waves.geometry.tiles, waves.update(t), waves.inv_cells,

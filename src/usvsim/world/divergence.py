@@ -11,6 +11,7 @@ import numpy as np
 from numba import njit
 
 from usvsim.core.errors import DivergenceError
+from usvsim.hydro.wrenches import body_kinematics
 
 KEYS = ("max_speed_mps", "max_angular_speed_radps", "max_acceleration_mps2")
 WHAT = (("speed", "m/s"), ("angular speed", "rad/s"), ("acceleration", "m/s^2"))
@@ -33,6 +34,14 @@ def _worst(vcom, omega, previous, limits, dt):  # pragma: no cover - compiled
     return worst, kind, body, value
 
 
+@njit(cache=True)
+def kinematics_and_worst(qpos, qvel, qpos_adr, qvel_adr, com_body, pos, rot, com_world, vcom_world, omega_body,
+                         previous, limits, dt):  # fmt: skip
+    """`body_kinematics` (hydro/wrenches.py) then `_worst` of the new velocities, in one call."""
+    body_kinematics(qpos, qvel, qpos_adr, qvel_adr, com_body, pos, rot, com_world, vcom_world, omega_body)
+    return _worst(vcom_world, omega_body, previous, limits, dt)
+
+
 class DivergenceGuard:
     """Checks every step's kinematics against the scenario's limits; raises DivergenceError."""
 
@@ -49,7 +58,23 @@ class DivergenceGuard:
             return
         if self._previous is None:
             self._previous = vcom_world.copy()
-        worst, kind, body, value = _worst(vcom_world, omega_body, self._previous, self._limits, self._dt)
+        self.judge(_worst(vcom_world, omega_body, self._previous, self._limits, self._dt), time_s)
+
+    def kinematics_and_check(self, qpos, qvel, qpos_adr, qvel_adr, com_body, state, time_s: float) -> None:
+        """Refresh `state` (world/state.py) from MuJoCo's qpos/qvel (`body_kinematics`) and `check` it, in one
+        compiled call (the same operations)."""
+        s = state
+        if self._previous is None or not self._names:  # `check` sets the first previous velocities itself
+            body_kinematics(qpos, qvel, qpos_adr, qvel_adr, com_body, s.pos, s.rot, s.com_world, s.vcom_world,
+                            s.omega_body)  # fmt: skip
+            return self.check(s.vcom_world, s.omega_body, time_s)
+        self.judge(kinematics_and_worst(qpos, qvel, qpos_adr, qvel_adr, com_body, s.pos, s.rot, s.com_world,
+                                        s.vcom_world, s.omega_body, self._previous, self._limits, self._dt), time_s)  # fmt: skip
+        return None
+
+    def judge(self, worst_tuple, time_s: float) -> None:
+        """Raise DivergenceError if the worst quantity (`_worst`'s tuple) exceeds its limit."""
+        worst, kind, body, value = worst_tuple
         if worst <= 1.0:
             return
         what, unit = WHAT[kind]

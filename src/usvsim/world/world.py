@@ -113,9 +113,11 @@ class World:
         self.qpos_adr, self.qvel_adr = m.jnt_qposadr[joints].copy(), m.jnt_dofadr[joints].copy()
         self.hulls = HullSet([(fb.model.hull.vertices, fb.model.hull.faces) for fb in floating])
         self._com_body = np.array([fb.model.com for fb in floating], dtype=float).reshape(n, 3)
+        self.hulls.use_flat(self._com_body)  # clustered still-water hydrostatics (hydro/flat.py)
         self._body_wrenches = np.zeros((2, n, 6))  # body-frame: marine (damping + wind), thrust
-        self._xfrc = np.zeros((n, 6))
+        self._xfrc = self.data.xfrc_applied[1 : n + 1]  # floating bodies are bodies 1..n (world frame, CoM)
         self._air = np.zeros((n, 3))
+        self._air_from = None  # the ocean whose constant wind _air holds
         self._warnings = self.data.warning.number  # a live view of MuJoCo's warning counters
         self.state = BodyState(n)
         entries, timeouts = [], np.zeros(n)
@@ -168,8 +170,8 @@ class World:
         if w[BAD_QPOS] or w[BAD_QVEL] or w[BAD_QACC]:
             self._raise_divergence()
         self.clock.tick()
-        self._update_kinematics()
-        self._guard.check(self.state.vcom_world, self.state.omega_body, self.clock.seconds)
+        self._guard.kinematics_and_check(self.data.qpos, self.data.qvel, self.qpos_adr, self.qvel_adr,
+                                         self._com_body, self.state, self.clock.seconds)  # fmt: skip
 
     def reset(self, seed: int | None = None, poses: Mapping[str, PoseLike] | None = None) -> None:
         """Back to t = 0 exactly as a fresh `World(scenario, seed)` (seed None: keep this world's seed):
@@ -290,24 +292,37 @@ class World:
         return eta
 
     def _apply_marine_wrenches(self) -> None:
-        s, t = self.state, self.clock.seconds
-        self.ocean.advance(t)
+        s, t, ocean = self.state, self.clock.seconds, self.ocean
+        ocean.advance(t)
+        flat = ocean.waves is None and not self._patches
+        if flat:  # still water: clustered hydrostatics from the poses, no world vertices (hydro/flat.py)
+            hydrostatics = self.hulls.compute_flat(s.rot, s.com_world, ocean.level_m, self.rho, self.g)
+            if self.marine.simple:  # the rest of the step in one compiled call
+                water = ocean.steady_velocity_rows(len(s.com_world))
+                if water is None:
+                    water = ocean.velocity(s.com_world[:, 0], s.com_world[:, 1], s.com_world[:, 2], t)
+                if self._air_from is not ocean or not ocean.wind_constant:
+                    self._air[:], self._air_from = ocean.wind_velocity(t), ocean
+                self.marine.tail(s, hydrostatics, water, self._air, self.thrusters, self._com_body, self._xfrc,
+                                 self.clock.now_ns, self.clock.dt)  # fmt: skip
+                self.hydrostatics = hydrostatics
+                return
         verts = self.hulls.world_vertices(s.pos, s.rot)
         eta, head = self._water(verts, t)
-        args = (verts, eta, s.com_world, self.rho, self.g, head)
-        if self.marine.has_kerner and len(self.hulls.faces) >= OVERLAP_MIN_FACES:  # both kernels on two cores
-            hydrostatics = self._overlap.submit(self.hulls.compute, *args)
+        if flat:
+            pass
+        elif self.marine.has_kerner and len(self.hulls.faces) >= OVERLAP_MIN_FACES:  # both kernels on two cores
+            hydrostatics = self._overlap.submit(self.hulls.compute, verts, eta, s.com_world, self.rho, self.g, head)
         else:
-            hydrostatics = self.hulls.compute(*args)
-        water = self.ocean.velocity(s.com_world[:, 0], s.com_world[:, 1], s.com_world[:, 2], t)
+            hydrostatics = self.hulls.compute(verts, eta, s.com_world, self.rho, self.g, head)
+        water = ocean.velocity(s.com_world[:, 0], s.com_world[:, 1], s.com_world[:, 2], t)
         relative_velocity_body(s.rot, s.vcom_world, s.omega_body, water, s.nu)
-        self._air[:] = self.ocean.wind_velocity(t)  # one wind for every body, no allocation per step
-        self.hydrostatics = self.marine.compute(s, hydrostatics, verts, eta, self.ocean, t, self.clock.dt, water,
+        self._air[:] = ocean.wind_velocity(t)  # one wind for every body, no allocation per step
+        self.hydrostatics = self.marine.compute(s, hydrostatics, verts, eta, ocean, t, self.clock.dt, water,
                                                 self._air)  # fmt: skip
         self._body_wrenches[0] = self.marine.body_wrench
         self._body_wrenches[1] = self.thrusters.step(self.clock.now_ns, self.clock.dt, self._com_body)
         assemble(s.rot, self._body_wrenches, self.marine.world_force, self.marine.world_torque, self._xfrc)
-        self.data.xfrc_applied[1 : len(self._xfrc) + 1] = self._xfrc  # floating bodies are bodies 1..n
 
     def _raise_divergence(self) -> None:
         """Name the body whose degree of freedom MuJoCo found non-finite (its warning's info field)."""

@@ -1,0 +1,236 @@
+"""Hydrostatics under flat water (no waves): the same integrals as `hull_hydrostatics`, with face clusters.
+
+Each body's faces are grouped into small spatial clusters (recursive median bisection, at most
+`CLUSTER_FACES` faces). Under a flat surface z = level the depth below the water is linear in the body-frame
+position: d(v) = c0 - n·v, with v the vertex relative to the centre of mass in the body frame, n = R^T e_z
+(the world's up in the body frame) and c0 = level - com_z. Every integrand of `hull_hydrostatics` over a fully
+submerged face is then a polynomial of degree <= 2 in u = (c0, -n), whose coefficients are fixed per face and
+add up per cluster (`_cluster_tensors`). Per step a cluster's body-frame bounding box decides:
+- entirely above the surface: it contributes nothing (its faces' outputs are cleared once, not every step);
+- entirely below: its sums come from its coefficients (about 150 flops for the whole cluster);
+- crossing the surface: its faces go through the exact per-face clipping of `hull_hydrostatics`.
+The results equal `hull_hydrostatics` with eta = level everywhere up to rounding (tests/hydro/test_flat.py:
+forces, moments, volume, centre of buoyancy, areas, per-face outputs within 1e-9 relative).
+
+Frames and units as in hydrostatics.py: world ENU (z up), metres, newtons; body frame FLU.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+from usvsim.hydro.hydrostatics import _clear_segment, _cut_face, _depth_moments, _store_body, _store_segment
+
+CLUSTER_FACES = 16  # faces per cluster at most (measured: 8-32 cost about the same on the WAM-V; 16 the least)
+WIDTH = 112  # coefficients per cluster: AF 12, AT 12, AQS 36, AE 48, AS 3, area 1
+EPS_M = 1e-9  # a box must clear the surface by this much (m) to be taken as dry or wet without clipping
+Z_WEIGHT = np.array([1.0, 1.0, 8.0])  # split across height first: thin horizontal layers are mostly dry or wet
+UNKNOWN, DRY, WET, MIXED = 0, 1, 2, 3  # what a cluster's per-face outputs hold
+
+
+def _clusters(centroids: np.ndarray, index: np.ndarray, size: int) -> list[np.ndarray]:
+    """Face index groups of at most `size`, by recursive median bisection along the widest axis."""
+    if len(index) <= size:
+        return [index]
+    c = centroids[index]
+    axis = int(np.argmax((c.max(0) - c.min(0)) * Z_WEIGHT))
+    order = index[np.argsort(c[:, axis], kind="stable")]
+    half = len(order) // 2
+    return _clusters(centroids, order[:half], size) + _clusters(centroids, order[half:], size)
+
+
+def _cluster_tensors(v0: np.ndarray, v1: np.ndarray, v2: np.ndarray) -> np.ndarray:
+    """The coefficients (WIDTH,) of one cluster's faces (k, 3) vertices, body frame relative to the CoM."""
+    ones = np.ones((len(v0), 1))
+    h0, h1, h2 = (np.hstack([ones, v]) for v in (v0, v1, v2))  # homogeneous: d = u · h
+    ea, eb, ec = h0 + h1, h1 + h2, h2 + h0  # twice the depth at each edge midpoint (as a, b, c of _depth_moments)
+    ma, mb, mc = v0 + v1, v1 + v2, v2 + v0
+    s = np.cross(v1 - v0, v2 - v0)  # 2 A n
+    wf = 2.0 * (ea + eb + ec)  # w = u · wf
+    qf = np.einsum("fi,fl->fil", ma, ea) + np.einsum("fi,fl->fil", mb, eb) + np.einsum("fi,fl->fil", mc, ec)
+    af = np.einsum("fk,fl->kl", s, wf)
+    at = np.stack([np.cross(qf[:, :, l], s).sum(0) for l in range(4)], axis=1)  # (3, 4)
+    aqs = np.einsum("fil,fj->lij", qf, s)
+    quad = 0.5 * (np.einsum("fl,fm->flm", ea, ea) + np.einsum("fl,fm->flm", eb, eb) + np.einsum("fl,fm->flm", ec, ec))
+    ae = np.einsum("fk,flm->klm", s, quad)
+    area = 0.5 * np.linalg.norm(s, axis=1).sum()
+    return np.concatenate([af.ravel(), at.ravel(), aqs.ravel(), ae.ravel(), s.sum(0), [area]])
+
+
+class FlatClusters:
+    """Cluster tables of a HullSet for `flat_hydrostatics` (body frame, relative to each body's CoM)."""
+
+    def __init__(self, vertices_body, faces, face_offsets, vert_body, com_body, size: int = CLUSTER_FACES):
+        rel = np.asarray(vertices_body, float) - np.asarray(com_body, float)[vert_body]
+        self.vertices = np.ascontiguousarray(rel)
+        tri = rel[faces.astype(np.intp)]
+        centroids = tri.mean(1)
+        groups, body_ptr = [], [0]
+        for b in range(len(face_offsets) - 1):
+            f0, f1 = int(face_offsets[b]), int(face_offsets[b + 1])
+            groups += _clusters(centroids, np.arange(f0, f1), size) if f1 > f0 else []
+            body_ptr.append(len(groups))
+        self.body_ptr = np.array(body_ptr, dtype=np.int64)
+        self.ptr = np.concatenate([[0], np.cumsum([len(g) for g in groups])]).astype(np.int64)
+        self.faces = np.concatenate(groups).astype(np.int64) if groups else np.zeros(0, np.int64)
+        nc = len(groups)
+        self.coef = np.zeros((nc, WIDTH))
+        self.box = np.zeros((nc, 6))  # centre (3), half extents (3), m
+        for c, g in enumerate(groups):
+            t = tri[g]
+            self.coef[c] = _cluster_tensors(t[:, 0], t[:, 1], t[:, 2])
+            lo, hi = t.reshape(-1, 3).min(0), t.reshape(-1, 3).max(0)
+            self.box[c, :3], self.box[c, 3:] = 0.5 * (lo + hi), 0.5 * (hi - lo)
+        self.state = np.full(nc, UNKNOWN, dtype=np.int8)
+
+    def invalidate(self) -> None:
+        """Per-face outputs were written by someone else (the general kernel): rewrite them all next time."""
+        self.state[:] = UNKNOWN
+
+
+@njit(cache=True)
+def _add_cluster(coef, c, u0, u1, u2, u3, acc):
+    """acc (WIDTH - nothing) += cluster c's sums evaluated at u: F_b (3), T_b (3), QS·(u) (9), ES (3), S (3),
+    area: all body frame."""
+    u = (u0, u1, u2, u3)
+    k = 0
+    for i in range(3):  # AF u
+        s = 0.0
+        for m in range(4):
+            s += coef[c, k] * u[m]
+            k += 1
+        acc[i] += s
+    for i in range(3):  # AT u
+        s = 0.0
+        for m in range(4):
+            s += coef[c, k] * u[m]
+            k += 1
+        acc[3 + i] += s
+    for m in range(4):  # Σ_l u_l AQS[l] (3x3)
+        for ij in range(9):
+            acc[6 + ij] += coef[c, k] * u[m]
+            k += 1
+    for i in range(3):  # u^T AE[i] u
+        s = 0.0
+        for m in range(4):
+            r = 0.0
+            for n in range(4):
+                r += coef[c, k] * u[n]
+                k += 1
+            s += r * u[m]
+        acc[15 + i] += s
+    for i in range(3):
+        acc[18 + i] += coef[c, k]
+        k += 1
+    acc[21] += coef[c, k]
+
+
+@njit(cache=True)
+def flat_hydrostatics(verts_rel, vert_ptr, faces, face_area, face_offsets, cl_body_ptr, cl_ptr, cl_faces, cl_coef, cl_box,
+                      cl_state, rot, com, level, rho, g, force, torque, volume, cob, wetted_area, waterplane_area,
+                      face_area_sub, seg, seg_count):  # fmt: skip
+    """`hull_hydrostatics` for eta = level (m) at every vertex and no pressure heads (see the module text).
+
+    verts_rel (Nv,3) m: vertices in the body frame relative to the CoM; rot (nb,3,3) body → world; com (nb,3)
+    m world. Outputs as `hull_hydrostatics`' (per-face rows of clusters whose state did not change are kept)."""
+    acc = np.zeros(22)
+    r = np.empty((verts_rel.shape[0], 3))  # vertices relative to the CoM, world axes
+    for b in range(face_offsets.shape[0] - 1):
+        cx, cy, cz = com[b, 0], com[b, 1], com[b, 2]
+        r00, r01, r02 = rot[b, 0, 0], rot[b, 0, 1], rot[b, 0, 2]
+        r10, r11, r12 = rot[b, 1, 0], rot[b, 1, 1], rot[b, 1, 2]
+        n0, n1, n2 = rot[b, 2, 0], rot[b, 2, 1], rot[b, 2, 2]
+        c0 = level - cz  # depth d(v) = c0 - n · v
+        acc[:] = 0.0
+        wet_clusters = 0
+        transformed = False
+        fx = fy = fz = tx = ty = tz = vol = mx = my = mz = wet = awp = 0.0
+        for c in range(cl_body_ptr[b], cl_body_ptr[b + 1]):
+            centre = n0 * cl_box[c, 0] + n1 * cl_box[c, 1] + n2 * cl_box[c, 2] - c0  # height above water
+            spread = abs(n0) * cl_box[c, 3] + abs(n1) * cl_box[c, 4] + abs(n2) * cl_box[c, 5]
+            if centre - spread > EPS_M:
+                if cl_state[c] != DRY:
+                    for j in range(cl_ptr[c], cl_ptr[c + 1]):
+                        f = cl_faces[j]
+                        face_area_sub[f] = 0.0
+                        _clear_segment(seg, seg_count, f)
+                    cl_state[c] = DRY
+                continue
+            if centre + spread < -EPS_M:
+                _add_cluster(cl_coef, c, c0, -n0, -n1, -n2, acc)
+                wet_clusters += 1
+                if cl_state[c] != WET:
+                    for j in range(cl_ptr[c], cl_ptr[c + 1]):
+                        f = cl_faces[j]
+                        face_area_sub[f] = face_area[f]
+                        _clear_segment(seg, seg_count, f)
+                    cl_state[c] = WET
+                continue
+            cl_state[c] = MIXED
+            if not transformed:  # this body's vertices, once
+                for v in range(vert_ptr[b], vert_ptr[b + 1]):
+                    x, y, z = verts_rel[v, 0], verts_rel[v, 1], verts_rel[v, 2]
+                    r[v, 0] = r00 * x + r01 * y + r02 * z
+                    r[v, 1] = r10 * x + r11 * y + r12 * z
+                    r[v, 2] = n0 * x + n1 * y + n2 * z
+                transformed = True
+            for j in range(cl_ptr[c], cl_ptr[c + 1]):
+                f = cl_faces[j]
+                i0, i1, i2 = faces[f, 0], faces[f, 1], faces[f, 2]
+                r0 = (r[i0, 0], r[i0, 1], r[i0, 2])
+                r1 = (r[i1, 0], r[i1, 1], r[i1, 2])
+                r2 = (r[i2, 0], r[i2, 1], r[i2, 2])
+                h0, h1, h2 = r0[2] - c0, r1[2] - c0, r2[2] - c0
+                n_below = (h0 <= 0.0) + (h1 <= 0.0) + (h2 <= 0.0)
+                if n_below == 0 or (n_below == 1 and min(h0, h1, h2) == 0.0):
+                    face_area_sub[f] = 0.0
+                    _clear_segment(seg, seg_count, f)
+                    continue
+                if n_below == 3:
+                    w, qx, qy, qz, e = _depth_moments(r0, r1, r2, -h0, -h1, -h2)
+                    frac = 1.0
+                    _clear_segment(seg, seg_count, f)
+                else:
+                    terms, p, q = _cut_face(r0, r1, r2, h0, h1, h2, -h0, -h1, -h2, n_below)
+                    w, qx, qy, qz, e, frac = terms
+                    _store_segment(seg, seg_count, f, p, q, cx, cy, cz)
+                ux, uy, uz = r1[0] - r0[0], r1[1] - r0[1], r1[2] - r0[2]
+                vx, vy, vz = r2[0] - r0[0], r2[1] - r0[1], r2[2] - r0[2]
+                sx = uy * vz - uz * vy
+                sy = uz * vx - ux * vz
+                sz = ux * vy - uy * vx
+                fx += w * sx
+                fy += w * sy
+                fz += w * sz
+                tx += qy * sz - qz * sy
+                ty += qz * sx - qx * sz
+                tz += qx * sy - qy * sx
+                vol -= w * sz
+                mx -= qx * sz
+                my -= qy * sz
+                mz -= (qz + e) * sz
+                a_sub = frac * face_area[f]
+                face_area_sub[f] = a_sub
+                wet += a_sub
+                awp -= frac * sz
+        if wet_clusters:  # the submerged clusters' sums, body frame → world
+            bx, by, bz = acc[0], acc[1], acc[2]
+            fx += r00 * bx + r01 * by + r02 * bz
+            fy += r10 * bx + r11 * by + r12 * bz
+            fz += n0 * bx + n1 * by + n2 * bz
+            vol -= n0 * bx + n1 * by + n2 * bz
+            bx, by, bz = acc[3], acc[4], acc[5]
+            tx += r00 * bx + r01 * by + r02 * bz
+            ty += r10 * bx + r11 * by + r12 * bz
+            tz += n0 * bx + n1 * by + n2 * bz
+            bx = acc[6] * n0 + acc[7] * n1 + acc[8] * n2  # (Σ q ⊗ S) n, body frame
+            by = acc[9] * n0 + acc[10] * n1 + acc[11] * n2
+            bz = acc[12] * n0 + acc[13] * n1 + acc[14] * n2
+            mx -= r00 * bx + r01 * by + r02 * bz
+            my -= r10 * bx + r11 * by + r12 * bz
+            mz -= n0 * bx + n1 * by + n2 * bz + n0 * acc[15] + n1 * acc[16] + n2 * acc[17]
+            awp -= n0 * acc[18] + n1 * acc[19] + n2 * acc[20]
+            wet += acc[21]
+        sums = (fx, fy, fz, tx, ty, tz, vol, mx, my, mz, wet, awp)
+        _store_body(b, sums, (cx, cy, cz), rho * g, force, torque, volume, cob, wetted_area, waterplane_area)
