@@ -168,7 +168,7 @@ class MarinePass:
         else:
             self._copy_depth(fbo, viewport)
             for prog in (self.sky, self.fog):
-                _set(prog, u_cam=tuple(eye), u_inv_view_proj=inv)
+                _set(prog, u_cam=tuple(eye), u_inv_view_proj=inv, u_forward=_forward(camera))
             for prog in (self.fog, self.water):
                 _set(prog, u_near_far=(near, far), u_viewport=viewport[:2])
             _set(self.water, u_look=(*self._look, time_s), u_pixel=cell_tan / CELL_PX,
@@ -318,6 +318,11 @@ def camera_matrices(camera, width: int, height: int) -> tuple[np.ndarray, np.nda
     proj[1, 1], proj[1, 2] = 2 * n / (top - bottom), (top + bottom) / (top - bottom)
     proj[2, 2], proj[2, 3], proj[3, 2] = n / (f - n), n * f / (f - n), -1.0
     return proj @ view, eye, n, f
+
+
+def _forward(camera) -> tuple[float, float, float]:
+    fwd = np.array(camera.forward, dtype=np.float64)
+    return tuple(fwd / np.linalg.norm(fwd))
 
 
 def _raw_tex_image_2d(*args) -> None:

@@ -39,30 +39,24 @@ float noise(vec2 p) { return texture(u_noise, p / 64.0).r; }  // smooth (bilinea
 
 FULLSCREEN_VS = """
 #version 330
-out vec2 v_ndc;
+uniform mat4 u_inv_view_proj;
+uniform vec3 u_cam;
+out vec3 v_ray;  // toward the pixel, unnormalized: affine in the view at a fixed depth, so interpolated exactly
 void main() {
     vec2 p = vec2(gl_VertexID == 1 ? 3.0 : -1.0, gl_VertexID == 2 ? 3.0 : -1.0);
-    v_ndc = p;
+    vec4 w = u_inv_view_proj * vec4(p, 0.5, 1.0);
+    v_ray = w.xyz / w.w - u_cam;
     gl_Position = vec4(p, 0.0, 1.0);  // depth 0: the far plane of the reversed-Z buffer
-}
-"""
-
-RAY = """
-uniform mat4 u_inv_view_proj;
-vec3 ray_dir(vec2 ndc) {
-    vec4 p = u_inv_view_proj * vec4(ndc, 0.5, 1.0);
-    return normalize(p.xyz / p.w - u_cam);
 }
 """
 
 SKY_FS = (
     COMMON
-    + RAY
     + """
-in vec2 v_ndc;
+in vec3 v_ray;
 out vec4 f_color;
 void main() {
-    vec3 dir = ray_dir(v_ndc);
+    vec3 dir = normalize(v_ray);
     vec3 c = sky(dir);
     float cs = dot(dir, u_sun_dir);  // the aureole is in the table
     c += u_sun_color * 40.0 * smoothstep(0.99998, 0.999992, cs) * step(0.0, dir.z);  // the disc (0.27°)
@@ -73,20 +67,19 @@ void main() {
 
 FOG_FS = (
     COMMON
-    + RAY
     + """
 uniform sampler2D u_depth;
 uniform vec2 u_near_far;
 uniform vec2 u_viewport;
-in vec2 v_ndc;
+uniform vec3 u_forward;  // the view axis (unit)
+in vec3 v_ray;
 out vec4 f_color;
 void main() {
     float raw = texelFetch(u_depth, ivec2(gl_FragCoord.xy - u_viewport), 0).r;
     float n = u_near_far.x, f = u_near_far.y;
     float d = n / (raw + (1.0 - raw) * n / f);  // reversed Z → distance along the view axis
-    vec3 dir = ray_dir(v_ndc);
-    vec4 fwd = u_inv_view_proj * vec4(0.0, 0.0, 0.5, 1.0);
-    float dist = d / max(dot(dir, normalize(fwd.xyz / fwd.w - u_cam)), 1e-3);
+    vec3 dir = normalize(v_ray);
+    float dist = d / max(dot(dir, u_forward), 1e-3);
     float haze = exp(-u_at_eye.y * layer_depth(dir, dist, u_fog.z, u_fog.w));
     float fog = exp(-u_at_eye.x * layer_depth(dir, dist, u_fog.x, u_fog.y));
     // blended as dst·alpha + src: the geom's colour attenuated, the in-scattered light added
