@@ -88,6 +88,7 @@ def viewer_case(renderer: str, frames: int) -> dict:
 
 EFFECTS = {  # name: the look's changes from the shader baseline (each effect alone, measured in the same run)
     "short_waves_off": {"water": {"short_waves": 0.0}},
+    "navigation_lights_on": {"lights": {"navigation": "on"}},
 }
 
 
@@ -98,7 +99,7 @@ def effects(frames: int) -> dict:
         sim = _sim("shader", look=look)
         camera = sim.sensors["wamv/camera"]
         try:
-            out[name] = _time(lambda: camera.sample(sim, sim.clock_ns), sim, frames)
+            out[name] = _time(lambda camera=camera, sim=sim: camera.sample(sim, sim.clock_ns), sim, frames)
         finally:
             sim.close()
         if name != "baseline":

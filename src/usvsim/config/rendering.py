@@ -87,6 +87,14 @@ class CameraLook(Section):
     noise_stddev: Annotated[float, Field(ge=0, le=1)] = 0.0  # on top of each camera's own rgb_noise_stddev
 
 
+class Lights(Section):
+    """Navigation lights (COLREG sidelights, masthead and stern lights on vessels; flashing lights on red, green
+    and yellow buoys): `auto` lights them from sunset to sunrise and in fog under 2 km visibility."""
+
+    navigation: Literal["auto", "on", "off"] = "auto"
+    intensity: Annotated[float, Field(ge=0, le=100)] = 1.0  # multiplier on the lamps' brightness
+
+
 class Rendering(Section):
     """`renderer: shader` draws sky, water, fog and camera effects with GLSL shaders around MuJoCo's geoms;
     `renderer: mujoco` (the default while the shader is ~1.5x slower on a CPU, docs/rendering.md) is MuJoCo's
@@ -99,6 +107,7 @@ class Rendering(Section):
     haze: Haze = Haze()
     water: WaterLook = WaterLook()
     camera: CameraLook = CameraLook()
+    lights: Lights = Lights()
 
     def updated(self, changes: dict[str, Any]) -> Rendering:
         """A copy with nested `changes` merged in (e.g. {"sun": {"elevation_deg": 5}}), validated strictly."""

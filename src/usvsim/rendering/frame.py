@@ -24,7 +24,32 @@ def prepare(marine, sim, center_xy) -> Daylight:
     marine.set_light(light, sim.look, sim.ocean.level_m)
     marine.restore()  # setting uniforms binds programs: MuJoCo's fixed-function pipeline needs none bound
     marine.daylight = light
+    marine.lamps = lamps(marine.sea_cache, sim, light)
     return light
+
+
+def lamps(cache: dict, sim, light: Daylight):
+    """(NavigationLights of the model, body positions, rotations, time, intensity) when the look lights them."""
+    from usvsim.rendering.lights import NavigationLights, lights_on
+
+    elevation = float(np.degrees(np.arcsin(np.clip(light.sun_dir[2], -1.0, 1.0))))
+    if not lights_on(sim.look, elevation):
+        return None
+    if cache.get("lamps_model") is not sim.model:
+        vessels = list(sim.vessels)
+        buoys = [name for name in sim.bodies if name not in sim.vessels]
+        cache["lamps_model"], cache["lamps"] = sim.model, NavigationLights(sim.model, vessels, buoys)
+    pos, rot = np.zeros((sim.model.nbody, 3)), np.tile(np.eye(3), (sim.model.nbody, 1, 1))
+    for body in sim.bodies.values():  # the current state (MuJoCo's xpos lags a step)
+        mj = sim.model.body(body.name).id
+        pos[mj], rot[mj] = body.position, _rotation(body.quat)
+    return cache["lamps"], pos, rot, sim.time, sim.look.lights.intensity
+
+
+def _rotation(quat) -> np.ndarray:
+    mat = np.zeros(9)
+    mujoco.mju_quat2Mat(mat, np.asarray(quat, dtype=np.float64))
+    return mat.reshape(3, 3)
 
 
 def sea_extras(cache: dict, ocean, look):
@@ -35,7 +60,6 @@ def sea_extras(cache: dict, ocean, look):
     if waves is None:
         return None, float("inf")  # a patch measures its own whitecap slope (surface.py)
     if cache.get("waves") is not waves:
-        cache.clear()
         cache.update(waves=waves, whitecap=whitecap_threshold(*resolved_statistics(waves)), detail=None)
     if look.water.short_waves > 0 and cache["detail"] is None:
         cache["detail"] = DetailBand(waves)

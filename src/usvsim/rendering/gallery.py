@@ -23,7 +23,7 @@ LOOKS = {  # name: (sea state, look, view: "viewer" or "camera")
         "viewer",
     ),
     "fog": (3, {"fog": {"visibility_m": 250.0}, "sun": {"elevation_deg": 25.0}}, "viewer"),
-    "dusk": (2, {"sun": {"azimuth_deg": 300.0, "elevation_deg": -2.0}}, "viewer"),
+    "dusk": (2, {"sun": {"azimuth_deg": 300.0, "elevation_deg": -3.0}}, "viewer"),
     "onboard_sea_state_4": (4, {"sun": {"azimuth_deg": 100.0, "elevation_deg": 20.0}}, "camera"),
 }
 

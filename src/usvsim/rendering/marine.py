@@ -63,6 +63,8 @@ class MarinePass:
         self._key, self._sky_key, self._fbos = None, None, {}
         self.daylight = None
         self.sea_cache: dict = {}  # per wave field: the short-wave band and the whitecap slope (frame.py)
+        self.lamps = None  # navigation lights of this frame (frame.lamps), drawn by `self._lights`
+        self._lights = None
         self._whitecap_slope, self._short_waves = 1e6, 0.0
 
     def _grid(self, width: int, height: int) -> tuple:
@@ -180,6 +182,8 @@ class MarinePass:
             GL.glStencilOp(GL.GL_KEEP, GL.GL_KEEP, GL.GL_KEEP)
             self._fullscreen(self.sky, ">=", blend=False)
             GL.glDisable(GL.GL_STENCIL_TEST)
+            if self.lamps is not None:
+                self._draw_lamps(camera, rect, view_proj, eye)
         self.restore()
 
     def read_water_mask(self, rect, out: np.ndarray) -> None:
@@ -193,6 +197,19 @@ class MarinePass:
         GL.glPixelStorei(GL.GL_PACK_ALIGNMENT, 1)
         GL.glReadPixels(rect.left, rect.bottom, rect.width, rect.height, GL.GL_STENCIL_INDEX, GL.GL_UNSIGNED_BYTE, out)
         GL.glPixelStorei(GL.GL_PACK_ALIGNMENT, self._pixel_store[GL.GL_PACK_ALIGNMENT])
+
+    def _draw_lamps(self, camera, rect, view_proj, eye) -> None:
+        from usvsim.rendering.lights import LightPass
+
+        if self._lights is None:
+            self._lights = LightPass(self.ctx)
+        nav, pos, rot, t, intensity = self.lamps
+        focal = rect.height * camera.frustum_near / (camera.frustum_top - camera.frustum_bottom)
+        at_eye = tuple(np.exp(-(eye[2] - self._level_m) / np.array([self._fog_height_m, HAZE_HEIGHT_M])))
+        uniforms = {"u_cam": tuple(eye), "u_focal_px": float(focal), "u_level": self._level_m,
+                    "u_at_eye": at_eye, "u_fog": self.sky["u_fog"].value}  # fmt: skip
+        self._lights.prog["u_view_proj"].write(_mat(view_proj))
+        self._lights.draw(nav.world(pos, rot, eye, t, intensity), uniforms)
 
     def _water(self, vao, stencil: bool, blend: bool) -> None:
         from OpenGL import GL
@@ -282,6 +299,8 @@ class MarinePass:
         self._noise.use(TEXTURE_UNITS["u_noise"])
 
     def release(self) -> None:
+        if self._lights is not None:
+            self._lights.release()
         grids = [obj for entry in self._grids.values() for obj in (entry[:2] + entry[3:])]
         self._release_depth()
         for obj in (
