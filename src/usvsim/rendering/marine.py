@@ -11,11 +11,14 @@ the same displaced grid in one flat id colour.
 
 from __future__ import annotations
 
+import ctypes
+
 import numpy as np
 
 from usvsim.rendering import shaders
 from usvsim.rendering.gl import attach_current
 from usvsim.rendering.grid import CELL_PX, FAR_M, screen_grid
+from usvsim.rendering.mips import mip_levels
 from usvsim.rendering.sky import Daylight, hazy_sky_table
 from usvsim.rendering.surface import SurfaceData
 
@@ -97,9 +100,9 @@ class MarinePass:
             for tex in (self._geo, self._slope):  # sampler changes make llvmpipe recompile: only when made
                 tex.repeat_x = tex.repeat_y = periodic
                 tex.filter = (0x2701, 0x2601)  # LINEAR_MIPMAP_NEAREST, LINEAR: half the fetches of trilinear
+                tex.build_mipmaps()  # allocates the levels (and sets the level range) once; filled below
         for tex, layers in ((self._geo, data.geo), (self._slope, data.slope)):
-            tex.write(np.ascontiguousarray(layers).tobytes())
-            tex.build_mipmaps()
+            _write_levels(tex, mip_levels(layers))  # the box filter on the CPU: no blit per level and layer
         self._key, self._data = data.key, data
         surface = (data.height_scale, data.displacement_scale, data.level_m, float(n))
         self._surface_key = None
@@ -342,6 +345,19 @@ def camera_matrices(camera, width: int, height: int) -> tuple[np.ndarray, np.nda
 def _forward(camera) -> tuple[float, float, float]:
     fwd = np.array(camera.forward, dtype=np.float64)
     return tuple(fwd / np.linalg.norm(fwd))
+
+
+def _write_levels(tex, levels: list[np.ndarray]) -> None:
+    """Fill every mip level of a float RGBA texture array (levels allocated, each (layers, h, w, 4) float32)."""
+    from OpenGL import GL
+    from OpenGL.raw.GL.VERSION.GL_1_2 import glTexSubImage3D
+
+    tex.use(TEXTURE_UNITS["u_geo"])  # binds it (the frame binds its own textures again before drawing)
+    GL.glPixelStorei(GL.GL_UNPACK_ALIGNMENT, 4)
+    for level, values in enumerate(levels):
+        layers, height, width = values.shape[:3]
+        glTexSubImage3D(GL.GL_TEXTURE_2D_ARRAY, level, 0, 0, 0, width, height, layers, GL.GL_RGBA, GL.GL_FLOAT,
+                        values.ctypes.data_as(ctypes.c_void_p))  # fmt: skip
 
 
 def _raw_tex_image_2d(*args) -> None:
