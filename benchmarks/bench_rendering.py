@@ -89,6 +89,8 @@ def viewer_case(renderer: str, frames: int) -> dict:
 EFFECTS = {  # name: the look's changes from the shader baseline (each effect alone, measured in the same run)
     "short_waves_off": {"water": {"short_waves": 0.0}},
     "navigation_lights_on": {"lights": {"navigation": "on"}},
+    "wake_off_moving": {"water": {"wake_s": 0.0}},  # the WAM-V under way (2.5 m/s) without and with its wake
+    "wake_on_moving": {},
 }
 
 
@@ -98,6 +100,11 @@ def effects(frames: int) -> dict:
     for name, look in (("baseline", {}), *EFFECTS.items()):
         sim = _sim("shader", look=look)
         camera = sim.sensors["wamv/camera"]
+        if name.endswith("_moving"):  # under way for 6 s; the camera looks astern at the wake
+            boat = sim.vessels["wamv"]
+            for _ in range(600):
+                boat.command(1.0, 0.0)
+                sim.step()
         try:
             out[name] = _time(lambda camera=camera, sim=sim: camera.sample(sim, sim.clock_ns), sim, frames)
         finally:

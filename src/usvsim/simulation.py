@@ -21,6 +21,7 @@ from usvsim.config.scenario import Scenario
 from usvsim.control.factory import control_loop, initial_reference
 from usvsim.ground_truth import GroundTruth
 from usvsim.messages.envelope import Envelope
+from usvsim.rendering.wakes import WakeTracks
 from usvsim.sensors import SensorSuite
 from usvsim.sensors.readings import Reading
 from usvsim.traffic import Traffic, kinematic_bodies
@@ -41,6 +42,7 @@ class Simulation:
         rec = scenario.outputs.recording
         self.ground_truth = GroundTruth(world, rec.clock_rate_hz, rec.ground_truth_rate_hz)
         self.traffic = Traffic(world, self.controllers)  # other ships: tracks, pilots, awareness, AIS
+        self.wakes = WakeTracks(world)  # the vessels' recent tracks, for the drawn wakes (rendering/wakes.py)
         self.sensors = SensorSuite(world)
         for name, vessel in world.vessels.items():
             vessel.sensors = self.sensors.of_vessel(name)
@@ -114,6 +116,7 @@ class Simulation:
         for loop in self.controllers.values():
             loop(world)
         world.step_physics()
+        self.wakes.record(world)  # vessels' tracks for the drawn wakes (a clock check; a sample per 0.25 s)
         measurements = self.traffic.on_step(world, bool(self._subscribers)) + self.sensors.on_step(world)  # IMU: every step
         if self._subscribers:
             self._emit(self.ground_truth.due(world.clock.steps, world.clock.now_ns) + measurements)
@@ -130,6 +133,7 @@ class Simulation:
     def _new_episode(self, seed: int | None, poses: Mapping[str, Any] | None, clear_queue: bool) -> None:
         world = self.world
         world.reset(seed, poses)
+        self.wakes.reset()
         self.traffic.reset(world)
         self.commands.reset(clear_queue)
         self.sensors.reset(world)

@@ -73,6 +73,7 @@ class WaterLook(Section):
     glint: NonNegativeFloat = 1.0  # strength of the sun's specular reflection
     short_waves: Annotated[float, Field(ge=0, le=4)] = 1.0  # slopes of the waves shorter than the physics resolves
     # (the spectrum's tail, drawn as normals only; 0: none); rendering/detail.py
+    wake_s: Annotated[float, Field(ge=0, le=60)] = 30.0  # foam trails behind moving vessels: seconds of track (0: none)
     clarity_m: PositiveFloat | None = (
         2.0  # path in the water over which the seabed or a hull fades by e; None: opaque
     )

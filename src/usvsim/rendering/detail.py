@@ -15,7 +15,7 @@ move the surface that depth and labels hold, and the physics never sees it.
 `whitecap_threshold`: Monahan & O'Muircheartaigh (1980) give the sea's whitecap fraction W = 3.84e-6 U^3.41 for a
 wind U (m/s) at 10 m; U comes from the sea's own Hs through the fully developed Pierson–Moskowitz relation
 Hs = 0.21 U²/g, and the threshold is the resolved slope that a fraction W of the surface exceeds (Rayleigh:
-P(|∇h| > τ) = exp(-τ²/σ²)).
+P(|∇h| > τ) = exp(-τ²/σ²)), weighed by the shader's breaking noise (crests break here and there).
 """
 
 from __future__ import annotations
@@ -94,9 +94,24 @@ def whitecap_fraction(hs_m: float) -> float:
     return min(3.84e-6 * wind**3.41, 0.2)
 
 
+GUST = (0.7, 0.6)  # the shader's breaking noise: the slope is weighed by 0.7 + 0.6·n, n ~ U(0, 1)
+FOAM_EDGE = 0.9  # the middle of the shader's foam ramp, in units of the threshold
+
+
 def whitecap_threshold(hs_m: float, mean_square_slope: float) -> float:
-    """The resolved slope exceeded on the whitecap fraction of the surface (inf: none)."""
+    """The slope threshold τ (the shader's u_sea.y) at which the foam covers the whitecap fraction: a point
+    foams where g·|∇h| > FOAM_EDGE·τ with g the breaking noise, so E_g[exp(-(FOAM_EDGE τ / g)² / σ²)] = W
+    (Rayleigh slopes of mean square σ²), solved by bisection (inf: no whitecaps)."""
     w = whitecap_fraction(hs_m)
     if w <= 1e-6 or mean_square_slope <= 0.0:
         return math.inf
-    return math.sqrt(mean_square_slope * -math.log(w))
+    g = GUST[0] + GUST[1] * (np.arange(64) + 0.5) / 64
+
+    def cover(tau: float) -> float:
+        return float(np.mean(np.exp(-((FOAM_EDGE * tau / g) ** 2) / mean_square_slope)))
+
+    lo, hi = 0.0, 10.0 * math.sqrt(mean_square_slope)
+    for _ in range(60):
+        mid = 0.5 * (lo + hi)
+        lo, hi = (mid, hi) if cover(mid) > w else (lo, mid)
+    return 0.5 * (lo + hi)

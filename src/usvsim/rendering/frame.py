@@ -25,6 +25,8 @@ def prepare(marine, sim, center_xy) -> Daylight:
     marine.restore()  # setting uniforms binds programs: MuJoCo's fixed-function pipeline needs none bound
     marine.daylight = light
     marine.lamps = lamps(marine.sea_cache, sim, light)
+    tracks = getattr(sim, "wakes", None)
+    marine.wake = tracks.ribbons(sim.time, sim.look.water.wake_s) if tracks is not None else None
     return light
 
 

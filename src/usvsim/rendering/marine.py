@@ -23,7 +23,7 @@ from usvsim.rendering.sky import Daylight, hazy_sky_table
 from usvsim.rendering.surface import SurfaceData
 
 GL_DEPTH_CLAMP, GL_GEQUAL = 0x864F, 0x0206
-TEXTURE_UNITS = {"u_geo": 5, "u_slope": 6, "u_depth": 7, "u_sky": 8, "u_noise": 9}  # above MuJoCo's units
+TEXTURE_UNITS = {"u_geo": 5, "u_slope": 6, "u_depth": 7, "u_sky": 8, "u_noise": 9, "u_wake": 10}  # above MuJoCo's
 FOAM_CHOPPINESS = 2.0  # whitecaps where a surface this choppy would fold (the physics may use less)
 HAZE_HEIGHT_M = 500.0
 SKY_TEXELS = 256  # the sky table with the horizon haze baked in: the haze band above the horizon spans texels
@@ -68,6 +68,8 @@ class MarinePass:
         self.sea_cache: dict = {}  # per wave field: the short-wave band and the whitecap slope (frame.py)
         self.lamps = None  # navigation lights of this frame (frame.lamps), drawn by `self._lights`
         self._lights = None
+        self.wake = None  # the wakes' ribbons of this frame (frame.prepare), drawn by `self._wakes`
+        self._wakes = None
         self._whitecap_slope, self._short_waves = 1e6, 0.0
 
     def _grid(self, width: int, height: int) -> tuple:
@@ -171,6 +173,7 @@ class MarinePass:
             _set(self.label, u_id_color=labels, **grid)
             self._water(label_vao, stencil=False, blend=False)
         else:
+            self._draw_wakes()
             self._copy_depth(fbo, viewport)
             for prog in (self.sky, self.fog):
                 _set(prog, u_cam=tuple(eye), u_inv_view_proj=inv, u_forward=_forward(camera))
@@ -200,6 +203,19 @@ class MarinePass:
         GL.glPixelStorei(GL.GL_PACK_ALIGNMENT, 1)
         GL.glReadPixels(rect.left, rect.bottom, rect.width, rect.height, GL.GL_STENCIL_INDEX, GL.GL_UNSIGNED_BYTE, out)
         GL.glPixelStorei(GL.GL_PACK_ALIGNMENT, self._pixel_store[GL.GL_PACK_ALIGNMENT])
+
+    def _draw_wakes(self) -> None:
+        """The wakes' foam texture for the water pass (u_wake_region.w = 0: no wake this frame)."""
+        from usvsim.rendering.wakes import WakePass
+
+        region = (0.0, 0.0, 1.0, 0.0)
+        if self.wake is not None and len(self.wake):
+            if self._wakes is None:
+                self._wakes = WakePass(self.ctx)
+            if self._wakes.draw(self.wake):
+                region = (*self._wakes.region, 1.0)
+                self._wakes.texture.use(TEXTURE_UNITS["u_wake"])
+        _set(self.water, u_wake_region=region)
 
     def _draw_lamps(self, camera, rect, view_proj, eye) -> None:
         from usvsim.rendering.lights import LightPass
@@ -302,8 +318,9 @@ class MarinePass:
         self._noise.use(TEXTURE_UNITS["u_noise"])
 
     def release(self) -> None:
-        if self._lights is not None:
-            self._lights.release()
+        for extra in (self._lights, self._wakes):
+            if extra is not None:
+                extra.release()
         grids = [obj for entry in self._grids.values() for obj in (entry[:2] + entry[3:])]
         self._release_depth()
         for obj in (

@@ -200,6 +200,8 @@ uniform sampler2D u_depth;
 uniform vec3 u_water;
 uniform vec4 u_look;     // foam, glint, render choppiness for whitecaps, time (s)
 uniform vec2 u_sea;      // gain on the short-wave slopes, resolved slope above which the surface breaks
+uniform sampler2D u_wake;  // wakes' foam, top-down (rendering/wakes.py)
+uniform vec4 u_wake_region;  // its corner x, y, side (m); w = 0: no wake
 uniform float u_pixel;   // view width of one pixel at unit distance
 uniform float u_clarity; // distance (m) in the water over which a geom behind the surface fades by e (0: opaque)
 uniform vec2 u_near_far;
@@ -267,6 +269,11 @@ void main() {
     float n0 = u_near_far.x, f0 = u_near_far.y;
     float behind = raw > 0.0 ? n0 / (raw + (1.0 - raw) * n0 / f0) - n0 / (gl_FragCoord.z + (1.0 - gl_FragCoord.z) * n0 / f0) : 1e9;
     float contact = (1.0 - smoothstep(0.0, 0.35 + 0.002 * dist, behind)) * (0.6 + 0.4 * grain);
+    if (u_wake_region.w > 0.0) {
+        vec2 uv = (v_label - u_wake_region.xy) / u_wake_region.z;
+        if (all(greaterThan(uv, vec2(0.0))) && all(lessThan(uv, vec2(1.0))))
+            contact = max(contact, texture(u_wake, uv).r * (0.45 + 0.55 * grain));
+    }
     float foam = clamp(u_look.x * max(whitecap, contact), 0.0, 1.0);
     vec3 foam_light = vec3(0.85) * (u_ambient * 2.5 + u_sun_color * max(u_sun_dir.z, 0.0));
     foam *= 1.0 - smoothstep(1000.0, 6000.0, dist);

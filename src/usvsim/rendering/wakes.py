@@ -1,0 +1,174 @@
+"""Wakes: foam trails behind moving vessels, from each hull's past track.
+
+`WakeTracks` keeps every vessel's track (stern position, heading, speed over ground) every `SAMPLE_S` of
+simulated time, the last `KEEP_S` seconds; the simulation records it each step (a clock check; a sample every
+25 steps), so a picture shows the same wake however often frames were drawn before it (same seed, same bytes).
+
+`WakePass` draws the tracks, once per frame, into a small top-down foam texture around them (512², square,
+at most `MAX_REGION_M` across) that the water shader reads by the surface point's label: a turbulent
+centre wake as wide as the beam that spreads and fades (e-folding `TURBULENT_S`), and the two arms of the
+Kelvin wedge at ±19.47° from the track (half-width grows by speed·age·tan 19.47°), fading faster
+(`KELVIN_S`), both scaled by the speed the hull had there (nothing below 0.3 m/s, full from 2 m/s). It is
+foam, not displacement: the surface that depth and labels hold is the ocean's.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+SAMPLE_S, KEEP_S = 0.25, 60.0
+TURBULENT_S, KELVIN_S = 20.0, 6.0
+KELVIN_TAN = math.tan(math.radians(19.47))
+MAX_REGION_M, TEXELS = 2000.0, 512
+
+
+class WakeTracks:
+    """Past stern positions of a simulation's vessels (world ENU, m), sampled on simulated time."""
+
+    def __init__(self, world):
+        from usvsim.rendering.lights import _visual_box
+
+        self.every = max(int(round(SAMPLE_S / world.clock.dt)), 1)
+        self.keep = int(KEEP_S / SAMPLE_S)
+        self.vessels = []  # (body, stern x in the body frame, half beam)
+        for vessel in world.vessels.values():
+            body = world.model.body(vessel.name).id
+            lo, hi = _visual_box(world.model, body)
+            if lo is not None:
+                self.vessels.append((vessel, float(lo[0]), 0.5 * float(hi[1] - lo[1])))
+        self.reset()
+
+    def reset(self) -> None:
+        self.samples: list[np.ndarray] = []  # per sample (vessels, 5): stern x, y, heading, speed, time
+
+    def record(self, world) -> None:
+        """Called after every physics step; samples every `every` steps."""
+        if not self.vessels or world.clock.steps % self.every:
+            return
+        t = world.clock.seconds
+        row = np.empty((len(self.vessels), 5))
+        for i, (vessel, stern, _) in enumerate(self.vessels):
+            rot = world.state.rot[vessel.index]
+            fwd = rot[:, 0]
+            heading = math.atan2(fwd[1], fwd[0])
+            pos = world.state.pos[vessel.index] + stern * fwd
+            vel = world.origin_velocity(vessel.index)
+            row[i] = pos[0], pos[1], heading, math.hypot(vel[0], vel[1]), t
+        self.samples.append(row)
+        if len(self.samples) > self.keep:
+            del self.samples[0]
+
+    def ribbons(self, now_s: float, length_s: float) -> np.ndarray:
+        """Triangles of the tracks' ribbons for `WakePass`, (n, 6) float32 per vertex: x, y (m), across the
+        ribbon (-1..1), age (s), speed there (m/s), the ribbon's half width (m); the last `length_s` seconds."""
+        if len(self.samples) < 2 or length_s <= 0:
+            return np.zeros((0, 6), np.float32)
+        track = np.stack(self.samples[::-1])  # newest first: (samples, vessels, 5)
+        age = now_s - track[:, 0, 4]
+        track = track[age <= length_s]
+        age = age[age <= length_s]
+        tris = []
+        for v, (_, _, half_beam) in enumerate(self.vessels):
+            pts, speed = track[:, v, :2], track[:, v, 3]
+            if len(pts) < 2 or speed.max() < 0.3:
+                continue
+            d = np.gradient(pts, axis=0)
+            norm = np.linalg.norm(d, axis=1, keepdims=True)
+            heading = track[:, v, 2]
+            d = np.where(
+                norm > 1e-6, d / np.maximum(norm, 1e-9), np.stack([-np.cos(heading), -np.sin(heading)], 1)
+            )
+            side = np.stack([-d[:, 1], d[:, 0]], axis=1)
+            half = half_beam + speed * age * KELVIN_TAN + 1.0
+            left, right = pts + side * half[:, None], pts - side * half[:, None]
+            for a in range(len(pts) - 1):
+                b = a + 1
+                quad = [(left[a], 1.0, a), (right[a], -1.0, a), (left[b], 1.0, b),
+                        (left[b], 1.0, b), (right[a], -1.0, a), (right[b], -1.0, b)]  # fmt: skip
+                for p, u, i in quad:
+                    tris.append((p[0], p[1], u, age[i], speed[i], half[i]))
+        return np.array(tris, np.float32).reshape(-1, 6)
+
+
+VS = """
+#version 330
+uniform vec3 u_region;  // x0, y0 of the texture's corner, side (m)
+in vec2 in_xy;
+in float in_across, in_age, in_speed, in_half;
+out float v_across, v_age, v_speed, v_half;
+void main() {
+    v_across = in_across; v_age = in_age; v_speed = in_speed; v_half = in_half;
+    gl_Position = vec4((in_xy - u_region.xy) / u_region.z * 2.0 - 1.0, 0.0, 1.0);
+}
+"""
+
+FS = (
+    """
+#version 330
+in float v_across, v_age, v_speed, v_half;
+out vec4 f_color;
+void main() {
+    float x = abs(v_across) * v_half;  // metres from the track
+    float go = smoothstep(0.3, 2.0, v_speed);
+    float width = max(v_half - v_speed * v_age * TAN, 1.0) * (0.6 + 0.02 * v_age);  // the turbulent wake spreads
+    float centre = exp(-x * x / (width * width)) * exp(-v_age / TURB);
+    float arm = exp(-pow((v_half - 1.0 - x) / (0.3 + 0.03 * v_age), 2.0)) * exp(-v_age / KELVIN) * step(1.0, v_speed);
+    float fresh = smoothstep(0.0, 0.6, v_age + 0.1);  // no foam ahead of the stern
+    f_color = vec4(go * fresh * max(0.8 * centre, 0.5 * arm), 0.0, 0.0, 1.0);
+}
+""".replace("TAN", repr(KELVIN_TAN))
+    .replace("TURB", repr(TURBULENT_S))
+    .replace("KELVIN", repr(KELVIN_S))
+)
+
+
+class WakePass:
+    """The foam texture of the wakes (R, 0..1) and where it lies (x0, y0, side in m), on the marine context."""
+
+    def __init__(self, ctx):
+        self.ctx = ctx
+        self.prog = ctx.program(vertex_shader=VS, fragment_shader=FS)
+        self.texture = ctx.texture((TEXELS, TEXELS), 1, dtype="f1")
+        self.texture.repeat_x = self.texture.repeat_y = False
+        self.fbo = ctx.framebuffer(color_attachments=[self.texture])
+        self.buffer = ctx.buffer(reserve=6 * 4 * 1024)
+        self.vao = ctx.vertex_array(self.prog, [(self.buffer, "2f 1f 1f 1f 1f", "in_xy", "in_across", "in_age",
+                                                 "in_speed", "in_half")])  # fmt: skip
+        self.region = (0.0, 0.0, 1.0)
+
+    def draw(self, tris: np.ndarray) -> bool:
+        """Render the ribbons; False (and nothing drawn) when there is no wake."""
+        if not len(tris):
+            return False
+        lo, hi = tris[:, :2].min(axis=0), tris[:, :2].max(axis=0)
+        side = float(min(max(hi[0] - lo[0], hi[1] - lo[1], 32.0) + 4.0, MAX_REGION_M))
+        centre = 0.5 * (lo + hi)
+        self.region = (float(centre[0] - 0.5 * side), float(centre[1] - 0.5 * side), side)
+        data = np.ascontiguousarray(tris, np.float32).tobytes()
+        if len(data) > self.buffer.size:
+            self.buffer.orphan(len(data))
+        self.buffer.write(data)
+        self.prog["u_region"].value = self.region
+        from OpenGL import GL
+
+        ctx = self.ctx
+        bound = int(GL.glGetIntegerv(GL.GL_DRAW_FRAMEBUFFER_BINDING))
+        viewport = [int(v) for v in GL.glGetIntegerv(GL.GL_VIEWPORT)]
+        self.fbo.use()
+        self.fbo.clear(0.0, 0.0, 0.0, 0.0)
+        ctx.disable(ctx.DEPTH_TEST)
+        ctx.enable(ctx.BLEND)
+        ctx.blend_equation = 0x8008  # GL_MAX: overlapping segments do not add up
+        ctx.blend_func = ctx.ONE, ctx.ONE
+        self.vao.render(vertices=len(tris))
+        ctx.blend_equation = 0x8006  # GL_FUNC_ADD
+        ctx.disable(ctx.BLEND)
+        GL.glBindFramebuffer(GL.GL_FRAMEBUFFER, bound)
+        GL.glViewport(*viewport)
+        return True
+
+    def release(self) -> None:
+        for obj in (self.vao, self.buffer, self.fbo, self.texture, self.prog):
+            obj.release()
