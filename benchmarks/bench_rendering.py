@@ -100,7 +100,7 @@ def effects(frames: int) -> dict:
     for name, look in (("baseline", {}), *EFFECTS.items()):
         sim = _sim("shader", look=look)
         camera = sim.sensors["wamv/camera"]
-        if name.endswith("_moving"):  # under way for 6 s; the camera looks astern at the wake
+        if name.endswith("_moving"):  # under way for 6 s: the wake texture is drawn every frame (ahead: little seen)
             boat = sim.vessels["wamv"]
             for _ in range(600):
                 boat.command(1.0, 0.0)
