@@ -84,11 +84,12 @@ class Case:
             radar.sample = timed_sample
 
     def chunk(self, seconds: float) -> dict:
-        radar0, start = self.radar_s, time.perf_counter()
+        radar0, start, cpu0 = self.radar_s, time.perf_counter(), time.process_time()
         self.sim.run(seconds)
-        wall = time.perf_counter() - start
+        wall, cpu = time.perf_counter() - start, time.process_time() - cpu0
         steps = round(seconds * 1e9 / self.sim.clock.step_ns)
-        return {"wall_s": wall, "step_us": wall / steps * 1e6, "radar_s": self.radar_s - radar0}
+        return {"wall_s": wall, "step_us": wall / steps * 1e6, "cpu_step_us": cpu / steps * 1e6,
+                "radar_s": self.radar_s - radar0}  # fmt: skip
 
 
 def median(values):
@@ -104,7 +105,7 @@ def main() -> None:
              "harbor_50_ships_ais": harbor(True, False), "harbor_50_ships_radar": harbor(True, True)}  # fmt: skip
     cases = {k: Case(sc) for k, sc in cases.items()}
     runs: dict[str, list[dict]] = {k: [] for k in cases}
-    loads = []
+    loads = [os.getloadavg()[0]]
     for _ in range(args.repeats):  # short chunks, interleaved, so load changes hit every case alike
         for name, case in cases.items():
             runs[name].append(case.chunk(args.seconds))
@@ -112,6 +113,11 @@ def main() -> None:
     for case in cases.values():
         case.sim.close()
     step = {k: median([r["step_us"] for r in v]) for k, v in runs.items()}
+    cpu = {k: median([r["cpu_step_us"] for r in v]) for k, v in runs.items()}
+
+    def paired(case: str, key: str = "step_us") -> float:
+        return median([a[key] / b[key] - 1.0 for a, b in zip(runs[case], runs["harbor"])])
+
     radar_s = median([r["radar_s"] for r in runs["harbor_50_ships_radar"]])
     result = {
         "machine": platform.processor() or platform.machine(), "cpus": os.cpu_count(),
@@ -119,10 +125,13 @@ def main() -> None:
         "repeats": args.repeats,
         "step_us_median": step,
         "step_us_best": {k: min(r["step_us"] for r in v) for k, v in runs.items()},
+        "cpu_step_us_median": cpu,
         "traffic_50_ships_overhead": step["harbor_50_ships"] / step["harbor"] - 1.0,
         "traffic_50_ships_ais_overhead": step["harbor_50_ships_ais"] / step["harbor"] - 1.0,
-        "traffic_50_ships_overhead_median_of_paired_chunks": median(
-            [a["step_us"] / b["step_us"] - 1.0 for a, b in zip(runs["harbor_50_ships"], runs["harbor"])]),
+        "traffic_50_ships_overhead_median_of_paired_chunks": paired("harbor_50_ships"),
+        "traffic_50_ships_ais_overhead_median_of_paired_chunks": paired("harbor_50_ships_ais"),
+        "cpu_traffic_50_ships_overhead": cpu["harbor_50_ships"] / cpu["harbor"] - 1.0,
+        "cpu_traffic_50_ships_ais_overhead": cpu["harbor_50_ships_ais"] / cpu["harbor"] - 1.0,
         "radar_realtime_factor": args.seconds / radar_s,
         "radar_ms_per_simulated_s": radar_s / args.seconds * 1e3,
         "sim_realtime_factor": {k: 1e6 / (v * 100.0) for k, v in step.items()},  # harbor runs at 100 Hz

@@ -121,3 +121,20 @@ def test_enu_to_latlon_matches_pymap3d():
             lat, lon, _ = pymap3d.enu2geodetic(e, n, 0.0, lat0, lon0, 0.0)
             got = ais.enu_to_latlon(e, n, lat0, lon0)
             assert got == pytest.approx((lat, lon), abs=1e-8)  # ~1 mm
+
+
+def test_fast_position_sentence_is_pyais_bit_for_bit():
+    """The publisher's own packing of types 1 and 18 against pyais's encoder: random reports, edge values
+    (moored, 102.2 kn cap, COG 359.95, heading n/a, poles, date line), both classes and channels."""
+    rng = np.random.default_rng(5)
+    reports = [ais.Report(int(rng.integers(200_000_000, 800_000_000)), float(rng.uniform(-90, 90)),
+                          float(rng.uniform(-180, 180)), float(rng.uniform(0, 40)), float(rng.uniform(0, 360)),
+                          int(rng.integers(0, 360)), int(rng.integers(0, 60))) for _ in range(400)]  # fmt: skip
+    reports += [ais.Report(257000001, 59.42083, 10.43278, 0.05, 0.0, ais.HEADING_NA, 59),
+                ais.Report(999999999, 90.0, 180.0, 150.0, 359.95, 359, 0),
+                ais.Report(100000000, -90.0, -180.0, 102.2, 0.04, 0, 1),
+                ais.Report(257000002, -0.000001, -0.000001, 14.0, 180.0, 180, 30)]  # fmt: skip
+    for k, r in enumerate(reports):
+        for cls in ("A", "B"):
+            channel = "AB"[k % 2]
+            assert ais.position_sentence(r, cls, channel) == ais.position_sentences(r, cls, channel)[0]

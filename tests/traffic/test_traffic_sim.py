@@ -3,6 +3,7 @@ situation (CPA/TCPA vs closed form) in an MCAP read back by rosbags and mcap-ros
 
 import math
 
+import mujoco
 import numpy as np
 import pymap3d
 import pytest
@@ -13,8 +14,11 @@ from usvsim.core.errors import ScenarioError
 from usvsim.io.mcap_recorder import McapRecorder
 from usvsim.simulation import Simulation
 from usvsim.traffic.motion import KNOT_MPS
+from usvsim.world.builder import STRUCK_BY_KINEMATIC
+from usvsim.world.checks import setup_warnings
 
 OWN = {"name": "wamv", "model": "wamv", "command_timeout_s": 0.0}
+PIER = {"type": "pier", "name": "pier", "position": [-20.0, 12.0, 0.8], "length_m": 16.0, "width_m": 3.0}
 
 
 def ship(name, mmsi, motion, **kw):
@@ -106,6 +110,36 @@ def test_a_ship_that_runs_into_the_own_ship_collides(scenario_of):
     sim.run(9.0, on_step=lambda s: touched.update((a, b) for a, b, _ in s.contacts()))
     assert ("wamv", "ferry") in touched or ("ferry", "wamv") in touched
     assert sim.vessels["wamv"].position[1] < -3.0  # pushed south by the ship
+
+
+def test_overlap_warning_names_the_ship_not_the_static_world(scenario_of):
+    # the ferry (40 x 10 m) starts on top of the own ship; a tug far away overlaps nothing
+    sc = scenario_of({"vessels": [OWN], "traffic": {"ships": [
+        ship("ferry", 257000001, {"type": "constant", "position": [0, 0], "course_deg": 0, "speed_mps": 1},
+             length_m=40, beam_m=10),
+        ship("tug", 257000002, {"type": "constant", "position": [300, 0], "course_deg": 0, "speed_mps": 1})]}})  # fmt: skip
+    sim = Simulation(sc)
+    warnings = setup_warnings(sim.world)
+    sim.close()
+    assert warnings == ["'wamv' and the moving 'ferry' overlap at the start: they will be pushed apart"]
+
+
+def test_ship_boxes_stay_out_of_the_world_bvh_and_pair_only_when_near(scenario_of):
+    """The world body's bounding volume tree (built once, at compile time) holds no ship geom, so a far ship costs
+    the midphase nothing; a ship's box pairs with floating bodies (conaffinity set) only while it is near one."""
+    far = ship("far", 257000001, {"type": "constant", "position": [0, 500], "course_deg": 0, "speed_mps": 2})
+    near = ship("near", 257000002, {"type": "constant", "position": [10, 10], "course_deg": 180, "speed_mps": 2})
+    plain = Simulation(scenario_of({"vessels": [OWN], "objects": [PIER]}))
+    sim = Simulation(scenario_of({"vessels": [OWN], "objects": [PIER], "traffic": {"ships": [far, near]}}))
+    assert sim.world.model.body_bvhnum[0] == plain.world.model.body_bvhnum[0]
+    m, geoms = sim.world.model, sim.traffic.fleet._geoms
+    box = dict(zip(["far", "near"], geoms.box))
+    assert m.geom_conaffinity[box["far"]] == 0 and m.geom_conaffinity[box["near"]] == STRUCK_BY_KINEMATIC
+    sim.run(20.0)  # "near" has passed the own ship, 10 m to its east, and is 30 m south now: beyond reach
+    assert m.geom_conaffinity[box["near"]] == 0
+    assert not m.opt.disableflags & mujoco.mjtDisableBit.mjDSBL_MIDPHASE  # nothing near: midphase back on
+    plain.close()
+    sim.close()
 
 
 def test_lidar_sees_a_traffic_ship(scenario_of):

@@ -84,7 +84,9 @@ class AisPublisher:
         v = self.own
         return v.position[:2], world.origin_velocity(v.index)[:2], float(v.rpy[2])
 
-    def due(self, world: World) -> list[Envelope]:
+    def due(self, world: World, publish: bool = True) -> list[Envelope]:
+        """Reports due now: sent over UDP (when configured) and, when `publish` (someone listens), returned as
+        messages for the topic."""
         now = world.time
         if now < self._earliest:
             return []
@@ -94,14 +96,15 @@ class AisPublisher:
                 sentences += self._position(world, t, now)
             if now >= t.next_static_s:
                 sentences += ais.static_sentences(t.mmsi, t.name, t.ship_type, t.callsign, t.length_m, t.beam_m,
-                                                  t.draft_m, t.ais_class, self.sent)  # fmt: skip
+                                                  t.draft_m, t.ais_class, self.sent % 10)  # fmt: skip
                 t.next_static_s = now + ais.STATIC_INTERVAL_S
         self._earliest = min(min(t.next_position_s, t.next_static_s) for t in self.tx)
-        return self._publish(world, sentences)
+        return self._publish(world, sentences, publish)
 
     def _position(self, world: World, t: Transmitter, now: float) -> list[str]:
         pos, vel, yaw = self._state(world, t)
-        sog_kn = float(np.hypot(*vel)) / ais.KNOT_MPS
+        x, y, vx, vy = float(pos[0]), float(pos[1]), float(vel[0]), float(vel[1])
+        sog_kn = math.hypot(vx, vy) / ais.KNOT_MPS
         turn_deg_min = 0.0 if math.isnan(t.last_yaw) or now <= t.last_t else \
             abs(math.degrees(math.remainder(yaw - t.last_yaw, 2 * math.pi))) * 60.0 / (now - t.last_t)  # fmt: skip
         turning = turn_deg_min > ais.TURNING_DEG_PER_MIN
@@ -110,19 +113,23 @@ class AisPublisher:
         if self.cfg.dropout_probability > 0 and self.rng.random() < self.cfg.dropout_probability:
             self.dropped += 1
             return []
-        noise = self.rng.normal(0.0, self.cfg.position_noise_m, 2) if self.cfg.position_noise_m > 0 else np.zeros(2)
+        if self.cfg.position_noise_m > 0:
+            noise = self.rng.normal(0.0, self.cfg.position_noise_m, 2)
+            x, y = x + float(noise[0]), y + float(noise[1])
         o = self.origin
-        lat, lon = ais.enu_to_latlon(pos[0] + noise[0], pos[1] + noise[1], o.latitude_deg, o.longitude_deg)
-        cog = math.degrees(math.atan2(vel[0], vel[1])) % 360.0
-        report = ais.Report(t.mmsi, float(lat), float(lon), sog_kn, cog, ais.heading_deg(yaw), int(now) % 60)
-        return ais.position_sentences(report, t.ais_class)
+        lat, lon = ais.enu_to_latlon(x, y, o.latitude_deg, o.longitude_deg)
+        cog = math.degrees(math.atan2(vx, vy)) % 360.0
+        report = ais.Report(t.mmsi, lat, lon, sog_kn, cog, ais.heading_deg(yaw), int(now) % 60)
+        return [ais.position_sentence(report, t.ais_class)]
 
-    def _publish(self, world: World, sentences: list[str]) -> list[Envelope]:
-        cls, stamp = ros.msg_class("nmea_msgs/msg/Sentence"), world.clock.now_ns
+    def _publish(self, world: World, sentences: list[str], publish: bool) -> list[Envelope]:
         self.sent += len(sentences)
         if self.sock is not None:
             for s in sentences:
                 self.sock.sendto((s + "\r\n").encode("ascii"), ("127.0.0.1", self.cfg.udp_port))
+        if not publish or not sentences:
+            return []
+        cls, stamp = ros.msg_class("nmea_msgs/msg/Sentence"), world.clock.now_ns
         return [Envelope(self.cfg.topic, stamp, cls(header=ros.header(stamp, "ais"), sentence=s)) for s in sentences]
 
     def close(self) -> None:

@@ -20,6 +20,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
+from numba import njit
 
 NONE, HEAD_ON, CROSSING_GIVE_WAY, CROSSING_STAND_ON, OVERTAKING, OVERTAKEN = range(6)
 ENCOUNTER_NAMES = ("none", "head_on", "crossing_give_way", "crossing_stand_on", "overtaking", "overtaken")
@@ -32,11 +33,57 @@ def wrap_pi(a):
     return -((np.pi - np.asarray(a)) % (2 * np.pi) - np.pi)
 
 
+@njit(cache=True)
+def _wrap(a):
+    return -((math.pi - a) % (2.0 * math.pi) - math.pi)
+
+
+@njit(cache=True)
+def _cpa(rx, ry, wx, wy):
+    """(CPA m, TCPA s) of one target at (rx, ry) moving at (wx, wy) relative to the own ship."""
+    w2 = wx * wx + wy * wy
+    tcpa = -(rx * wx + ry * wy) / w2 if w2 > 1e-12 else 0.0
+    return math.hypot(rx + wx * tcpa, ry + wy * tcpa), tcpa
+
+
+@njit(cache=True)
+def _encounter(rx, ry, own_speed, own_yaw, tgt_speed, tgt_yaw, tcpa):
+    """COLREG encounter code of one target (module docstring): offset (rx, ry) from the own ship, ENU yaws."""
+    if not tcpa > 0.0:
+        return NONE
+    own_heading, tgt_heading = 0.5 * math.pi - own_yaw, 0.5 * math.pi - tgt_yaw  # nautical
+    bearing = math.atan2(rx, ry) % (2.0 * math.pi)
+    rel_bearing = _wrap(bearing - own_heading)  # target seen from own, starboard +
+    own_from_tgt = _wrap((math.atan2(-rx, -ry) % (2.0 * math.pi)) - tgt_heading)  # own ship seen from the target
+    if abs(rel_bearing) <= HEAD_ON_RAD and abs(_wrap(tgt_heading - own_heading - math.pi)) <= HEAD_ON_RAD:
+        return HEAD_ON
+    if abs(rel_bearing) > ABAFT_BEAM_RAD:
+        return OVERTAKEN
+    if abs(own_from_tgt) > ABAFT_BEAM_RAD and own_speed > tgt_speed:
+        return OVERTAKING
+    return CROSSING_GIVE_WAY if rel_bearing > 0.0 else CROSSING_STAND_ON
+
+
+@njit(cache=True)
+def _cpa_all(rel_pos, rel_vel, cpa, tcpa):
+    for k in range(len(cpa)):
+        cpa[k], tcpa[k] = _cpa(rel_pos[k, 0], rel_pos[k, 1], rel_vel[k, 0], rel_vel[k, 1])
+
+
+@njit(cache=True)
+def _encounter_all(rel_pos, own_vel, own_yaw, tgt_vel, tgt_yaw, tcpa, out):
+    own_speed = math.hypot(own_vel[0], own_vel[1])
+    for k in range(len(out)):
+        out[k] = _encounter(rel_pos[k, 0], rel_pos[k, 1], own_speed, own_yaw, math.hypot(tgt_vel[k, 0], tgt_vel[k, 1]),
+                            tgt_yaw[k], tcpa[k])  # fmt: skip
+
+
 def cpa_tcpa(rel_pos: np.ndarray, rel_vel: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """CPA distance (m) and TCPA (s) of targets at rel_pos (N, 2) moving at rel_vel (N, 2) relative to own."""
-    w2 = np.einsum("ij,ij->i", rel_vel, rel_vel)
-    tcpa = np.where(w2 > 1e-12, -np.einsum("ij,ij->i", rel_pos, rel_vel) / np.maximum(w2, 1e-12), 0.0)
-    return np.linalg.norm(rel_pos + rel_vel * tcpa[:, None], axis=1), tcpa
+    rel_pos, rel_vel = np.asarray(rel_pos, float).reshape(-1, 2), np.asarray(rel_vel, float).reshape(-1, 2)
+    cpa, tcpa = np.empty(len(rel_pos)), np.empty(len(rel_pos))
+    _cpa_all(rel_pos, rel_vel, cpa, tcpa)
+    return cpa, tcpa
 
 
 def nautical_bearing(rel_pos: np.ndarray) -> np.ndarray:
@@ -46,18 +93,12 @@ def nautical_bearing(rel_pos: np.ndarray) -> np.ndarray:
 
 def encounters(rel_pos, own_vel, own_yaw: float, tgt_vel, tgt_yaw, tcpa) -> np.ndarray:
     """COLREG encounter code per target (see the module docstring)."""
-    own_heading = 0.5 * np.pi - own_yaw  # nautical
-    rel_bearing = wrap_pi(nautical_bearing(rel_pos) - own_heading)  # target seen from own, starboard +
-    tgt_heading = 0.5 * np.pi - np.asarray(tgt_yaw)
-    own_from_tgt = wrap_pi(nautical_bearing(-rel_pos) - tgt_heading)  # own ship seen from the target
-    reciprocal = np.abs(wrap_pi(tgt_heading - own_heading - np.pi)) <= HEAD_ON_RAD
-    faster = np.linalg.norm(own_vel) > np.linalg.norm(tgt_vel, axis=1)
-    out = np.where(rel_bearing > 0, CROSSING_GIVE_WAY, CROSSING_STAND_ON)
-    out = np.where(np.abs(rel_bearing) > ABAFT_BEAM_RAD, OVERTAKEN, out)
-    out = np.where((np.abs(own_from_tgt) > ABAFT_BEAM_RAD) & faster & (np.abs(rel_bearing) <= ABAFT_BEAM_RAD),
-                   OVERTAKING, out)  # fmt: skip
-    out = np.where((np.abs(rel_bearing) <= HEAD_ON_RAD) & reciprocal, HEAD_ON, out)
-    return np.where(tcpa > 0, out, NONE)
+    rel_pos = np.asarray(rel_pos, float).reshape(-1, 2)
+    n = len(rel_pos)
+    out = np.empty(n, np.int64)
+    _encounter_all(rel_pos, np.asarray(own_vel, float), float(own_yaw), np.asarray(tgt_vel, float).reshape(n, 2),
+                   np.broadcast_to(np.asarray(tgt_yaw, float), n).copy(), np.asarray(tcpa, float).reshape(n), out)  # fmt: skip
+    return out
 
 
 def min_distance_over(rel_pos, rel_vel, horizon_s: float) -> tuple[np.ndarray, np.ndarray]:
@@ -65,3 +106,38 @@ def min_distance_over(rel_pos, rel_vel, horizon_s: float) -> tuple[np.ndarray, n
     _, tcpa = cpa_tcpa(rel_pos, rel_vel)
     t = np.clip(tcpa, 0.0, horizon_s)
     return np.linalg.norm(rel_pos + rel_vel * t[:, None], axis=1), t
+
+
+# columns of `situation`'s output, one row per target
+X, Y, VX, VY, RANGE, BEARING, REL_BEARING, CPA, TCPA, ENCOUNTER = range(10)
+
+
+@njit(cache=True)
+def situation(own, tgt_pos, tgt_vel, tgt_yaw, targets, out, horizon_s, now_s, min_dist, t_min, min_cpa):
+    """Every target's situation in one call. own = (x, y, vx, vy, ENU yaw); targets: indices into the fleet's
+    tgt_pos (N, 2), tgt_vel (N, 2), tgt_yaw (N,); out (T, 10): columns above (relative position and velocity,
+    range, true and relative bearing, CPA, TCPA, encounter code). With horizon_s >= 0, also the run report:
+    the least distance over the last horizon_s seconds of straight motion back from now_s lowers min_dist (and
+    sets t_min), and the CPA of a closing target lowers min_cpa."""
+    own_speed = math.hypot(own[2], own[3])
+    own_heading = 0.5 * math.pi - own[4]
+    for j in range(len(targets)):
+        k = targets[j]
+        rx, ry = tgt_pos[k, 0] - own[0], tgt_pos[k, 1] - own[1]
+        wx, wy = tgt_vel[k, 0] - own[2], tgt_vel[k, 1] - own[3]
+        cpa, tcpa = _cpa(rx, ry, wx, wy)
+        bearing = math.atan2(rx, ry) % (2.0 * math.pi)
+        out[j, X], out[j, Y], out[j, VX], out[j, VY] = rx, ry, wx, wy
+        out[j, RANGE], out[j, BEARING], out[j, REL_BEARING] = math.hypot(rx, ry), bearing, _wrap(bearing - own_heading)
+        out[j, CPA], out[j, TCPA] = cpa, tcpa
+        out[j, ENCOUNTER] = _encounter(rx, ry, own_speed, own[4], math.hypot(tgt_vel[k, 0], tgt_vel[k, 1]),
+                                       tgt_yaw[k], tcpa)  # fmt: skip
+        if horizon_s < 0.0:
+            continue
+        _, back = _cpa(rx, ry, -wx, -wy)  # the closest point looking back along the straight relative track
+        ago = min(max(back, 0.0), horizon_s)
+        d = math.hypot(rx - wx * ago, ry - wy * ago)
+        if d < min_dist[j]:
+            min_dist[j], t_min[j] = d, now_s - ago
+        if tcpa > 0.0 and cpa < min_cpa[j]:
+            min_cpa[j] = cpa

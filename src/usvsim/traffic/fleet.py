@@ -24,7 +24,7 @@ from usvsim.traffic.kernels import TrackTable, evaluate_and_place
 from usvsim.traffic.motion import make_track
 from usvsim.traffic.pilot import LosPilot, TrackPilot
 from usvsim.traffic.ships import ship_parts
-from usvsim.world.builder import KinematicBody, kinematic_geoms
+from usvsim.world.builder import COLLISION_GROUP, STRUCK_BY_KINEMATIC, KinematicBody, kinematic_geoms
 
 if TYPE_CHECKING:
     from usvsim.config.scenario import Scenario
@@ -90,7 +90,10 @@ class _ShipGeoms:
         built, geoms, owner = kinematic_geoms(m)
         order = {n: k for k, n in enumerate(names)}
         owner = np.array([order[built[k]] for k in owner], int)
-        self.owner_geom = np.ascontiguousarray(np.c_[owner, geoms])
+        by_ship = np.argsort(owner, kind="stable")  # each ship's geoms together, ships in fleet order
+        owner, geoms = owner[by_ship], geoms[by_ship]
+        self.geoms = np.ascontiguousarray(geoms, np.int64)
+        self.geom_first = np.searchsorted(owner, np.arange(len(names) + 1)).astype(np.int64)
         self.geom_pos, self.geom_quat, self.conaffinity = m.geom_pos, m.geom_quat, m.geom_conaffinity  # in place
         c, s = np.cos(yaw0[owner]), np.sin(yaw0[owner])
         d = m.geom_pos[geoms, :2] - pos0[owner]
@@ -99,20 +102,20 @@ class _ShipGeoms:
         self.local = np.ascontiguousarray(np.c_[c * d[:, 0] + s * d[:, 1], -s * d[:, 0] + c * d[:, 1], m.geom_pos[geoms, 2],
                                                 w * q[:, 0] - z * q[:, 3], w * q[:, 1] - z * q[:, 2],
                                                 w * q[:, 2] + z * q[:, 1], w * q[:, 3] + z * q[:, 0]])  # fmt: skip
-        solid = m.geom_conaffinity[geoms] > 0
-        self.affinity = int(m.geom_conaffinity[geoms[solid]][0]) if solid.any() else 0
-        self.box = np.zeros(len(names), int)
+        solid = m.geom_group[geoms] == COLLISION_GROUP  # compiled with conaffinity 0 (see `_add_kinematic`)
+        self.affinity = STRUCK_BY_KINEMATIC
+        self.box = np.full(len(names), -1, np.int64)
         self.box[owner[solid]] = geoms[solid]
-        self.radius = m.geom_rbound[self.box] + self.MARGIN_M
+        self.radius = np.where(self.box >= 0, m.geom_rbound[np.maximum(self.box, 0)], 0.0) + self.MARGIN_M
         self.body_radius = np.array([_reach(m, b + 1) for b in range(len(world.bodies))])
         self.opt, self.midphase_off = m.opt, None
 
     def bind(self, world: World, table: TrackTable, pos: np.ndarray, vel: np.ndarray, yaw: np.ndarray) -> None:
         """Fix the kernel's arguments once (all arrays written in place): a step then costs one numba dispatch."""
         tb = table
-        self._args = (tb.first, tb.count, tb.period_s, tb.t0, tb.t1, tb.p0, tb.p1, tb.v0, tb.v1, tb.yaw0, tb.yaw1,
-                      tb.linear, pos, vel, yaw, self.owner_geom, self.local, self.geom_pos, self.geom_quat, self.box,
-                      self.radius, world.state.pos, self.body_radius, self.conaffinity, self.affinity)  # fmt: skip
+        self._args = (tb.first, tb.count, tb.period_s, tb.seg, pos, vel, yaw, self.geom_first, self.geoms, self.local,
+                      self.geom_pos, self.geom_quat, self.box, self.radius, world.state.pos, self.body_radius,
+                      self.conaffinity, self.affinity)  # fmt: skip
 
     def place(self, t_s: float) -> None:
         """Evaluate every track at t_s into the bound pos, vel, yaw and put the ships' geoms there."""
@@ -151,6 +154,9 @@ class Fleet:
         self._geoms = _ShipGeoms(world, [ships[k].name for k in self.kinematic], pos0, yaw0)
         self._geoms.bind(world, self.table, self._kpos, self._kvel, self._kyaw)
         self._t_eval = math.nan
+        self._has_kinematic = nk > 0
+        if nk:  # collision boxes paired (or not) for the start, as after a reset
+            self._place(world, world.time)
         self.update(world)
 
     def __len__(self) -> int:
@@ -158,9 +164,10 @@ class Fleet:
 
     def before_step(self, world: World) -> None:
         """Kinematic ships to their poses at the end of the coming step; pilots set their vessels' references."""
-        if len(self.kinematic):
-            t_next = (world.clock.now_ns + world.clock.step_ns) / 1e9  # == world.time after the step
-            self._place(world, t_next)
+        if self._has_kinematic:
+            clock = world.clock
+            self._t_eval = t_next = (clock.now_ns + clock.step_ns) / 1e9  # == world.time after the step
+            self._geoms.place(t_next)
         for name, pilot in self.pilots.values():
             loop = self.controllers[name]
             if world.clock.steps % loop.every == 0:  # at the controller's rate

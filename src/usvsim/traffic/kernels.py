@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass
 
@@ -10,45 +11,54 @@ from numba import njit
 
 from usvsim.traffic.motion import Track
 
+# columns of `TrackTable.seg`, one row per segment
+T0, T1, P0, P1, V0, V1, YAW0, YAW1, LINEAR, HALF_COS0, HALF_SIN0 = 0, 1, 2, 4, 6, 8, 10, 11, 12, 13, 14
+SEG_COLUMNS = 15
+
 
 @dataclass(frozen=True)
 class TrackTable:
-    """The segments of many tracks, concatenated; ship k owns segments first[k] .. first[k] + count[k] - 1."""
+    """The segments of many tracks, concatenated into one table: ship k owns rows first[k] .. first[k] + count[k]
+    - 1 of `seg` (columns above: times s, ENU positions m and velocities m/s as x, y pairs, yaws rad, linear 1/0,
+    and cos, sin of half the start yaw, so straight segments need no trigonometry per step)."""
 
     first: np.ndarray
     count: np.ndarray
     period_s: np.ndarray
-    t0: np.ndarray
-    t1: np.ndarray
-    p0: np.ndarray
-    p1: np.ndarray
-    v0: np.ndarray
-    v1: np.ndarray
-    yaw0: np.ndarray
-    yaw1: np.ndarray
-    linear: np.ndarray
+    seg: np.ndarray
 
     @classmethod
     def of(cls, tracks: list[Track]) -> TrackTable:
         count = np.array([len(tr.t0) for tr in tracks], np.int64)
         first = np.concatenate([[0], np.cumsum(count)[:-1]]).astype(np.int64)
-        cat = {f: np.concatenate([getattr(tr, f) for tr in tracks]) if tracks else np.zeros((0, 2) if f[0] in "pv" else 0)
-               for f in ("t0", "t1", "p0", "p1", "v0", "v1", "yaw0", "yaw1", "linear")}  # fmt: skip
-        cat = {k: np.ascontiguousarray(v, bool if k == "linear" else float) for k, v in cat.items()}
-        return cls(first, count, np.array([tr.period_s for tr in tracks], float), **cat)
+        seg = np.zeros((int(count.sum()), SEG_COLUMNS))
+        for tr, a, n in zip(tracks, first, count):
+            rows = seg[a : a + n]
+            rows[:, T0], rows[:, T1], rows[:, YAW0], rows[:, YAW1] = tr.t0, tr.t1, tr.yaw0, tr.yaw1
+            rows[:, P0 : P0 + 2], rows[:, P1 : P1 + 2] = tr.p0, tr.p1
+            rows[:, V0 : V0 + 2], rows[:, V1 : V1 + 2] = tr.v0, tr.v1
+            rows[:, LINEAR] = np.asarray(tr.linear, bool)
+            rows[:, HALF_COS0], rows[:, HALF_SIN0] = np.cos(0.5 * rows[:, YAW0]), np.sin(0.5 * rows[:, YAW0])
+        return cls(first, count, np.array([tr.period_s for tr in tracks], float), seg)
+
+    @functools.cached_property
+    def _no_geoms(self) -> tuple:
+        """`evaluate_and_place`'s geom and body arguments for no geoms and no bodies (same types: one compilation)."""
+        n = len(self.first)
+        return (np.zeros(n + 1, np.int64), np.zeros(0, np.int64), np.zeros((0, 7)), np.zeros((0, 3)), np.zeros((0, 4)),
+                np.full(n, -1, np.int64), np.zeros(n), np.zeros((0, 3)), np.zeros(0), np.zeros(0, np.int32), 0)  # fmt: skip
 
     def evaluate(self, t_s: float, pos: np.ndarray, vel: np.ndarray, yaw: np.ndarray) -> None:
         """Fill pos (N, 2), vel (N, 2), yaw (N,) of every ship at time t_s."""
-        evaluate(t_s, self.first, self.count, self.period_s, self.t0, self.t1, self.p0, self.p1, self.v0, self.v1,
-                 self.yaw0, self.yaw1, self.linear, pos, vel, yaw)  # fmt: skip
+        evaluate_and_place(t_s, self.first, self.count, self.period_s, self.seg, pos, vel, yaw, *self._no_geoms)
 
 
 @njit(cache=True)
-def _segment(t, t0, count, first):
+def _segment(t, seg, count, first):
     lo, hi = first, first + count - 1  # last segment with t0 <= t (binary search)
     while lo < hi:
         mid = (lo + hi + 1) // 2
-        if t0[mid] <= t:
+        if seg[mid, T0] <= t:
             lo = mid
         else:
             hi = mid - 1
@@ -56,76 +66,69 @@ def _segment(t, t0, count, first):
 
 
 @njit(cache=True)
-def evaluate(t_s, first, count, period, t0, t1, p0, p1, v0, v1, yaw0, yaw1, linear, pos, vel, yaw):
-    for k in range(len(first)):
+def evaluate_and_place(t_s, first, count, period, seg, pos, vel, yaw, geom_first, geoms, local, geom_pos, geom_quat,
+                       box, radius, body_pos, body_radius, conaffinity, affinity):  # fmt: skip
+    """Every track at t_s (into pos, vel, yaw), then the kinematic ships' geoms put where the ships are, a
+    ship's collision box pairing with floating bodies only while it is near one; one call per physics step.
+    Ship k: pos (N, 2) ENU m, yaw (N,) rad, collision box geom box[k] (-1: none) with bounding radius
+    radius[k] m, geoms geoms[geom_first[k] : geom_first[k + 1]] with their poses in the ship's frame
+    local[j] = (x, y, z m, w, x, y, z quaternion). Floating bodies: body_pos (B, 3) m, body_radius (B,) m,
+    margin included. Writes MuJoCo's geom_pos, geom_quat and conaffinity (`affinity` near, 0 far); returns
+    the number of boxes near."""
+    near = 0
+    lo_x = lo_y = math.inf  # the box around every floating body's reach: most ships are far from all of them
+    hi_x = hi_y = -math.inf
+    for b in range(len(body_radius)):
+        lo_x, hi_x = min(lo_x, body_pos[b, 0] - body_radius[b]), max(hi_x, body_pos[b, 0] + body_radius[b])
+        lo_y, hi_y = min(lo_y, body_pos[b, 1] - body_radius[b]), max(hi_y, body_pos[b, 1] + body_radius[b])
+    for k in range(len(first)):  # the track at t_s (written out here: a helper taking the arrays costs 50 ns a call)
         a, n = first[k], count[k]
         t = t_s
         if period[k] > 0.0:
-            t = t0[a] + (t - t0[a]) % period[k]
-        if t < t0[a]:  # not yet started: at rest at the start
-            pos[k, 0], pos[k, 1], vel[k, 0], vel[k, 1], yaw[k] = p0[a, 0], p0[a, 1], 0.0, 0.0, yaw0[a]
-            continue
-        s = _segment(t, t0, n, a)
-        if t >= t1[s]:  # past the end: at rest at the end
-            pos[k, 0], pos[k, 1], vel[k, 0], vel[k, 1], yaw[k] = p1[s, 0], p1[s, 1], 0.0, 0.0, yaw1[s]
-            continue
-        dt = t - t0[s]
-        if linear[s]:
-            for i in range(2):
-                pos[k, i] = p0[s, i] + v0[s, i] * dt
-                vel[k, i] = v0[s, i]
-            yaw[k] = yaw0[s]
-            continue
-        h = t1[s] - t0[s]
-        u = dt / h
-        h00, h10, h01, h11 = 2 * u**3 - 3 * u**2 + 1, u**3 - 2 * u**2 + u, -2 * u**3 + 3 * u**2, u**3 - u**2
-        d00, d10, d01, d11 = 6 * u**2 - 6 * u, 3 * u**2 - 4 * u + 1, -6 * u**2 + 6 * u, 3 * u**2 - 2 * u
-        for i in range(2):
-            pos[k, i] = h00 * p0[s, i] + h10 * h * v0[s, i] + h01 * p1[s, i] + h11 * h * v1[s, i]
-            vel[k, i] = (d00 * p0[s, i] + d10 * h * v0[s, i] + d01 * p1[s, i] + d11 * h * v1[s, i]) / h
-        yaw[k] = (yaw0[s] + u * (yaw1[s] - yaw0[s]) + math.pi) % (2.0 * math.pi) - math.pi
-
-
-@njit(cache=True)
-def place_ships(pos, yaw, owner_geom, local, geom_pos, geom_quat, box, radius, body_pos, body_radius, conaffinity,
-                affinity):  # fmt: skip
-    """Put the kinematic ships' geoms where the ships are and let a ship's collision box pair with floating bodies
-    only while it is near one. Ship k: pos (N, 2) ENU m, yaw (N,) rad, collision box geom box[k] with bounding
-    radius radius[k] m. Geom j (owner_geom[j] = ship, geom id): pose in its ship's frame local[j] = (x, y, z m,
-    w, x, y, z quaternion). Floating bodies: body_pos (B, 3) m, body_radius (B,) m, margin included. Writes
-    MuJoCo's geom_pos, geom_quat and conaffinity (`affinity` near, 0 far); returns the number of boxes near."""
-    n = len(yaw)
-    trig = np.empty((n, 4))
-    near = 0
-    for k in range(n):
-        w, z = math.cos(0.5 * yaw[k]), math.sin(0.5 * yaw[k])
-        trig[k, 0], trig[k, 1], trig[k, 2], trig[k, 3] = w * w - z * z, 2.0 * w * z, w, z  # cos, sin of yaw
-        hit = False
-        for b in range(len(body_radius)):
-            dx, dy = body_pos[b, 0] - pos[k, 0], body_pos[b, 1] - pos[k, 1]
-            reach = radius[k] + body_radius[b]
-            if dx * dx + dy * dy < reach * reach:
-                hit = True
-                break
-        conaffinity[box[k]] = affinity if hit else 0
-        near += hit
-    for j in range(len(owner_geom)):
-        k, g = owner_geom[j, 0], owner_geom[j, 1]
-        c, s, w, z = trig[k, 0], trig[k, 1], trig[k, 2], trig[k, 3]
-        geom_pos[g, 0] = pos[k, 0] + c * local[j, 0] - s * local[j, 1]
-        geom_pos[g, 1] = pos[k, 1] + s * local[j, 0] + c * local[j, 1]
-        geom_pos[g, 2] = local[j, 2]
-        qw, qx, qy, qz = local[j, 3], local[j, 4], local[j, 5], local[j, 6]  # (w, 0, 0, z) * local quaternion
-        geom_quat[g, 0], geom_quat[g, 1] = w * qw - z * qz, w * qx - z * qy
-        geom_quat[g, 2], geom_quat[g, 3] = w * qy + z * qx, w * qz + z * qw
+            t = seg[a, T0] + (t - seg[a, T0]) % period[k]
+        if t < seg[a, T0]:  # not yet started: at rest at the start
+            pos[k, 0], pos[k, 1], vel[k, 0], vel[k, 1], yaw[k] = seg[a, P0], seg[a, P0 + 1], 0.0, 0.0, seg[a, YAW0]
+            w, z = seg[a, HALF_COS0], seg[a, HALF_SIN0]
+        else:
+            i = _segment(t, seg, n, a)
+            if t >= seg[i, T1]:  # past the end: at rest at the end
+                pos[k, 0], pos[k, 1], vel[k, 0], vel[k, 1], yaw[k] = seg[i, P1], seg[i, P1 + 1], 0.0, 0.0, seg[i, YAW1]
+                w, z = math.cos(0.5 * yaw[k]), math.sin(0.5 * yaw[k])
+            elif seg[i, LINEAR] != 0.0:
+                dt = t - seg[i, T0]
+                pos[k, 0], pos[k, 1] = seg[i, P0] + seg[i, V0] * dt, seg[i, P0 + 1] + seg[i, V0 + 1] * dt
+                vel[k, 0], vel[k, 1], yaw[k] = seg[i, V0], seg[i, V0 + 1], seg[i, YAW0]
+                w, z = seg[i, HALF_COS0], seg[i, HALF_SIN0]
+            else:  # cubic Hermite from (p0, v0) to (p1, v1) over h seconds
+                h = seg[i, T1] - seg[i, T0]
+                u = (t - seg[i, T0]) / h
+                h00, h10, h01, h11 = 2 * u**3 - 3 * u**2 + 1, u**3 - 2 * u**2 + u, -2 * u**3 + 3 * u**2, u**3 - u**2
+                d00, d10, d01, d11 = 6 * u**2 - 6 * u, 3 * u**2 - 4 * u + 1, -6 * u**2 + 6 * u, 3 * u**2 - 2 * u
+                for j in range(2):
+                    p0, p1, v0, v1 = seg[i, P0 + j], seg[i, P1 + j], seg[i, V0 + j], seg[i, V1 + j]
+                    pos[k, j] = h00 * p0 + h10 * h * v0 + h01 * p1 + h11 * h * v1
+                    vel[k, j] = (d00 * p0 + d10 * h * v0 + d01 * p1 + d11 * h * v1) / h
+                yaw[k] = (seg[i, YAW0] + u * (seg[i, YAW1] - seg[i, YAW0]) + math.pi) % (2.0 * math.pi) - math.pi
+                w, z = math.cos(0.5 * yaw[k]), math.sin(0.5 * yaw[k])
+        c, s = w * w - z * z, 2.0 * w * z  # cos, sin of the yaw
+        x, y = pos[k, 0], pos[k, 1]
+        if box[k] >= 0:
+            hit = False
+            r = radius[k]
+            for b in range(len(body_radius) if lo_x - r < x < hi_x + r and lo_y - r < y < hi_y + r else 0):
+                dx, dy = body_pos[b, 0] - x, body_pos[b, 1] - y
+                reach = radius[k] + body_radius[b]
+                if dx * dx + dy * dy < reach * reach:
+                    hit = True
+                    break
+            conaffinity[box[k]] = affinity if hit else 0
+            near += hit
+        for j in range(geom_first[k], geom_first[k + 1]):
+            g = geoms[j]
+            geom_pos[g, 0] = x + c * local[j, 0] - s * local[j, 1]
+            geom_pos[g, 1] = y + s * local[j, 0] + c * local[j, 1]
+            geom_pos[g, 2] = local[j, 2]
+            qw, qx, qy, qz = local[j, 3], local[j, 4], local[j, 5], local[j, 6]  # (w, 0, 0, z) * local quaternion
+            geom_quat[g, 0], geom_quat[g, 1] = w * qw - z * qz, w * qx - z * qy
+            geom_quat[g, 2], geom_quat[g, 3] = w * qy + z * qx, w * qz + z * qw
     return near
-
-
-@njit(cache=True)
-def evaluate_and_place(t_s, first, count, period, t0, t1, p0, p1, v0, v1, yaw0, yaw1, linear, pos, vel, yaw,
-                       owner_geom, local, geom_pos, geom_quat, box, radius, body_pos, body_radius, conaffinity,
-                       affinity):  # fmt: skip
-    """`evaluate` then `place_ships` in one call (one dispatch per physics step)."""
-    evaluate(t_s, first, count, period, t0, t1, p0, p1, v0, v1, yaw0, yaw1, linear, pos, vel, yaw)
-    return place_ships(pos, yaw, owner_geom, local, geom_pos, geom_quat, box, radius, body_pos, body_radius,
-                       conaffinity, affinity)  # fmt: skip

@@ -37,7 +37,7 @@ class Traffic:
             return []
         self.fleet.update(world)
         out = self.situation.due(world, publish) if self.situation is not None else []
-        return out + self.ais.due(world) if self.ais is not None else out
+        return out + self.ais.due(world, publish) if self.ais is not None else out
 
     def report(self) -> dict:
         """Run report: per target the least distance to the own ship, when, and the least CPA predicted."""

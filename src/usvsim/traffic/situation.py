@@ -35,42 +35,42 @@ class SituationPublisher:
             raise ScenarioError(source, "traffic.awareness.rate_hz", str(exc)) from None
         self.cfg, self.fleet, self.own = cfg, fleet, world.vessels[own]
         self.period_s = self.every * world.clock.dt
-        self.targets = [k for k, s in enumerate(fleet.ships) if s.vessel != own]
+        self.targets = np.array([k for k, s in enumerate(fleet.ships) if s.vessel != own], np.int64)
+        self._own, self._out = np.zeros(5), np.zeros((len(self.targets), 10))
         self.reset(world)
 
     def reset(self, world: World) -> None:
         n = len(self.targets)
         self.min_dist, self.t_min, self.min_cpa = np.full(n, np.inf), np.zeros(n), np.full(n, np.inf)
 
+    def _run(self, world: World, horizon_s: float) -> np.ndarray:
+        """One call of the situation kernel (awareness.situation); horizon_s >= 0 also updates the run report."""
+        v, own = self.own, self._own
+        own[:2], own[2:4], own[4] = v.position[:2], world.origin_velocity(v.index)[:2], v.rpy[2]
+        f = self.fleet
+        aw.situation(own, f.pos_enu, f.vel_enu, f.yaw_rad, self.targets, self._out, horizon_s, world.time,
+                     self.min_dist, self.t_min, self.min_cpa)  # fmt: skip
+        return self._out
+
     def compute(self, world: World) -> dict[str, np.ndarray]:
         """Every target's situation now (arrays over targets; see awareness.py for the conventions)."""
-        v = self.own
-        own_pos, own_vel, own_yaw = v.position[:2], world.origin_velocity(v.index)[:2], float(v.rpy[2])
-        idx = self.targets
-        rel_pos = self.fleet.pos_enu[idx] - own_pos
-        rel_vel = self.fleet.vel_enu[idx] - own_vel
-        cpa, tcpa = aw.cpa_tcpa(rel_pos, rel_vel)
-        enc = aw.encounters(rel_pos, own_vel, own_yaw, self.fleet.vel_enu[idx], self.fleet.yaw_rad[idx], tcpa)
-        bearing = aw.nautical_bearing(rel_pos)
-        rel_bearing = aw.wrap_pi(bearing - (0.5 * math.pi - own_yaw))
-        return {"own_pos": own_pos, "own_vel": own_vel, "own_yaw": own_yaw, "rel_pos": rel_pos, "rel_vel": rel_vel,
-                "range": np.linalg.norm(rel_pos, axis=1), "bearing": bearing, "relative_bearing": rel_bearing,
-                "cpa": cpa, "tcpa": tcpa, "encounter": enc}  # fmt: skip
+        out = self._run(world, -1.0).copy()
+        own = self._own.copy()
+        return {"own_pos": own[:2], "own_vel": own[2:4], "own_yaw": float(own[4]), "rel_pos": out[:, aw.X : aw.Y + 1],
+                "rel_vel": out[:, aw.VX : aw.VY + 1], "range": out[:, aw.RANGE], "bearing": out[:, aw.BEARING],
+                "relative_bearing": out[:, aw.REL_BEARING], "cpa": out[:, aw.CPA], "tcpa": out[:, aw.TCPA],
+                "encounter": out[:, aw.ENCOUNTER].astype(np.int64)}  # fmt: skip
 
     def due(self, world: World, publish: bool = True) -> list[Envelope]:
-        if world.clock.steps % self.every != 0 or not self.targets:
+        if world.clock.steps % self.every != 0 or not len(self.targets):
             return []
-        s = self.compute(world)
-        # the interval since the previous sample, straight motion back from now: never past the present (a
-        # look ahead reported passes after the run's end, e.g. t = 31 s in a 30 s run with targets still closing)
-        back, ago = aw.min_distance_over(s["rel_pos"], -s["rel_vel"], min(self.period_s, world.time))
-        closer = back < self.min_dist
-        self.min_dist[closer], self.t_min[closer] = back[closer], world.time - ago[closer]
-        closing = s["tcpa"] > 0
-        self.min_cpa[closing] = np.minimum(self.min_cpa[closing], s["cpa"][closing])
+        # the run report: the interval since the previous sample, straight motion back from now, never past the
+        # present (a look ahead reported passes after the run's end, e.g. t = 31 s in a 30 s run with targets
+        # still closing)
+        self._run(world, min(self.period_s, world.time))
         if not publish:  # building the message costs more than the rest of the traffic for 50 ships
             return []
-        return [Envelope(self.cfg.topic, world.clock.now_ns, self._message(world.clock.now_ns, s))]
+        return [Envelope(self.cfg.topic, world.clock.now_ns, self._message(world.clock.now_ns, self.compute(world)))]
 
     def _message(self, stamp_ns: int, s: dict) -> object:
         target_cls = ros.msg_class("usvsim_msgs/msg/TrafficTarget")

@@ -144,8 +144,11 @@ def _add_floating(spec: mujoco.MjSpec, fb: FloatingBody) -> None:
 
 
 def _add_kinematic(spec: mujoco.MjSpec, kb: KinematicBody) -> None:
-    """The body's parts as world-body geoms at its initial pose (collision box: conaffinity STRUCK_BY_KINEMATIC
-    only, so it pairs with floating bodies, never with static parts or other kinematic bodies)."""
+    """The body's parts as world-body geoms at its initial pose. Collision parts are compiled with contype and
+    conaffinity 0, which keeps them out of the world body's bounding volume tree (built once, so it would hold
+    them where they started, and every floating body's midphase would walk past them each step); whoever moves
+    them sets their conaffinity to STRUCK_BY_KINEMATIC while a floating body is near (never contype: they pair
+    with floating bodies, not with static parts or each other)."""
     pos, quat = np.asarray(kb.position, float), np.asarray(kb.quat, float)
     rot = np.zeros(9)
     mujoco.mju_quat2Mat(rot, quat)
@@ -158,7 +161,7 @@ def _add_kinematic(spec: mujoco.MjSpec, kb: KinematicBody) -> None:
         mujoco.mju_mulQuat(q, quat, np.asarray(part.quat, float))
         geom.name, geom.pos, geom.quat = name, (pos + rot.reshape(3, 3) @ np.asarray(part.pos, float)).tolist(), q.tolist()
         if collide:
-            geom.contype, geom.conaffinity = 0, STRUCK_BY_KINEMATIC
+            geom.contype, geom.conaffinity = 0, 0
 
 
 def kinematic_geoms(model: mujoco.MjModel) -> tuple[list[str], np.ndarray, np.ndarray]:
@@ -226,4 +229,6 @@ def build_model(floating: list[FloatingBody], static: list[Part], dt: float, gra
         spec.option.disableflags |= mujoco.mjtDisableBit.mjDSBL_MIDPHASE
     model = spec.compile()
     model.geom_sameframe[kinematic_geoms(model)[1]] = 0  # frames from geom_pos/geom_quat, not the world's
+    if any(kb.collision for kb in kinematic):  # the world body may collide (its kinematic geoms), even in open sea
+        model.body_conaffinity[0] |= STRUCK_BY_KINEMATIC
     return model

@@ -2,7 +2,8 @@
 
 - a floating body heavier than the water its closed hull can displace (it sinks whatever happens);
 - a floating body whose hull is entirely above or below the still water level by more than 1 m;
-- bodies that overlap at t = 0 (MuJoCo contacts deeper than 1 cm: they are pushed apart violently).
+- bodies that overlap at t = 0 (MuJoCo contacts deeper than 1 cm: they are pushed apart violently), traffic ships
+  (kinematic bodies) named as themselves, not as the static world.
 
 Frames: world ENU, metres; heights relative to the still water level.
 """
@@ -11,6 +12,8 @@ from __future__ import annotations
 
 import mujoco
 import numpy as np
+
+from usvsim.world.builder import kinematic_geoms
 
 CLEARANCE_M = 1.0  # how far above or below the water a whole hull may start before a warning
 OVERLAP_M = 0.01  # contact penetration at t = 0 that counts as an overlap
@@ -55,10 +58,20 @@ def _overlaps(sim) -> list[str]:
     data = mujoco.MjData(sim.model)
     data.qpos[:] = sim.data.qpos
     mujoco.mj_forward(sim.model, data)
-    names = ["the static world", *(f"'{n}'" for n in sim.bodies)]
+    labels = _geom_labels(sim.model)
     pairs = set()
     for contact in data.contact[: data.ncon]:
         if contact.dist < -OVERLAP_M:
-            b1, b2 = (int(sim.model.geom_bodyid[g]) for g in contact.geom)
-            pairs.add(tuple(sorted((b1, b2))))
-    return [f"{names[a]} and {names[b]} overlap at the start: they will be pushed apart" for a, b in sorted(pairs)]
+            pairs.add(tuple(sorted(labels[g] for g in contact.geom)))
+    return [f"{a[1]} and {b[1]} overlap at the start: they will be pushed apart" for a, b in sorted(pairs)]
+
+
+def _geom_labels(model: mujoco.MjModel) -> list[tuple[int, str]]:
+    """Per geom, what it belongs to as (sort key, words): the static world (its geoms that stay put), a floating
+    body, or a kinematic body (e.g. a traffic ship: world-body geoms that move along a track, see
+    `world.builder.KinematicBody`)."""
+    out = [(0, "the static world") if b == 0 else (1 + b, f"'{model.body(b).name}'") for b in model.geom_bodyid]
+    names, geoms, owner = kinematic_geoms(model)
+    for g, k in zip(geoms, owner):
+        out[g] = (1 + model.nbody + k, f"the moving '{names[k]}'")
+    return out
