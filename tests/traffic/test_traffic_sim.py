@@ -202,3 +202,17 @@ def test_physics_ship_follows_a_replayed_ais_track(scenario_of, tmp_path):
         errors.append(math.dist(sim.vessels["other"].position[:2], (e, n)))
     assert max(errors) < 3.0, errors  # bounded all along, the turn included
     assert errors[-1] < 2.0, errors
+
+
+def test_situation_own_state_is_the_vessels(crossing):
+    """The situation kernel's own-ship state (one numba call) equals Vessel.position, World.origin_velocity and
+    Vessel.rpy of a turning, rolling own ship."""
+    sim = Simulation(crossing)
+    wamv = sim.vessels["wamv"]
+    sim.world.teleport(wamv.index, (1.0, 2.0, 0.0, 0.2, 0.1, 0.7), [1.5, 0.4, 0.2, 0.1, 0.2, 0.3])
+    sim.step()
+    s = sim.traffic.situation.compute(sim.world)
+    np.testing.assert_allclose(s["own_pos"], wamv.position[:2], atol=1e-12)
+    np.testing.assert_allclose(s["own_vel"], sim.world.origin_velocity(wamv.index)[:2], atol=1e-12)
+    assert s["own_yaw"] == pytest.approx(wamv.rpy[2], abs=1e-12)
+    sim.close()

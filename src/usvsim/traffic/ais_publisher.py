@@ -39,8 +39,6 @@ class Transmitter:
     beam_m: float
     draft_m: float
     ship: int | None  # index into the fleet, or None for the own ship
-    next_position_s: float = 0.0
-    next_static_s: float = 0.0
     last_yaw: float = math.nan
     last_t: float = 0.0
 
@@ -70,12 +68,14 @@ class AisPublisher:
         self.reset(world)
 
     def reset(self, world: World) -> None:
-        for t in self.tx:  # first reports spread over the first interval (table 1 intervals at rest: 10 s / 30 s)
+        n = len(self.tx)
+        self.next_position_s, self.next_static_s = np.zeros(n), np.zeros(n)  # per transmitter, simulation s
+        for k, t in enumerate(self.tx):  # first reports spread over the first interval (at rest: 10 s / 30 s)
             first = 10.0 if t.ais_class == "A" else 30.0
-            t.next_position_s = float(self.rng.uniform(0.0, first))
-            t.next_static_s = t.next_position_s + float(self.rng.uniform(0.0, 5.0))
+            self.next_position_s[k] = float(self.rng.uniform(0.0, first))
+            self.next_static_s[k] = self.next_position_s[k] + float(self.rng.uniform(0.0, 5.0))
             t.last_yaw, t.last_t = math.nan, 0.0
-        self._earliest = min((min(t.next_position_s, t.next_static_s) for t in self.tx), default=math.inf)
+        self._earliest = min(self.next_position_s.min(), self.next_static_s.min()) if n else math.inf
 
     def _state(self, world: World, t: Transmitter) -> tuple[np.ndarray, np.ndarray, float]:
         if t.ship is not None:
@@ -91,17 +91,18 @@ class AisPublisher:
         if now < self._earliest:
             return []
         sentences: list[str] = []
-        for t in self.tx:
-            if now >= t.next_position_s:
-                sentences += self._position(world, t, now)
-            if now >= t.next_static_s:
-                sentences += ais.static_sentences(t.mmsi, t.name, t.ship_type, t.callsign, t.length_m, t.beam_m,
-                                                  t.draft_m, t.ais_class, self.sent % 10)  # fmt: skip
-                t.next_static_s = now + ais.STATIC_INTERVAL_S
-        self._earliest = min(min(t.next_position_s, t.next_static_s) for t in self.tx)
+        for k in np.flatnonzero(self.next_position_s <= now):
+            sentences += self._position(world, k, now)
+        for k in np.flatnonzero(self.next_static_s <= now):
+            t = self.tx[k]
+            sentences += ais.static_sentences(t.mmsi, t.name, t.ship_type, t.callsign, t.length_m, t.beam_m,
+                                              t.draft_m, t.ais_class, (self.sent + len(sentences)) % 10)  # fmt: skip
+            self.next_static_s[k] = now + ais.STATIC_INTERVAL_S
+        self._earliest = min(self.next_position_s.min(), self.next_static_s.min())
         return self._publish(world, sentences, publish)
 
-    def _position(self, world: World, t: Transmitter, now: float) -> list[str]:
+    def _position(self, world: World, k: int, now: float) -> list[str]:
+        t = self.tx[k]
         pos, vel, yaw = self._state(world, t)
         x, y, vx, vy = float(pos[0]), float(pos[1]), float(vel[0]), float(vel[1])
         sog_kn = math.hypot(vx, vy) / ais.KNOT_MPS
@@ -109,7 +110,7 @@ class AisPublisher:
             abs(math.degrees(math.remainder(yaw - t.last_yaw, 2 * math.pi))) * 60.0 / (now - t.last_t)  # fmt: skip
         turning = turn_deg_min > ais.TURNING_DEG_PER_MIN
         interval = ais.class_a_interval(sog_kn, turning) if t.ais_class == "A" else ais.class_b_interval(sog_kn)
-        t.next_position_s, t.last_yaw, t.last_t = now + interval, yaw, now
+        self.next_position_s[k], t.last_yaw, t.last_t = now + interval, yaw, now
         if self.cfg.dropout_probability > 0 and self.rng.random() < self.cfg.dropout_probability:
             self.dropped += 1
             return []

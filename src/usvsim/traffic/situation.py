@@ -9,6 +9,7 @@ import math
 from typing import TYPE_CHECKING
 
 import numpy as np
+from numba import njit
 
 from usvsim.config.loader import source_of
 from usvsim.core.clock import steps_per_period
@@ -45,8 +46,8 @@ class SituationPublisher:
 
     def _run(self, world: World, horizon_s: float) -> np.ndarray:
         """One call of the situation kernel (awareness.situation); horizon_s >= 0 also updates the run report."""
-        v, own = self.own, self._own
-        own[:2], own[2:4], own[4] = v.position[:2], world.origin_velocity(v.index)[:2], v.rpy[2]
+        s, own = world.state, self._own
+        _own_state(self.own.index, s.pos, s.rot, s.omega_body, s.vcom_world, s.com_world, own)
         f = self.fleet
         aw.situation(own, f.pos_enu, f.vel_enu, f.yaw_rad, self.targets, self._out, horizon_s, world.time,
                      self.min_dist, self.t_min, self.min_cpa)  # fmt: skip
@@ -94,3 +95,18 @@ class SituationPublisher:
         return {self.fleet.names[k]: {"min_distance_m": float(self.min_dist[j]), "t_min_distance_s": float(self.t_min[j]),
                                       "min_cpa_m": float(self.min_cpa[j])}
                 for j, k in enumerate(self.targets)}  # fmt: skip
+
+
+@njit(cache=True)
+def _own_state(i, pos, rot, omega_body, vcom_world, com_world, own):
+    """own = (x, y, vx, vy, yaw) of body i's frame origin: world ENU m, m/s (the CoM's velocity less ω × (CoM −
+    origin), ω in the world frame), ENU yaw of its x axis (rad); what `World.origin_velocity` and `Vessel.rpy`
+    give, without their Python overhead (~0.2 ms a call in a running simulation)."""
+    w = np.zeros(3)
+    for r in range(3):
+        w[r] = rot[i, r, 0] * omega_body[i, 0] + rot[i, r, 1] * omega_body[i, 1] + rot[i, r, 2] * omega_body[i, 2]
+    dx, dy, dz = com_world[i, 0] - pos[i, 0], com_world[i, 1] - pos[i, 1], com_world[i, 2] - pos[i, 2]
+    own[0], own[1] = pos[i, 0], pos[i, 1]
+    own[2] = vcom_world[i, 0] - (w[1] * dz - w[2] * dy)
+    own[3] = vcom_world[i, 1] - (w[2] * dx - w[0] * dz)
+    own[4] = math.atan2(rot[i, 1, 0], rot[i, 0, 0])
