@@ -86,6 +86,8 @@ def _position_fields(r: Report, ais_class: str) -> dict:
 _TYPE1 = (6, 2, 30, 4, 8, 10, 1, 28, 27, 12, 9, 6, 2, 3, 1, 19)  # ... status, turn, speed, accuracy, lon, lat, ...
 _TYPE18 = (6, 2, 30, 8, 10, 1, 28, 27, 12, 9, 6, 2, 1, 1, 1, 1, 1, 1, 1, 20)  # ... reserved, speed, ..., cs, ...
 _ARMOR = tuple(chr(v + 48 if v < 40 else v + 56) for v in range(64))  # 6-bit values → payload characters
+_ARMOR2 = tuple(a + b for a in _ARMOR for b in _ARMOR)  # 12-bit values → two characters
+_XOR2 = tuple(ord(a) ^ ord(b) for a in _ARMOR for b in _ARMOR)  # their contribution to the NMEA checksum
 
 
 def position_sentence(r: Report, ais_class: str, channel: str = "A") -> str:
@@ -103,12 +105,21 @@ def position_sentence(r: Report, ais_class: str, channel: str = "A") -> str:
     bits = 0
     for w, v in zip(widths, values):
         bits = (bits << w) | (v & ((1 << w) - 1))
-    payload = "".join([_ARMOR[(bits >> shift) & 63] for shift in range(162, -1, -6)])
-    body = f"AIVDM,1,1,,{channel},{payload},0"
-    check = 0
-    for b in body.encode("ascii"):
-        check ^= b
-    return f"!{body}*{check:02X}"
+    pairs = [(bits >> shift) & 4095 for shift in range(156, -1, -12)]
+    check = _HEAD_XOR[channel]
+    for v in pairs:
+        check ^= _XOR2[v]
+    return f"!AIVDM,1,1,,{channel},{''.join([_ARMOR2[v] for v in pairs])},0*{check:02X}"
+
+
+def _xor(text: str) -> int:
+    out = 0
+    for b in text.encode("ascii"):
+        out ^= b
+    return out
+
+
+_HEAD_XOR = {c: _xor(f"AIVDM,1,1,,{c},,0") for c in "AB"}  # the checksum of a sentence less its payload
 
 
 def _dimensions(length_m: float, beam_m: float) -> dict[str, int]:

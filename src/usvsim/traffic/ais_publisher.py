@@ -9,6 +9,7 @@ Gaussian noise (`position_noise_m` per ENU axis) and whole reports are lost with
 
 from __future__ import annotations
 
+import heapq
 import math
 import socket
 from dataclasses import dataclass
@@ -26,6 +27,9 @@ if TYPE_CHECKING:
     from usvsim.config.traffic import Ais
     from usvsim.traffic.fleet import Fleet
     from usvsim.world.world import World
+
+
+POSITION, STATIC = 0, 1  # kinds of scheduled report
 
 
 @dataclass
@@ -68,14 +72,13 @@ class AisPublisher:
         self.reset(world)
 
     def reset(self, world: World) -> None:
-        n = len(self.tx)
-        self.next_position_s, self.next_static_s = np.zeros(n), np.zeros(n)  # per transmitter, simulation s
+        self._queue: list[tuple[float, int, int]] = []  # (when, POSITION or STATIC, transmitter): a heap
         for k, t in enumerate(self.tx):  # first reports spread over the first interval (at rest: 10 s / 30 s)
-            first = 10.0 if t.ais_class == "A" else 30.0
-            self.next_position_s[k] = float(self.rng.uniform(0.0, first))
-            self.next_static_s[k] = self.next_position_s[k] + float(self.rng.uniform(0.0, 5.0))
+            first = float(self.rng.uniform(0.0, 10.0 if t.ais_class == "A" else 30.0))
+            self._queue += [(first, POSITION, k), (first + float(self.rng.uniform(0.0, 5.0)), STATIC, k)]
             t.last_yaw, t.last_t = math.nan, 0.0
-        self._earliest = min(self.next_position_s.min(), self.next_static_s.min()) if n else math.inf
+        heapq.heapify(self._queue)
+        self._earliest = self._queue[0][0] if self._queue else math.inf
 
     def _state(self, world: World, t: Transmitter) -> tuple[np.ndarray, np.ndarray, float]:
         if t.ship is not None:
@@ -91,17 +94,23 @@ class AisPublisher:
         if now < self._earliest:
             return []
         sentences: list[str] = []
-        for k in np.flatnonzero(self.next_position_s <= now):
-            sentences += self._position(world, k, now)
-        for k in np.flatnonzero(self.next_static_s <= now):
-            t = self.tx[k]
-            sentences += ais.static_sentences(t.mmsi, t.name, t.ship_type, t.callsign, t.length_m, t.beam_m,
-                                              t.draft_m, t.ais_class, (self.sent + len(sentences)) % 10)  # fmt: skip
-            self.next_static_s[k] = now + ais.STATIC_INTERVAL_S
-        self._earliest = min(self.next_position_s.min(), self.next_static_s.min())
+        queue = self._queue
+        while queue[0][0] <= now:
+            _, kind, k = heapq.heappop(queue)
+            if kind == POSITION:
+                interval, out = self._position(world, k, now)
+            else:
+                t = self.tx[k]
+                interval, out = ais.STATIC_INTERVAL_S, ais.static_sentences(
+                    t.mmsi, t.name, t.ship_type, t.callsign, t.length_m, t.beam_m, t.draft_m, t.ais_class,
+                    (self.sent + len(sentences)) % 10)  # fmt: skip
+            sentences += out
+            heapq.heappush(queue, (now + interval, kind, k))
+        self._earliest = queue[0][0]
         return self._publish(world, sentences, publish)
 
-    def _position(self, world: World, k: int, now: float) -> list[str]:
+    def _position(self, world: World, k: int, now: float) -> tuple[float, list[str]]:
+        """Transmitter k's position report now (none if dropped) and the interval to its next one."""
         t = self.tx[k]
         pos, vel, yaw = self._state(world, t)
         x, y, vx, vy = float(pos[0]), float(pos[1]), float(vel[0]), float(vel[1])
@@ -110,10 +119,10 @@ class AisPublisher:
             abs(math.degrees(math.remainder(yaw - t.last_yaw, 2 * math.pi))) * 60.0 / (now - t.last_t)  # fmt: skip
         turning = turn_deg_min > ais.TURNING_DEG_PER_MIN
         interval = ais.class_a_interval(sog_kn, turning) if t.ais_class == "A" else ais.class_b_interval(sog_kn)
-        self.next_position_s[k], t.last_yaw, t.last_t = now + interval, yaw, now
+        t.last_yaw, t.last_t = yaw, now
         if self.cfg.dropout_probability > 0 and self.rng.random() < self.cfg.dropout_probability:
             self.dropped += 1
-            return []
+            return interval, []
         if self.cfg.position_noise_m > 0:
             noise = self.rng.normal(0.0, self.cfg.position_noise_m, 2)
             x, y = x + float(noise[0]), y + float(noise[1])
@@ -121,7 +130,7 @@ class AisPublisher:
         lat, lon = ais.enu_to_latlon(x, y, o.latitude_deg, o.longitude_deg)
         cog = math.degrees(math.atan2(vx, vy)) % 360.0
         report = ais.Report(t.mmsi, lat, lon, sog_kn, cog, ais.heading_deg(yaw), int(now) % 60)
-        return [ais.position_sentence(report, t.ais_class)]
+        return interval, [ais.position_sentence(report, t.ais_class)]
 
     def _publish(self, world: World, sentences: list[str], publish: bool) -> list[Envelope]:
         self.sent += len(sentences)
