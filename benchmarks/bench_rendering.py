@@ -89,6 +89,9 @@ def viewer_case(renderer: str, frames: int) -> dict:
 EFFECTS = {  # name: the look's changes from the shader baseline (each effect alone, measured in the same run)
     "short_waves_off": {"water": {"short_waves": 0.0}},
     "navigation_lights_on": {"lights": {"navigation": "on"}},
+    "rain_10mm_h": {"rain": {"rate_mm_h": 10.0}},
+    "lens_droplets_0.5": {"camera": {"droplets": 0.5}},
+    "motion_blur_30ms": {"camera": {"motion_blur_ms": 30.0}},
     "wake_off_moving": {"water": {"wake_s": 0.0}},  # the WAM-V under way (2.5 m/s) without and with its wake
     "wake_on_moving": {},
 }

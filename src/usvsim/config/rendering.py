@@ -86,6 +86,16 @@ class CameraLook(Section):
     vignetting: Annotated[float, Field(ge=0, le=1)] = 0.25  # brightness lost at the image corners
     blur_sigma_px: Annotated[float, Field(ge=0, le=20)] = 0.0  # Gaussian defocus blur
     noise_stddev: Annotated[float, Field(ge=0, le=1)] = 0.0  # on top of each camera's own rgb_noise_stddev
+    droplets: Annotated[float, Field(ge=0, le=1)] = 0.0  # water drops on the lens (0: none, 1: ~60 drops)
+    motion_blur_ms: Annotated[float, Field(ge=0, le=200)] = 0.0  # exposure smearing the camera's rotation (0: off)
+
+
+class Rain(Section):
+    """Rain between the camera and the scene: streaks in camera images and extinction added to the fog
+    (0.25·R^0.63 per km); `slant_deg` tilts the streaks (wind)."""
+
+    rate_mm_h: Annotated[float, Field(ge=0, le=200)] = 0.0  # 0: no rain; 2.5 light, 10 moderate, 50 heavy
+    slant_deg: Annotated[float, Field(ge=-60, le=60)] = 10.0
 
 
 class Lights(Section):
@@ -109,6 +119,7 @@ class Rendering(Section):
     water: WaterLook = WaterLook()
     camera: CameraLook = CameraLook()
     lights: Lights = Lights()
+    rain: Rain = Rain()
 
     def updated(self, changes: dict[str, Any]) -> Rendering:
         """A copy with nested `changes` merged in (e.g. {"sun": {"elevation_deg": 5}}), validated strictly."""

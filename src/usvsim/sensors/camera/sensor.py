@@ -95,8 +95,20 @@ class Camera(Sensor):
         if self.remap is not None:
             out = {k: (self.remap.linear(v) if k == "rgb" else self.remap.closest(v)) for k, v in out.items()}
         if "rgb" in out and r.marine is not None:  # the shader look includes the camera's exposure and lens
+            self._weather(out["rgb"], sim, rot)
             lens_effects(out["rgb"], sim.look.camera, self.intrinsics, self._lens)
         return out
+
+    def _weather(self, rgb: np.ndarray, sim, rot: np.ndarray) -> None:
+        """Motion blur, rain and lens droplets of the look (usvsim.rendering.weather), when it has any."""
+        look = sim.look
+        if look.camera.motion_blur_ms <= 0 and look.rain.rate_mm_h <= 0 and look.camera.droplets <= 0:
+            return
+        from usvsim.rendering.weather import camera_weather
+
+        omega_world = sim.state.rot[self.body] @ sim.state.omega_body[self.body]
+        omega_optical = (rot @ OPTICAL_ROT).T @ omega_world
+        camera_weather(rgb, look, self.intrinsics.fx, sim.seed, self.topic, sim.clock.now_ns, omega_optical)
 
     def _noisy(self, images: dict[str, np.ndarray], look=None) -> dict[str, np.ndarray]:
         c = self.cfg
