@@ -126,3 +126,18 @@ def test_cached_tile_nodes_give_the_uncached_heights_and_heads_bit_for_bit():
                                          pressure.height_decay_wavenumbers(field), band_h, ref_eta, ref_zeta)  # fmt: skip
         assert np.array_equal(eta, ref_eta) and np.array_equal(zeta, ref_zeta)
         field.tiles(t + 0.5)  # another blend of the same tiles in between (weights with scale 1, new snapshots)
+
+
+def test_one_call_hull_water_and_velocity_equal_the_array_code_bit_for_bit():
+    """pressure.hull_water (what World._water does for an FFT sea in one call) and the one-call FFT velocity equal
+    surface_and_dynamic_head + the array arithmetic, and `kinematics`, exactly."""
+    field = FFTWaveField(JONSWAP, cascade_sizes(70.0, 3, 64), np.random.default_rng(8), 64, ramp_time_s=1.0)
+    verts = np.column_stack([RNG.uniform(-20, 20, 400), RNG.uniform(-20, 20, 400), RNG.uniform(-1.0, 1.0, 400)])
+    level = 0.25
+    for t in (0.0, 0.7, 0.71, 5.2):
+        eta, head = np.empty(400), np.empty(400)
+        assert pressure.hull_water(field, verts, level, t, eta, head)
+        ref_eta, zeta = pressure.surface_and_dynamic_head(field, verts[:, 0], verts[:, 1], verts[:, 2] - level, t)
+        assert np.array_equal(eta, ref_eta + level) and np.array_equal(head, (zeta + level) - verts[:, 2])
+        vel = field.velocity(verts[:, 0], verts[:, 1], verts[:, 2], t)
+        assert np.array_equal(vel, field.kinematics(verts[:, 0], verts[:, 1], verts[:, 2], t, acceleration=False)[0])

@@ -73,7 +73,11 @@ class FlatClusters:
             body_ptr.append(len(groups))
         self.body_ptr = np.array(body_ptr, dtype=np.int64)
         self.ptr = np.concatenate([[0], np.cumsum([len(g) for g in groups])]).astype(np.int64)
+        groups = [np.sort(g) for g in groups]  # faces in mesh order within a cluster (memory locality)
         self.faces = np.concatenate(groups).astype(np.int64) if groups else np.zeros(0, np.int64)
+        verts = [np.unique(faces[g].astype(np.int64)) for g in groups]  # each cluster's vertices
+        self.vert_ptr = np.concatenate([[0], np.cumsum([len(v) for v in verts])]).astype(np.int64)
+        self.verts = np.concatenate(verts) if verts else np.zeros(0, np.int64)
         nc = len(groups)
         self.coef = np.zeros((nc, WIDTH))
         self.box = np.zeros((nc, 6))  # centre (3), half extents (3), m
@@ -83,6 +87,7 @@ class FlatClusters:
             lo, hi = t.reshape(-1, 3).min(0), t.reshape(-1, 3).max(0)
             self.box[c, :3], self.box[c, 3:] = 0.5 * (lo + hi), 0.5 * (hi - lo)
         self.state = np.full(nc, UNKNOWN, dtype=np.int8)
+        self.scratch = np.zeros_like(self.vertices)  # vertices of crossing clusters' bodies, CoM-relative, world axes
 
     def invalidate(self) -> None:
         """Per-face outputs were written by someone else (the general kernel): rewrite them all next time."""
@@ -127,15 +132,15 @@ def _add_cluster(coef, c, u0, u1, u2, u3, acc):
 
 
 @njit(cache=True)
-def flat_hydrostatics(verts_rel, vert_ptr, faces, face_area, face_offsets, cl_body_ptr, cl_ptr, cl_faces, cl_coef, cl_box,
-                      cl_state, rot, com, level, rho, g, force, torque, volume, cob, wetted_area, waterplane_area,
+def flat_hydrostatics(verts_rel, cl_vert_ptr, cl_verts, faces, face_area, face_offsets, cl_body_ptr, cl_ptr, cl_faces, cl_coef, cl_box,
+                      cl_state, r, rot, com, level, rho, g, force, torque, volume, cob, wetted_area, waterplane_area,
                       face_area_sub, seg, seg_count):  # fmt: skip
     """`hull_hydrostatics` for eta = level (m) at every vertex and no pressure heads (see the module text).
 
-    verts_rel (Nv,3) m: vertices in the body frame relative to the CoM; rot (nb,3,3) body → world; com (nb,3)
+    verts_rel (Nv,3) m: vertices in the body frame relative to the CoM; r (Nv,3) scratch (kept between calls:
+    a large array made per call would cost page faults every step); rot (nb,3,3) body → world; com (nb,3)
     m world. Outputs as `hull_hydrostatics`' (per-face rows of clusters whose state did not change are kept)."""
     acc = np.zeros(22)
-    r = np.empty((verts_rel.shape[0], 3))  # vertices relative to the CoM, world axes
     for b in range(face_offsets.shape[0] - 1):
         cx, cy, cz = com[b, 0], com[b, 1], com[b, 2]
         r00, r01, r02 = rot[b, 0, 0], rot[b, 0, 1], rot[b, 0, 2]
@@ -144,7 +149,6 @@ def flat_hydrostatics(verts_rel, vert_ptr, faces, face_area, face_offsets, cl_bo
         c0 = level - cz  # depth d(v) = c0 - n · v
         acc[:] = 0.0
         wet_clusters = 0
-        transformed = False
         fx = fy = fz = tx = ty = tz = vol = mx = my = mz = wet = awp = 0.0
         for c in range(cl_body_ptr[b], cl_body_ptr[b + 1]):
             centre = n0 * cl_box[c, 0] + n1 * cl_box[c, 1] + n2 * cl_box[c, 2] - c0  # height above water
@@ -168,13 +172,12 @@ def flat_hydrostatics(verts_rel, vert_ptr, faces, face_area, face_offsets, cl_bo
                     cl_state[c] = WET
                 continue
             cl_state[c] = MIXED
-            if not transformed:  # this body's vertices, once
-                for v in range(vert_ptr[b], vert_ptr[b + 1]):
-                    x, y, z = verts_rel[v, 0], verts_rel[v, 1], verts_rel[v, 2]
-                    r[v, 0] = r00 * x + r01 * y + r02 * z
-                    r[v, 1] = r10 * x + r11 * y + r12 * z
-                    r[v, 2] = n0 * x + n1 * y + n2 * z
-                transformed = True
+            for j in range(cl_vert_ptr[c], cl_vert_ptr[c + 1]):  # the cluster's vertices (shared ones: same values)
+                v = cl_verts[j]
+                x, y, z = verts_rel[v, 0], verts_rel[v, 1], verts_rel[v, 2]
+                r[v, 0] = r00 * x + r01 * y + r02 * z
+                r[v, 1] = r10 * x + r11 * y + r12 * z
+                r[v, 2] = n0 * x + n1 * y + n2 * z
             for j in range(cl_ptr[c], cl_ptr[c + 1]):
                 f = cl_faces[j]
                 i0, i1, i2 = faces[f, 0], faces[f, 1], faces[f, 2]

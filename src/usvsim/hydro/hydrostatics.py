@@ -291,6 +291,11 @@ class HullSet:
 
         self._flat = FlatClusters(self.vertices_body, self.faces, self.face_offsets, self.vert_body, com_body)
 
+    @property
+    def has_flat(self) -> bool:
+        """Whether `use_flat` prepared `compute_flat`."""
+        return self._flat is not None
+
     def compute_flat(self, rot: np.ndarray, com_world: np.ndarray, level: float, rho: float, g: float
                      ) -> HydrostaticsResult:  # fmt: skip
         """Hydrostatics of all bodies under flat water at height `level` (m): `compute` with eta = level at every
@@ -299,8 +304,8 @@ class HullSet:
         from usvsim.hydro.flat import flat_hydrostatics
 
         fl = self._flat
-        flat_hydrostatics(fl.vertices, self.vert_offsets, self.faces, self.face_area, self.face_offsets, fl.body_ptr, fl.ptr, fl.faces,
-                          fl.coef, fl.box, fl.state, rot, com_world, level, rho, g, *self._out)  # fmt: skip
+        flat_hydrostatics(fl.vertices, fl.vert_ptr, fl.verts, self.faces, self.face_area, self.face_offsets, fl.body_ptr, fl.ptr, fl.faces,
+                          fl.coef, fl.box, fl.state, fl.scratch, rot, com_world, level, rho, g, *self._out)  # fmt: skip
         return self._result
 
     def world_vertices(self, pos: np.ndarray, rot: np.ndarray) -> np.ndarray:

@@ -117,6 +117,7 @@ class FFTWaveField(WaveField):
         self._node_heights = np.zeros((len(self.sizes), self.n, self.n))  # see node_cache
         self._node_stamp = np.zeros((len(self.sizes), self.n, self.n), np.int64)
         self._node_key, self._node_now = None, 0
+        self._scratch: dict[str, np.ndarray] = {}  # see scratch
         self.geometry = self._ring(
             time_tolerance, (0, 1), 2 if self.choppiness else 1, self._geometry_snapshot
         )
@@ -220,6 +221,15 @@ class FFTWaveField(WaveField):
             self._node_key, self._node_now = key, self._node_now + 1
         return self._node_heights, self._node_stamp, self._node_now
 
+    def scratch(self, kind: str, n: int) -> np.ndarray:
+        """A float64 scratch array kept between calls for n points: "bands" (n, bands), per-band heights of the
+        cached kernels, or "coords" (3, n). (Made per call, a fleet's arrays would cost page faults every step.)"""
+        shape = (n, len(self.sizes)) if kind == "bands" else (3, n)
+        array = self._scratch.get(kind)
+        if array is None or array.shape != shape:
+            array = self._scratch[kind] = np.empty(shape)
+        return array
+
     def update(self, t: float) -> np.ndarray:
         """Make the geometry snapshots around time t (s) present; returns the blend weights (ramp included)."""
         return self.geometry.prepare(float(t), self.ramp(t))
@@ -292,6 +302,17 @@ class FFTWaveField(WaveField):
         return vel, acc
 
     def velocity(self, x, y, z, t: float) -> np.ndarray:
+        if self.choppiness == 0.0:  # labels = points: heights and velocities in one compiled call
+            px, py, pz = as_points(x, y, z)
+            if pick(kern.SAMPLE_KINEMATICS, len(px)) is kern.SAMPLE_KINEMATICS[0]:
+                wts = self.update(t)
+                ring = self.velocity_ring
+                ring.prepare(float(t), self.ramp(t))
+                vel = np.empty((len(px), 3))
+                kern.velocity_cached(px, py, pz, self.geometry.tiles, wts, ring.tiles, ring.weights,
+                                     self.acceleration_ring.tiles, self.acceleration_ring.weights, self.inv_cells,
+                                     self.decay_k, self.scratch("bands", len(px)), *self.node_cache(), vel)  # fmt: skip
+                return vel
         return self.kinematics(x, y, z, t, acceleration=False)[0]
 
     def acceleration(self, x, y, z, t: float) -> np.ndarray:

@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
 from numba import njit, prange
 
 from usvsim.ocean.dispatch import serial_and_parallel
@@ -304,3 +305,25 @@ INVERT = serial_and_parallel(_invert)
 HEIGHTS = serial_and_parallel(_heights)
 SURFACE_POINTS = serial_and_parallel(_surface_points)
 SAMPLE_KINEMATICS = serial_and_parallel(_sample_kinematics)
+
+
+_SAMPLE_KINEMATICS_SERIAL = SAMPLE_KINEMATICS[0]
+
+
+@njit(cache=True)
+def velocity_cached(px, py, pz, geo, geo_wts, vel, vel_wts, acc, acc_wts, inv_cells, decay_k, band_h, cache, stamp,
+                    now, v_out):  # fmt: skip
+    """`FFTWaveField.kinematics` without acceleration for a sea without displacement (labels = points), in one
+    call: heights from `band_heights_cached`, z' = min(z - η, 0), then the serial `_sample_kinematics`; bit for
+    bit the same velocities (m/s, ENU)."""
+    n = px.shape[0]
+    band_heights_cached(px, py, geo, geo_wts, inv_cells, band_h, cache, stamp, now)
+    zeff = np.empty(n)
+    for p in range(n):
+        z = 0.0
+        for b in range(geo.shape[0]):
+            z += band_h[p, b]
+        d = pz[p] - z
+        zeff[p] = 0.0 if d > 0.0 else d  # np.minimum(d, 0.0), NaN kept
+    _SAMPLE_KINEMATICS_SERIAL(px, py, zeff, geo, geo_wts, vel, vel_wts, acc, acc_wts, inv_cells, decay_k, v_out,
+                              v_out[:0])  # fmt: skip

@@ -144,6 +144,39 @@ def fft_surface_and_head_cached(px, py, zrel, geo, wts, inv_cells, decay_k, band
         zeta_out[p] = acc
 
 
+@njit(cache=True)
+def fft_hull_water_cached(verts, level, geo, wts, inv_cells, decay_k, band_h, coords, eta_out, head_out, cache, stamp,
+                          now):  # fmt: skip
+    """What world.World._water computes for hull vertices (N,3) world m under an FFT sea without displacement,
+    every vertex Froude-Krylov, in one call: eta_out = η + level (surface z) and head_out = ζ + level - z (the
+    hull kernel's pressure head), with η, ζ of `fft_surface_and_head_cached` at (x, y, z - level); the same
+    operations as the array code, bit for bit. band_h (N, bands), coords (3, N): scratch."""
+    n = verts.shape[0]
+    px, py, zrel = coords[0], coords[1], coords[2]  # scratch (3, N), kept between calls
+    for p in range(n):
+        px[p], py[p], zrel[p] = verts[p, 0], verts[p, 1], verts[p, 2] - level
+    fft_surface_and_head_cached(px, py, zrel, geo, wts, inv_cells, decay_k, band_h, eta_out, head_out, cache, stamp,
+                                now)  # fmt: skip
+    for p in range(n):
+        eta_out[p] += level
+        head_out[p] = (head_out[p] + level) - verts[p, 2]
+
+
+def hull_water(waves: WaveField, verts: np.ndarray, level: float, t: float, eta: np.ndarray, head: np.ndarray) -> bool:
+    """Fill eta (surface z, m) and head (ζ + level - z, m) at hull vertices `verts` (N,3) in one compiled call when
+    `waves` is an FFT sea without displacement answered by the serial kernels; False (nothing done) otherwise."""
+    if not (isinstance(waves, FFTWaveField) and waves.choppiness == 0.0):
+        return False
+    n = len(verts)
+    if pick(FFT_SURFACE_AND_HEAD, n) is not FFT_SURFACE_AND_HEAD[0]:
+        return False
+    wts = waves.update(t)
+    fft_hull_water_cached(verts, float(level), waves.geometry.tiles, wts, waves.inv_cells,
+                          height_decay_wavenumbers(waves), waves.scratch("bands", n), waves.scratch("coords", n), eta,
+                          head, *waves.node_cache())  # fmt: skip
+    return True
+
+
 DIRECT_HEAD = serial_and_parallel(_direct_head_impl)
 FFT_SURFACE_AND_HEAD = serial_and_parallel(_fft_surface_and_head_impl)
 FFT_HEAD = serial_and_parallel(_fft_head_impl)

@@ -35,7 +35,7 @@ from usvsim.hydro.thrusters import ThrusterBank
 from usvsim.hydro.wrenches import assemble, body_kinematics, relative_velocity_body
 from usvsim.ocean import build_ocean
 from usvsim.ocean.patch import WaterPatch
-from usvsim.ocean.pressure import surface_and_dynamic_head
+from usvsim.ocean.pressure import hull_water, surface_and_dynamic_head
 from usvsim.vessel import Body, Thruster, Vessel
 from usvsim.vessels import buoy
 from usvsim.vessels.library import vessel_model
@@ -45,6 +45,9 @@ from usvsim.world.obstacles import static_parts
 from usvsim.world.poses import PoseLike, pose_arrays, twist_array
 from usvsim.world.state import BodyState
 
+FLAT_MAX_FACES = 20_000  # still water: clustered hydrostatics up to this many hull faces (hydro/flat.py); measured
+# (interleaved, same process, load 4.5-4.9): harbor, 2,656 faces, 37-40 vs 41-44 µs CPU per step; 100 WAM-Vs,
+# 112,000 faces, 1,014-1,098 vs 934-967 µs (the per-face kernel streams a large mesh better)
 OVERLAP_MIN_FACES = 8000  # below this the thread hand-off costs more than overlapping the two kernels saves
 BAD_QPOS, BAD_QVEL, BAD_QACC = (int(mujoco.mjtWarning.mjWARN_BADQPOS), int(mujoco.mjtWarning.mjWARN_BADQVEL),
                                 int(mujoco.mjtWarning.mjWARN_BADQACC))  # fmt: skip
@@ -113,7 +116,8 @@ class World:
         self.qpos_adr, self.qvel_adr = m.jnt_qposadr[joints].copy(), m.jnt_dofadr[joints].copy()
         self.hulls = HullSet([(fb.model.hull.vertices, fb.model.hull.faces) for fb in floating])
         self._com_body = np.array([fb.model.com for fb in floating], dtype=float).reshape(n, 3)
-        self.hulls.use_flat(self._com_body)  # clustered still-water hydrostatics (hydro/flat.py)
+        if len(self.hulls.faces) <= FLAT_MAX_FACES:
+            self.hulls.use_flat(self._com_body)  # clustered still-water hydrostatics (hydro/flat.py)
         self._body_wrenches = np.zeros((2, n, 6))  # body-frame: marine (damping + wind), thrust
         self._xfrc = self.data.xfrc_applied[1 : n + 1]  # floating bodies are bodies 1..n (world frame, CoM)
         self._air = np.zeros((n, 3))
@@ -133,6 +137,7 @@ class World:
         fk = [i for i, b in enumerate(buoyancy) if getattr(b, "wave_pressure", "") == "froude_krylov"]
         self._fk_vertices = np.isin(self.hulls.vert_body, fk) & self._direct_vertices  # Froude–Krylov heads
         self._fk_all, self._head = bool(self._fk_vertices.all()), np.zeros(len(self.hulls.vertices_body))
+        self._eta = np.zeros(len(self.hulls.vertices_body))  # surface heights of the one-call FFT path
         hydro = [v.hydrodynamics or fb.model.drag for v, fb in zip(vessels, floating)]
         hydro += [fb.model.drag for fb in floating[len(vessels) :]]
         self.marine = MarineModels([fb.model for fb in floating], buoyancy, hydro, self.hulls, self.model,
@@ -257,6 +262,10 @@ class World:
             return self._water_heights(verts, t), NO_HEAD
         level, head = self.ocean.level_m, self._head
         if self._fk_all:  # the common case: every vertex (no masks, no copies)
+            if len(self._eta) != len(verts):
+                self._eta = np.empty(len(verts))
+            if hull_water(self.ocean.waves, verts, level, t, self._eta, head):  # an FFT sea: one compiled call
+                return self._eta, head
             eta, zeta = surface_and_dynamic_head(self.ocean.waves, verts[:, 0], verts[:, 1], verts[:, 2] - level, t)
             eta += level
             np.subtract(zeta + level, verts[:, 2], out=head)
@@ -294,23 +303,27 @@ class World:
     def _apply_marine_wrenches(self) -> None:
         s, t, ocean = self.state, self.clock.seconds, self.ocean
         ocean.advance(t)
-        flat = ocean.waves is None and not self._patches
-        if flat:  # still water: clustered hydrostatics from the poses, no world vertices (hydro/flat.py)
-            hydrostatics = self.hulls.compute_flat(s.rot, s.com_world, ocean.level_m, self.rho, self.g)
-            if self.marine.simple:  # the rest of the step in one compiled call
-                water = ocean.steady_velocity_rows(len(s.com_world))
-                if water is None:
-                    water = ocean.velocity(s.com_world[:, 0], s.com_world[:, 1], s.com_world[:, 2], t)
-                if self._air_from is not ocean or not ocean.wind_constant:
-                    self._air[:], self._air_from = ocean.wind_velocity(t), ocean
-                self.marine.tail(s, hydrostatics, water, self._air, self.thrusters, self._com_body, self._xfrc,
-                                 self.clock.now_ns, self.clock.dt)  # fmt: skip
-                self.hydrostatics = hydrostatics
-                return
+        still = ocean.waves is None and not self._patches
+        flat = still and self.hulls.has_flat  # clustered hydrostatics from the poses (hydro/flat.py)
+        if still and self.marine.simple:  # the whole step in two compiled calls
+            if flat:
+                hydrostatics = self.hulls.compute_flat(s.rot, s.com_world, ocean.level_m, self.rho, self.g)
+            else:  # a large mesh: the per-face kernel
+                verts = self.hulls.world_vertices(s.pos, s.rot)
+                hydrostatics = self.hulls.compute(verts, self._water_heights(verts, t), s.com_world, self.rho, self.g)
+            water = ocean.steady_velocity_rows(len(s.com_world))
+            if water is None:
+                water = ocean.velocity(s.com_world[:, 0], s.com_world[:, 1], s.com_world[:, 2], t)
+            if self._air_from is not ocean or not ocean.wind_constant:
+                self._air[:], self._air_from = ocean.wind_velocity(t), ocean
+            self.marine.tail(s, hydrostatics, water, self._air, self.thrusters, self._com_body, self._xfrc,
+                             self.clock.now_ns, self.clock.dt)  # fmt: skip
+            self.hydrostatics = hydrostatics
+            return
         verts = self.hulls.world_vertices(s.pos, s.rot)
         eta, head = self._water(verts, t)
         if flat:
-            pass
+            hydrostatics = self.hulls.compute_flat(s.rot, s.com_world, ocean.level_m, self.rho, self.g)
         elif self.marine.has_kerner and len(self.hulls.faces) >= OVERLAP_MIN_FACES:  # both kernels on two cores
             hydrostatics = self._overlap.submit(self.hulls.compute, verts, eta, s.com_world, self.rho, self.g, head)
         else:
