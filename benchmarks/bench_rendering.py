@@ -92,6 +92,8 @@ EFFECTS = {  # name: the look's changes from the shader baseline (each effect al
     "rain_10mm_h": {"rain": {"rate_mm_h": 10.0}},
     "lens_droplets_0.5": {"camera": {"droplets": 0.5}},
     "motion_blur_30ms": {"camera": {"motion_blur_ms": 30.0}},
+    "shadows_on": {"shadows": True},
+    "materials_off": {"materials": False},
     "wake_off_moving": {"water": {"wake_s": 0.0}},  # the WAM-V under way (2.5 m/s) without and with its wake
     "wake_on_moving": {},
 }

@@ -120,6 +120,8 @@ class Rendering(Section):
     camera: CameraLook = CameraLook()
     lights: Lights = Lights()
     rain: Rain = Rain()
+    shadows: bool = False  # the sun's shadows of geoms on geoms (MuJoCo's shadow map; not on the water)
+    materials: bool = True  # gloss by material class: painted hull, metal, rubber, buoy plastic, wood, concrete
 
     def updated(self, changes: dict[str, Any]) -> Rendering:
         """A copy with nested `changes` merged in (e.g. {"sun": {"elevation_deg": 5}}), validated strictly."""

@@ -25,6 +25,14 @@ def prepare(marine, sim, center_xy) -> Daylight:
     marine.restore()  # setting uniforms binds programs: MuJoCo's fixed-function pipeline needs none bound
     marine.daylight = light
     marine.lamps = lamps(marine.sea_cache, sim, light)
+    marine.materials = None
+    if sim.look.materials:
+        from usvsim.rendering.materials import Materials
+
+        if marine.sea_cache.get("materials_model") is not sim.model:
+            marine.sea_cache["materials_model"] = sim.model
+            marine.sea_cache["materials"] = Materials(sim.model, list(sim.vessels), list(sim.bodies))
+        marine.materials = marine.sea_cache["materials"]
     tracks = getattr(sim, "wakes", None)
     marine.wake = tracks.ribbons(sim.time, sim.look.water.wake_s) if tracks is not None else None
     return light
@@ -68,9 +76,12 @@ def sea_extras(cache: dict, ocean, look):
     return (cache["detail"] if look.water.short_waves > 0 else None), cache["whitecap"]
 
 
-def apply_lights(scene: mujoco.MjvScene, light: Daylight) -> None:
+def apply_lights(scene: mujoco.MjvScene, light: Daylight, materials=None) -> None:
     """Sun and sky light on MuJoCo's geoms: directional lights follow the sun, the headlight gives sky fill.
-    MuJoCo's colours are display values, so the levels are display levels (noon: ambient 0.35, sun 0.6)."""
+    MuJoCo's colours are display values, so the levels are display levels (noon: ambient 0.35, sun 0.6).
+    `materials` (rendering/materials.Materials, or None): each geom's gloss."""
+    if materials is not None:
+        materials.apply(scene)
     sky_level = float(light.ambient @ (0.3, 0.6, 0.1))
     tint = 0.75 + 0.25 * light.ambient / max(sky_level, 1e-6)
     ambient = np.clip(min(1.1 * sky_level, 0.4) * tint, 0.0, 1.0)
@@ -82,7 +93,7 @@ def apply_lights(scene: mujoco.MjvScene, light: Daylight) -> None:
         else:
             lamp.dir[:] = -light.sun_dir
             lamp.pos[:] = light.sun_dir * 1000.0
-            lamp.diffuse[:], lamp.ambient[:], lamp.specular[:] = sun, 0.0, 0.3 * sun
+            lamp.diffuse[:], lamp.ambient[:], lamp.specular[:] = sun, 0.0, (0.8 if materials is not None else 0.3) * sun
 
 
 def water_label(model: mujoco.MjModel) -> int:

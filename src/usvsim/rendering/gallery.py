@@ -15,7 +15,7 @@ import yaml
 CAMERA = {"type": "camera", "name": "camera", "horizontal_fov_deg": 80.0, "rate_hz": 10, "near_m": 0.05,
           "far_m": 400.0, "streams": ["rgb", "depth", "segmentation"], "mount": {"position": [0.3, 0.0, 1.3]}}  # fmt: skip
 LOOKS = {  # name: (sea state, look, view: "viewer" or "camera")
-    "calm_noon": (1, {"sun": {"azimuth_deg": 160.0, "elevation_deg": 55.0}}, "viewer"),
+    "calm_noon": (1, {"sun": {"azimuth_deg": 160.0, "elevation_deg": 55.0}, "shadows": True}, "viewer"),
     "sea_state_5": (5, {"sun": {"azimuth_deg": 120.0, "elevation_deg": 30.0}}, "viewer"),
     "dawn_haze": (
         2,

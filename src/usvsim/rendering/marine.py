@@ -67,6 +67,7 @@ class MarinePass:
         self.daylight = None
         self.sea_cache: dict = {}  # per wave field: the short-wave band and the whitecap slope (frame.py)
         self.lamps = None  # navigation lights of this frame (frame.lamps), drawn by `self._lights`
+        self.materials = None  # the geoms' gloss (rendering/materials.py), applied by frame.apply_lights
         self._lights = None
         self.wake = None  # the wakes' ribbons of this frame (frame.prepare), drawn by `self._wakes`
         self._wakes = None

@@ -27,6 +27,7 @@ class FrameRenderer:
         self.max_points = max_points
         self.scene = mujoco.MjvScene(model, maxgeom=model.ngeom + max_points + 200)
         self.scene.flags[mujoco.mjtRndFlag.mjRND_SHADOW] = int(shadows)
+        self._shadows = shadows
         self.scene.flags[mujoco.mjtRndFlag.mjRND_REFLECTION] = int(reflections)
         self.option = mujoco.MjvOption()
         self.option.geomgroup[:] = VISIBLE_GROUPS
@@ -52,6 +53,7 @@ class FrameRenderer:
         look = _shader_look(sim)
         self.option.geomgroup[2] = int(look is None)
         self.scene.flags[mujoco.mjtRndFlag.mjRND_SKYBOX] = int(look is None)  # the shader draws the sky
+        self.scene.flags[mujoco.mjtRndFlag.mjRND_SHADOW] = int(self._shadows or (look is not None and sim.look.shadows))
         if look is None:
             return None
         from usvsim.rendering.frame import prepare
@@ -75,7 +77,7 @@ class FrameRenderer:
         if marine is not None:
             from usvsim.rendering.frame import apply_lights
 
-            apply_lights(self.scene, marine.daylight)
+            apply_lights(self.scene, marine.daylight, marine.materials)
         mujoco.mjr_render(viewport, self.scene, self.context)
         if marine is not None:
             marine.draw(self.scene.camera[0], viewport, time_s=sim.time)

@@ -133,12 +133,14 @@ class PinholeRenderer:
         self._up_optical = np.array([0.0, -1.0, 0.0])
         self.marine = None  # set per frame by `use_marine`: the shader passes, or None for MuJoCo's look
         self._time_s = 0.0
+        self._look_shadows = False
 
     def use_marine(self, sim, center_xy) -> None:
         """Choose the look of the next frames from `sim.look` (shader passes or MuJoCo's plain look)."""
         self.marine = self.context.marine_look(sim, center_xy)
         self.option.geomgroup[2] = int(self.marine is None)  # the shader draws its own water
         self._time_s = sim.time
+        self._look_shadows = self.marine is not None and sim.look.shadows  # the sun's shadows on geoms
 
     @property
     def gl(self):
@@ -157,7 +159,7 @@ class PinholeRenderer:
         if self.marine is not None:
             from usvsim.rendering.frame import apply_lights
 
-            apply_lights(self.scene, self.marine.daylight)
+            apply_lights(self.scene, self.marine.daylight, self.marine.materials)
         c, n = self.cam, self.near
         self._up_optical = np.ascontiguousarray(rot_optical[2], dtype=np.float64)  # world z in the optical frame
         left, right = -(c.cx + 0.5) * n / c.fx, (c.width - c.cx - 0.5) * n / c.fx
@@ -173,6 +175,8 @@ class PinholeRenderer:
         self.context.gl.make_current()
         for flag, on in self.flags.items():
             self.scene.flags[flag] = on and not segment
+        if self._look_shadows and not segment:
+            self.scene.flags[_R.mjRND_SHADOW] = True
         self.scene.flags[_R.mjRND_SEGMENT] = self.scene.flags[_R.mjRND_IDCOLOR] = segment
         mujoco.mjr_render(self.rect, self.scene, self.ctx)
         if self.marine is not None and (water_label_pass or not segment):
