@@ -58,6 +58,9 @@ class MarinePass:
             tuple[int, int], tuple
         ] = {}  # viewport size → (water vao, label vao, cell, feedback, buffers)
         self._surface_key = None  # what the displaced grid in the feedback buffer was computed for
+        self._grid_rows: dict[tuple[int, int], np.ndarray] = {}  # viewport size → NDC of each row's end vertices
+        self._columns: dict[tuple[int, int], int] = {}  # viewport size → vertices per grid row
+        self._rows = (0, 0)  # the grid's vertex rows displaced and drawn this frame (first, count)
         self._geo = self._slope = self._depth = self._periodic = None
         self._sky = ctx.texture((SKY_TEXELS, SKY_TEXELS), 3, dtype="f4")
         self._sky.repeat_x = self._sky.repeat_y = False
@@ -85,7 +88,24 @@ class MarinePass:
             label = ctx.vertex_array(self.label, [(out, f"3f {FEEDBACK_BYTES - 12}x", "in_world")],
                                      index_buffer=ibo, index_element_size=4)  # fmt: skip
             self._grids[(width, height)] = (water, label, cell, feedback, out, vbo, ibo)
+            self._columns[(width, height)] = columns = int(np.count_nonzero(vertices[:, 1] == vertices[0, 1]))
+            self._grid_rows[(width, height)] = vertices.reshape(-1, columns, 2)[:, [0, -1]].astype(np.float64)
         return self._grids[(width, height)]
+
+    def _visible_rows(self, size: tuple[int, int], view_proj: np.ndarray, eye: np.ndarray) -> tuple[int, int]:
+        """(first, count) vertex rows of the grid to displace and draw: the rows above the horizon, all of whose
+        rays miss the sea, are skipped but one (it closes the surface onto the far circle). They lie on that
+        circle, folded onto the horizon in the image: thousands of slivers that cover no pixel but cost llvmpipe
+        a 4 x 4 block of fragment shading each. Rows are top first; a row's end vertices decide (the rays between
+        them rise above the horizon wherever both ends do: d.z - ε|d| is concave along the row)."""
+        ends = self._grid_rows[size]  # (rows, 2 ends, 2) NDC
+        inv = np.linalg.inv(view_proj)
+        p = ends[..., :1] * inv[:, 0] + ends[..., 1:] * inv[:, 1] + 0.5 * inv[:, 2] + inv[:, 3]
+        d = p[..., :3] / p[..., 3:] - eye
+        sky = (d[..., 2] > 1e-3 * np.linalg.norm(d, axis=-1)).all(axis=1)  # well above: the shader caps these rays
+        leading = int(np.argmin(sky)) if not sky.all() else len(sky)
+        first = max(leading - 1, 0)
+        return first, len(sky) - first
 
     def upload(self, data: SurfaceData) -> None:
         """Send the ocean's textures (skipped when the same data is already there)."""
@@ -171,11 +191,15 @@ class MarinePass:
             for prog in (self.sky, self.fog, self.surface):
                 _set(prog, u_at_eye=at_eye)
             _set(self.surface, **grid)
-            feedback.transform(out, mode=POINTS)
+            first, count = self._rows = self._visible_rows((rect.width, rect.height), view_proj, eye)
+            columns = self._columns[(rect.width, rect.height)]
+            if count > 1:
+                feedback.transform(out, mode=POINTS, vertices=count * columns, first=first * columns,
+                                   buffer_offset=first * columns * FEEDBACK_BYTES)  # fmt: skip
             self._surface_key = key
         if labels is not None:
             _set(self.label, u_id_color=labels, **grid)
-            self._water(label_vao, stencil=False, blend=False)
+            self._water(label_vao, stencil=False, blend=False, columns=self._columns[(rect.width, rect.height)])
         else:
             self._draw_wakes()
             self._copy_depth(fbo, viewport)
@@ -187,7 +211,7 @@ class MarinePass:
                  u_sea=(self._short_waves, self._whitecap_slope), **grid)  # fmt: skip
             self._fullscreen(self.fog, "<", blend=True)  # only where a geom was drawn (depth > 0)
             GL.glClear(GL.GL_STENCIL_BUFFER_BIT)
-            self._water(water_vao, stencil=True, blend=True)
+            self._water(water_vao, stencil=True, blend=True, columns=self._columns[(rect.width, rect.height)])
             GL.glStencilFunc(GL.GL_EQUAL, 0, 0xFF)  # the sky where neither geoms nor water were drawn
             GL.glStencilOp(GL.GL_KEEP, GL.GL_KEEP, GL.GL_KEEP)
             self._fullscreen(self.sky, ">=", blend=False)
@@ -234,7 +258,7 @@ class MarinePass:
         self._lights.prog["u_view_proj"].write(_mat(view_proj))
         self._lights.draw(nav.world(pos, rot, eye, t, intensity), uniforms)
 
-    def _water(self, vao, stencil: bool, blend: bool) -> None:
+    def _water(self, vao, stencil: bool, blend: bool, columns: int = 0) -> None:
         from OpenGL import GL
 
         ctx = self.ctx
@@ -249,7 +273,9 @@ class MarinePass:
             ctx.enable(ctx.BLEND)
             ctx.blend_func = ctx.SRC_ALPHA, ctx.ONE_MINUS_SRC_ALPHA
         ctx.enable_direct(GL_DEPTH_CLAMP)
-        vao.render()
+        first, count = self._rows  # vertex rows; the quads between them, 6 indices each, are stored row by row
+        if count > 1:
+            vao.render(vertices=(count - 1) * (columns - 1) * 6, first=first * (columns - 1) * 6)
         ctx.disable_direct(GL_DEPTH_CLAMP)
         ctx.disable(ctx.BLEND)
 
