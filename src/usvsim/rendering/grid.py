@@ -1,6 +1,6 @@
 """The water grid: a projected grid, regular in screen space, laid onto the sea plane by the vertex shader.
 
-Each vertex is a normalized device coordinate (x, y) of the view, on a grid of about `CELL_PX` pixels that
+Each vertex is a normalized device coordinate (x, y) of the view, on a grid of about `CELL_PX` pixels (the viewer: `view_cell_px`) that
 reaches `MARGIN` beyond the image on every side (displaced waves near the edges stay covered). The vertex
 shader casts the pixel's ray onto the still-water plane; rays that miss it (above the horizon) land at
 `FAR_M` along their compass direction, so the surface reaches the horizon from any height, with no edge and
@@ -16,6 +16,17 @@ import math
 import numpy as np
 
 CELL_PX, MARGIN, FAR_M = 8.0, 0.25, 60_000.0
+VIEW_CELL_PX, VIEW_CELL_ROWS = 12.0, 480  # the viewer's cells: 12 px at 480 rows, in proportion to the height
+
+
+def view_cell_px(height: int) -> float:
+    """Grid cell size (pixels) for the viewer's pictures, `height` pixels tall: the angle of a 12-pixel cell at 480
+    rows (18 px at 720), at least `CELL_PX`. llvmpipe shades 4 x 4 pixel blocks, so a triangle costs its area
+    plus the blocks along its edges: 8-pixel cells shade about twice the water's pixels, 12-pixel cells 1.6 times
+    (-22 % water time at 640 x 480, pictures within ~1 grey level on average). Cameras keep `CELL_PX`: the
+    coarser mesh sits farther from the physical surface (median vertical error of water depth points 10-50 m
+    away in sea state 4: 3.2 cm with 8 px, 5.0 cm with 12 px)."""
+    return max(CELL_PX, VIEW_CELL_PX * height / VIEW_CELL_ROWS)
 
 
 def screen_grid(width: int, height: int, cell_px: float = CELL_PX, margin: float = MARGIN):

@@ -35,7 +35,9 @@ POINTS = 0x0000
 class MarinePass:
     """Programs, the water grid and the ocean textures on one GL context (create with it current)."""
 
-    def __init__(self):
+    def __init__(self, cell_px=None):
+        """`cell_px`: the water grid's cell size in pixels, a number or a function of the image height (default
+        `grid.CELL_PX`; the viewer passes `grid.view_cell_px`)."""
         from OpenGL import GL
 
         self._pixel_store = {
@@ -58,6 +60,7 @@ class MarinePass:
             tuple[int, int], tuple
         ] = {}  # viewport size → (water vao, label vao, cell, feedback, buffers)
         self._surface_key = None  # what the displaced grid in the feedback buffer was computed for
+        self._cell_px = CELL_PX if cell_px is None else cell_px
         self._grid_rows: dict[tuple[int, int], np.ndarray] = {}  # viewport size → NDC of each row's end vertices
         self._columns: dict[tuple[int, int], int] = {}  # viewport size → vertices per grid row
         self._rows = (0, 0)  # the grid's vertex rows displaced and drawn this frame (first, count)
@@ -79,7 +82,8 @@ class MarinePass:
     def _grid(self, width: int, height: int) -> tuple:
         if (width, height) not in self._grids:
             ctx = self.ctx
-            vertices, indices, cell = screen_grid(width, height)
+            size = self._cell_px(height) if callable(self._cell_px) else self._cell_px
+            vertices, indices, cell = screen_grid(width, height, size)
             vbo, ibo = ctx.buffer(vertices.tobytes()), ctx.buffer(indices.tobytes())
             out = ctx.buffer(reserve=len(vertices) * FEEDBACK_BYTES)  # the displaced vertices, once per frame
             feedback = ctx.vertex_array(self.surface, [(vbo, "2f", "in_ndc")])
@@ -178,6 +182,7 @@ class MarinePass:
         water_vao, label_vao, cell, feedback, out, *_ = self._grid(rect.width, rect.height)
         inv = _mat(np.linalg.inv(view_proj))
         cell_tan = cell * 0.5 * (camera.frustum_top - camera.frustum_bottom) / near * rect.width / rect.height
+        pixel_tan = (camera.frustum_top - camera.frustum_bottom) / near / rect.height  # one pixel's view width
         grid = {
             "u_cam": tuple(eye),
             "u_view_proj": _mat(view_proj),
@@ -207,7 +212,7 @@ class MarinePass:
                 _set(prog, u_cam=tuple(eye), u_inv_view_proj=inv, u_forward=_forward(camera))
             for prog in (self.fog, self.water):
                 _set(prog, u_near_far=(near, far), u_viewport=viewport[:2])
-            _set(self.water, u_look=(*self._look, time_s), u_pixel=cell_tan / CELL_PX,
+            _set(self.water, u_look=(*self._look, time_s), u_pixel=pixel_tan,
                  u_sea=(self._short_waves, self._whitecap_slope), **grid)  # fmt: skip
             self._fullscreen(self.fog, "<", blend=True)  # only where a geom was drawn (depth > 0)
             GL.glClear(GL.GL_STENCIL_BUFFER_BIT)

@@ -130,7 +130,7 @@ void main() {
     v_slope = vec2(0.0);
     v_jac = vec3(0.0);
     int bands = u_bands - u_detail;
-    for (int b = 0; b < bands; b++) {  // sampled per vertex, filtered to the grid's cell (~CELL_PX pixels)
+    for (int b = 0; b < bands; b++) {  // sampled per vertex, filtered to the grid's cell (grid.py)
         float lod = log2(max(spacing * u_surface.w / u_tile[b], 1.0));
         vec3 uvw = vec3(tile_uv(label, b), b);
         vec4 g = textureLod(u_geo, uvw, lod);

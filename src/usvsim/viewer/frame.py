@@ -60,7 +60,9 @@ class FrameRenderer:
         from usvsim.rendering.marine import MarinePass
 
         if self.marine is None:
-            self.marine = MarinePass()
+            from usvsim.rendering.grid import view_cell_px
+
+            self.marine = MarinePass(cell_px=view_cell_px)  # coarser water cells than cameras: no depth to keep
         prepare(self.marine, sim, self._center_xy)
         return self.marine
 
