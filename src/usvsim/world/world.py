@@ -122,6 +122,7 @@ class World:
         self._xfrc = self.data.xfrc_applied[1 : n + 1]  # floating bodies are bodies 1..n (world frame, CoM)
         self._air = np.zeros((n, 3))
         self._air_from = None  # the ocean whose constant wind _air holds
+        self._water_vel, self._water_from = np.zeros((n, 3)), None  # water velocity at each CoM (and whose steady one)
         self._warnings = self.data.warning.number  # a live view of MuJoCo's warning counters
         self.state = BodyState(n)
         entries, timeouts = [], np.zeros(n)
@@ -305,29 +306,31 @@ class World:
         ocean.advance(t)
         still = ocean.waves is None and not self._patches
         flat = still and self.hulls.has_flat  # clustered hydrostatics from the poses (hydro/flat.py)
-        if still and self.marine.simple:  # the whole step in two compiled calls
+        simple = self.marine.simple
+        if flat and simple:  # no world vertices needed
+            hydrostatics = self.hulls.compute_flat(s.rot, s.com_world, ocean.level_m, self.rho, self.g)
+        else:
+            verts = self.hulls.world_vertices(s.pos, s.rot)
+            eta, head = self._water(verts, t)
             if flat:
                 hydrostatics = self.hulls.compute_flat(s.rot, s.com_world, ocean.level_m, self.rho, self.g)
-            else:  # a large mesh: the per-face kernel
-                verts = self.hulls.world_vertices(s.pos, s.rot)
-                hydrostatics = self.hulls.compute(verts, self._water_heights(verts, t), s.com_world, self.rho, self.g)
-            water = ocean.steady_velocity_rows(len(s.com_world))
-            if water is None:
-                water = ocean.velocity(s.com_world[:, 0], s.com_world[:, 1], s.com_world[:, 2], t)
+            elif self.marine.has_kerner and len(self.hulls.faces) >= OVERLAP_MIN_FACES:  # both kernels, two cores
+                hydrostatics = self._overlap.submit(self.hulls.compute, verts, eta, s.com_world, self.rho, self.g,
+                                                    head)  # fmt: skip
+            else:
+                hydrostatics = self.hulls.compute(verts, eta, s.com_world, self.rho, self.g, head)
+        if simple:  # the rest of the step in one compiled call (marine.tail)
+            steady = ocean.steady_velocity_rows(len(s.com_world))
+            if steady is None:
+                self._water_vel[:] = ocean.velocity(s.com_world[:, 0], s.com_world[:, 1], s.com_world[:, 2], t)
+            elif self._water_from is not ocean:
+                self._water_vel[:], self._water_from = steady, ocean
             if self._air_from is not ocean or not ocean.wind_constant:
                 self._air[:], self._air_from = ocean.wind_velocity(t), ocean
-            self.marine.tail(s, hydrostatics, water, self._air, self.thrusters, self._com_body, self._xfrc,
+            self.marine.tail(s, hydrostatics, self._water_vel, self._air, self.thrusters, self._com_body, self._xfrc,
                              self.clock.now_ns, self.clock.dt)  # fmt: skip
             self.hydrostatics = hydrostatics
             return
-        verts = self.hulls.world_vertices(s.pos, s.rot)
-        eta, head = self._water(verts, t)
-        if flat:
-            hydrostatics = self.hulls.compute_flat(s.rot, s.com_world, ocean.level_m, self.rho, self.g)
-        elif self.marine.has_kerner and len(self.hulls.faces) >= OVERLAP_MIN_FACES:  # both kernels on two cores
-            hydrostatics = self._overlap.submit(self.hulls.compute, verts, eta, s.com_world, self.rho, self.g, head)
-        else:
-            hydrostatics = self.hulls.compute(verts, eta, s.com_world, self.rho, self.g, head)
         water = ocean.velocity(s.com_world[:, 0], s.com_world[:, 1], s.com_world[:, 2], t)
         relative_velocity_body(s.rot, s.vcom_world, s.omega_body, water, s.nu)
         self._air[:] = ocean.wind_velocity(t)  # one wind for every body, no allocation per step
