@@ -12,9 +12,10 @@ from readers import read_with_mcap_ros2, read_with_rosbags
 from usvsim.config.scenario import GeodeticOrigin
 from usvsim.core.errors import ScenarioError
 from usvsim.io.mcap_recorder import McapRecorder
+from usvsim.sensors.base import OPTICAL_ROT
 from usvsim.simulation import Simulation
 from usvsim.traffic.motion import KNOT_MPS
-from usvsim.world.builder import STRUCK_BY_KINEMATIC
+from usvsim.world.builder import STRUCK_BY_KINEMATIC, kinematic_geoms
 from usvsim.world.checks import setup_warnings
 
 OWN = {"name": "wamv", "model": "wamv", "command_timeout_s": 0.0}
@@ -153,6 +154,64 @@ def test_lidar_sees_a_traffic_ship(scenario_of):
     ranges = np.asarray(scan.ranges)
     ahead = ranges[len(ranges) // 2 - 5 : len(ranges) // 2 + 5]  # angle 0 = forward (+x, east)
     assert np.all(np.abs(ahead - (40 - 3 - 0.701)) < 0.5)  # the ship's port side 3 m west of its centre
+
+
+def test_camera_sees_a_traffic_ship_where_it_is_now(scenario_of):
+    """A ship crossing 40 m ahead from south to north at 4 m/s: in the camera's segmentation its geoms fill a
+    block whose centre column follows the projection of the ship's centre (±8 px of 320) at both frames."""
+    cam = {"type": "camera", "name": "cam", "width": 320, "height": 240, "horizontal_fov_deg": 70.0, "rate_hz": 5,
+           "streams": ["segmentation"], "mount": {"position": [0.7, 0.0, 1.5]}}  # fmt: skip
+    sc = scenario_of({"vessels": [{**OWN, "sensors": [cam]}], "traffic": {"ships": [
+        ship("ferry", 257000001, {"type": "constant", "position": [40, -6], "course_deg": 0, "speed_mps": 4},
+             length_m=12, beam_m=4)]}})  # fmt: skip
+    sim = Simulation(sc)
+    ship_ids = kinematic_geoms(sim.world.model)[1] + 1  # segmentation labels: geom id + 1
+    camera, columns = sim.sensors["wamv/cam"], []
+    for _ in range(2):
+        sim.run(1.0)
+        envs = {e.topic: e.msg for e in camera.sample(sim, sim.clock_ns)}
+        seg_msg = envs["/wamv/cam/segmentation/image_raw"]
+        seg = np.frombuffer(bytes(seg_msg.data), np.uint16).reshape(seg_msg.height, seg_msg.width)
+        rows, cols = np.nonzero(np.isin(seg, ship_ids))
+        assert len(cols) > 500
+        pos, rot = camera.pose_world(sim)
+        centre = np.array([40.0, -6.0 + 4.0 * sim.time, 0.0])  # the ship now, at the waterline
+        x, y, z = (centre - pos) @ (rot @ OPTICAL_ROT)
+        fx = 160.0 / math.tan(math.radians(35.0))
+        columns.append((0.5 * (cols.min() + cols.max()), 159.5 + fx * x / z))
+    for seen, expected in columns:
+        assert seen == pytest.approx(expected, abs=8.0)
+    assert columns[1][0] < columns[0][0] - 15  # moved left (north) by 4 m in 1 s: 23 px at 40 m
+    sim.close()
+
+
+def test_kinematic_ship_on_a_replayed_ais_csv_passes_its_samples(scenario_of, tmp_path):
+    """A kinematic ship on a recorded track turning from north to east (10 kn on a 300 m circle, one sample every
+    ~15 s, heading n/a at one): at every sample time its state and its box (what contacts and sensors see) are at
+    the sample within 1 m and head along its course."""
+    v, origin = 10.0 * KNOT_MPS, GeodeticOrigin()
+    rows = []
+    for k in range(7):
+        a = k * math.pi / 12
+        e, n = 300 * (1 - math.cos(a)), 300 * math.sin(a)
+        lat, lon, _ = pymap3d.enu2geodetic(e, n, 0.0, origin.latitude_deg, origin.longitude_deg, 0.0)
+        rows.append((round(300.0 * a / v, 2), e, n, lat, lon, math.degrees(a)))
+    lines = [f"{t},{lat:.9f},{lon:.9f},10.0,{c:.4f},{511 if k == 3 else round(c)}" for k, (t, _, _, lat, lon, c) in enumerate(rows)]
+    (tmp_path / "turn.csv").write_text("time,lat,lon,sog,cog,heading\n" + "\n".join(lines) + "\n")
+    sc = scenario_of({"world": {"physics_rate_hz": 100}, "vessels": [{**OWN, "pose": {"position": [-200, 0, 0]}}],
+                      "traffic": {"ais": {"enabled": False}, "ships": [
+                          ship("replayed", 257000009, {"type": "ais_replay", "path": "turn.csv"})]}}, tmp_path)  # fmt: skip
+    sim = Simulation(sc)
+    box = sim.model.geom("kinematic/replayed/col0").id
+    for t, e, n, _, _, course in rows[1:]:
+        sim.run(t - sim.time)
+        assert sim.time == pytest.approx(t, abs=1e-9)
+        np.testing.assert_allclose(sim.traffic.fleet.pos_enu[0], [e, n], atol=1.0)
+        np.testing.assert_allclose(sim.data.geom_xpos[box, :2], [e, n], atol=1.0)
+        heading = sim.data.geom_xmat[box].reshape(3, 3)[:2, 0]  # the box's x axis: the bow
+        expected = [math.sin(math.radians(course)), math.cos(math.radians(course))]
+        np.testing.assert_allclose(heading, expected, atol=0.02)
+    sim.close()
 
 
 def test_physics_ship_needs_a_velocity_controller(scenario_of):
