@@ -20,6 +20,7 @@ import numpy as np
 from usvsim.config.loader import base_dir, source_of
 from usvsim.config.traffic import Route
 from usvsim.core.errors import ScenarioError
+from usvsim.traffic import kernels as K
 from usvsim.traffic.kernels import TrackTable, evaluate_and_place
 from usvsim.traffic.motion import make_track
 from usvsim.traffic.pilot import LosPilot, TrackPilot
@@ -112,10 +113,11 @@ class _ShipGeoms:
 
     def bind(self, world: World, table: TrackTable, pos: np.ndarray, vel: np.ndarray, yaw: np.ndarray) -> None:
         """Fix the kernel's arguments once (all arrays written in place): a step then costs one numba dispatch."""
-        tb = table
-        self._args = (tb.first, tb.count, tb.period_s, tb.seg, pos, vel, yaw, self.geom_first, self.geoms, self.local,
-                      self.geom_pos, self.geom_quat, self.box, self.radius, world.state.pos, self.body_radius,
-                      self.conaffinity, self.affinity)  # fmt: skip
+        ship_i, ship_f = table.ship_i.copy(), table.ship_f.copy()
+        ship_i[:, K.BOX], ship_i[:, K.GEOM_FIRST], ship_i[:, K.GEOM_END] = self.box, self.geom_first[:-1], self.geom_first[1:]
+        ship_f[:, K.RADIUS] = self.radius
+        self._args = (ship_i, ship_f, table.seg, pos, vel, yaw, self.geoms, self.local, self.geom_pos, self.geom_quat,
+                      world.state.pos, self.body_radius, self.conaffinity, self.affinity)  # fmt: skip
 
     def place(self, t_s: float) -> None:
         """Evaluate every track at t_s into the bound pos, vel, yaw and put the ships' geoms there."""

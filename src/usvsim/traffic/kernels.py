@@ -14,43 +14,52 @@ from usvsim.traffic.motion import Track
 # columns of `TrackTable.seg`, one row per segment
 T0, T1, P0, P1, V0, V1, YAW0, YAW1, LINEAR, HALF_COS0, HALF_SIN0 = 0, 1, 2, 4, 6, 8, 10, 11, 12, 13, 14
 SEG_COLUMNS = 15
+# columns of the per-ship tables: integers (segments, collision box geom or -1, geoms), floats
+FIRST, COUNT, BOX, GEOM_FIRST, GEOM_END = range(5)
+PERIOD, RADIUS = range(2)
 
 
 @dataclass(frozen=True)
 class TrackTable:
-    """The segments of many tracks, concatenated into one table: ship k owns rows first[k] .. first[k] + count[k]
-    - 1 of `seg` (columns above: times s, ENU positions m and velocities m/s as x, y pairs, yaws rad, linear 1/0,
-    and cos, sin of half the start yaw, so straight segments need no trigonometry per step)."""
+    """The segments of many tracks, concatenated into one table: ship k owns rows ship_i[k, FIRST] ..
+    ship_i[k, FIRST] + ship_i[k, COUNT] - 1 of `seg` (columns above: times s, ENU positions m and velocities m/s
+    as x, y pairs, yaws rad, linear 1/0, and cos, sin of half the start yaw, so straight segments need no
+    trigonometry per step); ship_f[k, PERIOD] > 0 repeats a track. The geom columns are for `evaluate_and_place`
+    (fleet.py fills them in a copy; here: no geoms)."""
 
-    first: np.ndarray
-    count: np.ndarray
-    period_s: np.ndarray
+    ship_i: np.ndarray
+    ship_f: np.ndarray
     seg: np.ndarray
 
     @classmethod
     def of(cls, tracks: list[Track]) -> TrackTable:
         count = np.array([len(tr.t0) for tr in tracks], np.int64)
-        first = np.concatenate([[0], np.cumsum(count)[:-1]]).astype(np.int64)
+        ship_i = np.zeros((len(tracks), 5), np.int64)
+        ship_i[:, FIRST], ship_i[:, COUNT], ship_i[:, BOX] = np.cumsum(count) - count, count, -1
+        ship_f = np.zeros((len(tracks), 2))
+        ship_f[:, PERIOD] = [tr.period_s for tr in tracks]
         seg = np.zeros((int(count.sum()), SEG_COLUMNS))
-        for tr, a, n in zip(tracks, first, count):
+        for tr, a, n in zip(tracks, ship_i[:, FIRST], count):
             rows = seg[a : a + n]
             rows[:, T0], rows[:, T1], rows[:, YAW0], rows[:, YAW1] = tr.t0, tr.t1, tr.yaw0, tr.yaw1
             rows[:, P0 : P0 + 2], rows[:, P1 : P1 + 2] = tr.p0, tr.p1
             rows[:, V0 : V0 + 2], rows[:, V1 : V1 + 2] = tr.v0, tr.v1
             rows[:, LINEAR] = np.asarray(tr.linear, bool)
             rows[:, HALF_COS0], rows[:, HALF_SIN0] = np.cos(0.5 * rows[:, YAW0]), np.sin(0.5 * rows[:, YAW0])
-        return cls(first, count, np.array([tr.period_s for tr in tracks], float), seg)
+        return cls(ship_i, ship_f, seg)
+
+    def __len__(self) -> int:
+        return len(self.ship_i)
 
     @functools.cached_property
     def _no_geoms(self) -> tuple:
         """`evaluate_and_place`'s geom and body arguments for no geoms and no bodies (same types: one compilation)."""
-        n = len(self.first)
-        return (np.zeros(n + 1, np.int64), np.zeros(0, np.int64), np.zeros((0, 7)), np.zeros((0, 3)), np.zeros((0, 4)),
-                np.full(n, -1, np.int64), np.zeros(n), np.zeros((0, 3)), np.zeros(0), np.zeros(0, np.int32), 0)  # fmt: skip
+        return (np.zeros(0, np.int64), np.zeros((0, 7)), np.zeros((0, 3)), np.zeros((0, 4)), np.zeros((0, 3)),
+                np.zeros(0), np.zeros(0, np.int32), 0)  # fmt: skip
 
     def evaluate(self, t_s: float, pos: np.ndarray, vel: np.ndarray, yaw: np.ndarray) -> None:
         """Fill pos (N, 2), vel (N, 2), yaw (N,) of every ship at time t_s."""
-        evaluate_and_place(t_s, self.first, self.count, self.period_s, self.seg, pos, vel, yaw, *self._no_geoms)
+        evaluate_and_place(t_s, self.ship_i, self.ship_f, self.seg, pos, vel, yaw, *self._no_geoms)
 
 
 @njit(cache=True)
@@ -66,26 +75,26 @@ def _segment(t, seg, count, first):
 
 
 @njit(cache=True)
-def evaluate_and_place(t_s, first, count, period, seg, pos, vel, yaw, geom_first, geoms, local, geom_pos, geom_quat,
-                       box, radius, body_pos, body_radius, conaffinity, affinity):  # fmt: skip
+def evaluate_and_place(t_s, ship_i, ship_f, seg, pos, vel, yaw, geoms, local, geom_pos, geom_quat, body_pos,
+                       body_radius, conaffinity, affinity):  # fmt: skip
     """Every track at t_s (into pos, vel, yaw), then the kinematic ships' geoms put where the ships are, a
-    ship's collision box pairing with floating bodies only while it is near one; one call per physics step.
-    Ship k: pos (N, 2) ENU m, yaw (N,) rad, collision box geom box[k] (-1: none) with bounding radius
-    radius[k] m, geoms geoms[geom_first[k] : geom_first[k + 1]] with their poses in the ship's frame
-    local[j] = (x, y, z m, w, x, y, z quaternion). Floating bodies: body_pos (B, 3) m, body_radius (B,) m,
-    margin included. Writes MuJoCo's geom_pos, geom_quat and conaffinity (`affinity` near, 0 far); returns
-    the number of boxes near."""
+    ship's collision box pairing with floating bodies only while it is near one; one call per physics step
+    (few arguments: numba's dispatch costs ~50 ns per array). Ship k (tables above): pos (N, 2) ENU m, yaw (N,)
+    rad, collision box geom ship_i[k, BOX] (-1: none) with bounding radius ship_f[k, RADIUS] m, geoms
+    geoms[ship_i[k, GEOM_FIRST] : ship_i[k, GEOM_END]] with their poses in the ship's frame local[j] = (x, y, z m,
+    w, x, y, z quaternion). Floating bodies: body_pos (B, 3) m, body_radius (B,) m, margin included. Writes
+    MuJoCo's geom_pos, geom_quat and conaffinity (`affinity` near, 0 far); returns the number of boxes near."""
     near = 0
     lo_x = lo_y = math.inf  # the box around every floating body's reach: most ships are far from all of them
     hi_x = hi_y = -math.inf
     for b in range(len(body_radius)):
         lo_x, hi_x = min(lo_x, body_pos[b, 0] - body_radius[b]), max(hi_x, body_pos[b, 0] + body_radius[b])
         lo_y, hi_y = min(lo_y, body_pos[b, 1] - body_radius[b]), max(hi_y, body_pos[b, 1] + body_radius[b])
-    for k in range(len(first)):  # the track at t_s (written out here: a helper taking the arrays costs 50 ns a call)
-        a, n = first[k], count[k]
+    for k in range(len(ship_i)):  # the track at t_s (written out here: a helper taking the arrays costs 50 ns a call)
+        a, n, period = ship_i[k, FIRST], ship_i[k, COUNT], ship_f[k, PERIOD]
         t = t_s
-        if period[k] > 0.0:
-            t = seg[a, T0] + (t - seg[a, T0]) % period[k]
+        if period > 0.0:
+            t = seg[a, T0] + (t - seg[a, T0]) % period
         if t < seg[a, T0]:  # not yet started: at rest at the start
             pos[k, 0], pos[k, 1], vel[k, 0], vel[k, 1], yaw[k] = seg[a, P0], seg[a, P0 + 1], 0.0, 0.0, seg[a, YAW0]
             w, z = seg[a, HALF_COS0], seg[a, HALF_SIN0]
@@ -112,18 +121,19 @@ def evaluate_and_place(t_s, first, count, period, seg, pos, vel, yaw, geom_first
                 w, z = math.cos(0.5 * yaw[k]), math.sin(0.5 * yaw[k])
         c, s = w * w - z * z, 2.0 * w * z  # cos, sin of the yaw
         x, y = pos[k, 0], pos[k, 1]
-        if box[k] >= 0:
+        box = ship_i[k, BOX]
+        if box >= 0:
             hit = False
-            r = radius[k]
+            r = ship_f[k, RADIUS]
             for b in range(len(body_radius) if lo_x - r < x < hi_x + r and lo_y - r < y < hi_y + r else 0):
                 dx, dy = body_pos[b, 0] - x, body_pos[b, 1] - y
-                reach = radius[k] + body_radius[b]
+                reach = r + body_radius[b]
                 if dx * dx + dy * dy < reach * reach:
                     hit = True
                     break
-            conaffinity[box[k]] = affinity if hit else 0
+            conaffinity[box] = affinity if hit else 0
             near += hit
-        for j in range(geom_first[k], geom_first[k + 1]):
+        for j in range(ship_i[k, GEOM_FIRST], ship_i[k, GEOM_END]):
             g = geoms[j]
             geom_pos[g, 0] = x + c * local[j, 0] - s * local[j, 1]
             geom_pos[g, 1] = y + s * local[j, 0] + c * local[j, 1]
