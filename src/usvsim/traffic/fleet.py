@@ -155,10 +155,10 @@ class Fleet:
             self.table.evaluate(0.0, pos0, np.zeros((nk, 2)), yaw0)
         self._geoms = _ShipGeoms(world, [ships[k].name for k in self.kinematic], pos0, yaw0)
         self._geoms.bind(world, self.table, self._kpos, self._kvel, self._kyaw)
-        self._t_eval = math.nan
+        self._eval_ns = -1  # the clock time (ns) the kinematic ships' arrays hold
         self._has_kinematic = nk > 0
         if nk:  # collision boxes paired (or not) for the start, as after a reset
-            self._place(world, world.time)
+            self._place(world.clock.now_ns)
         self.update(world)
 
     def __len__(self) -> int:
@@ -168,24 +168,25 @@ class Fleet:
         """Kinematic ships to their poses at the end of the coming step; pilots set their vessels' references."""
         if self._has_kinematic:
             clock = world.clock
-            self._t_eval = t_next = (clock.now_ns + clock.step_ns) / 1e9  # == world.time after the step
-            self._geoms.place(t_next)
+            self._eval_ns = t_ns = clock.now_ns + clock.step_ns  # the clock after the step
+            self._geoms.place(t_ns / 1e9)
         for name, pilot in self.pilots.values():
             loop = self.controllers[name]
             if world.clock.steps % loop.every == 0:  # at the controller's rate
                 i = world.vessels[name].index
                 loop.reference = pilot.reference(world.state.pos[i], _yaw(world.state.rot[i]), world.time)
 
-    def _place(self, world: World, t_s: float) -> None:
-        self._geoms.place(t_s)
-        self._t_eval = t_s
+    def _place(self, t_ns: int) -> None:
+        self._geoms.place(t_ns / 1e9)
+        self._eval_ns = t_ns
 
     def update(self, world: World) -> None:
         """Refresh pos_enu / vel_enu / yaw_rad for the current time (after the step)."""
-        if len(self.kinematic):
-            if self._t_eval != world.time:  # before_step evaluated the tracks for this time already
-                self.table.evaluate(world.time, self._kpos, self._kvel, self._kyaw)
-                self._t_eval = world.time
+        if self._has_kinematic:
+            now_ns = world.clock.now_ns
+            if self._eval_ns != now_ns:  # before_step evaluated the tracks for this time already
+                self.table.evaluate(now_ns / 1e9, self._kpos, self._kvel, self._kyaw)
+                self._eval_ns = now_ns
             if self.pilots:
                 self.pos_enu[self.kinematic], self.vel_enu[self.kinematic] = self._kpos, self._kvel
                 self.yaw_rad[self.kinematic] = self._kyaw
@@ -199,5 +200,5 @@ class Fleet:
             pilot.reset()
         if len(self.kinematic):
             self._geoms.bind(world, self.table, self._kpos, self._kvel, self._kyaw)  # world.state may be new
-            self._place(world, 0.0)
+            self._place(0)
         self.update(world)
