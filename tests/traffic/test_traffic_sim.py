@@ -90,6 +90,35 @@ def test_report_never_looks_past_the_end_of_the_run(crossing):
         assert report[name]["min_distance_m"] == pytest.approx(now["range"][j], rel=1e-9)
 
 
+def test_quiet_steps_skip_nothing(scenario_of):
+    """Traffic.on_step does nothing between due times; the situation and AIS messages (noise, dropouts, a turning
+    route: 3⅓ s reports) and the run report are exactly those of calling it every step, also after a reset."""
+    route = {"type": "route", "loop": True, "waypoints": [{"position": [100, 0], "speed_mps": 5},
+             {"position": [100, 100], "speed_mps": 5}, {"position": [0, 100], "speed_mps": 5}]}  # fmt: skip
+    sc = scenario_of({"vessels": [OWN], "traffic": {
+        "awareness": {"rate_hz": 2}, "ais": {"position_noise_m": 3, "dropout_probability": 0.2},
+        "ships": [ship("ferry", 257000001, {"type": "constant", "position": [20, 200], "course_deg": 180, "speed_mps": 5}),
+                  ship("tug", 257000002, route, ais={"ais_class": "B"})]}})  # fmt: skip
+
+    def messages(every_step):
+        sim = Simulation(sc)
+        if every_step:
+            sim.traffic._next_busy_step = lambda world: world.clock.steps + 1
+        out = []
+        sim.subscribe(lambda env: out.append((env.topic, env.stamp_ns, repr(env.msg))) if env.topic in
+                      ("/ais", "/traffic/situation") else None)  # fmt: skip
+        sim.run(40.0)
+        report = sim.traffic.report()
+        sim.reset()
+        sim.run(15.0)
+        sim.close()
+        return out, report, sim.traffic.report()
+
+    quiet, busy = messages(False), messages(True)
+    assert len([m for m in quiet[0] if m[0] == "/ais"]) >= 10
+    assert quiet == busy
+
+
 def test_reset_equals_fresh_start(crossing):
     a = Simulation(crossing)
     a.run(3.0)

@@ -80,6 +80,11 @@ class AisPublisher:
         heapq.heapify(self._queue)
         self._earliest = self._queue[0][0] if self._queue else math.inf
 
+    @property
+    def next_due_s(self) -> float:
+        """Simulation time (s) of the next scheduled report (inf with no transmitters)."""
+        return self._earliest
+
     def _state(self, world: World, t: Transmitter) -> tuple[np.ndarray, np.ndarray, float]:
         if t.ship is not None:
             f = self.fleet
