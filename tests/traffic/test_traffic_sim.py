@@ -48,9 +48,9 @@ def test_kinematic_ships_follow_their_tracks_and_situation_matches_closed_form(c
         sim.subscribe(rec.write)
         sim.run(10.0)
     t = sim.time
-    ferry = sim.model.geom("kinematic/ferry/col0").id  # its box, centred on the ship
-    np.testing.assert_allclose(sim.data.geom_xpos[ferry, :2], [20, 200 - 5 * t], atol=1e-9)  # where the track is
-    np.testing.assert_allclose(sim.data.geom_xmat[ferry].reshape(3, 3)[:2, 0], [0, -1], atol=1e-9)  # heading south
+    house = sim.model.geom("kinematic/ferry/vis0").id  # its deckhouse (a box), a quarter length (5 m) aft
+    np.testing.assert_allclose(sim.data.geom_xpos[house, :2], [20, 200 - 5 * t + 5], atol=1e-9)  # where the track is
+    np.testing.assert_allclose(sim.data.geom_xmat[house].reshape(3, 3)[:2, 0], [0, -1], atol=1e-9)  # heading south
     np.testing.assert_allclose(sim.traffic.fleet.pos_enu[1], [300 - 3 * t, 100], atol=1e-9)
     for messages in (read_with_rosbags(path), read_with_mcap_ros2(path)):
         situations = [m for topic, _, m in messages if topic == "/traffic/situation"]
@@ -216,7 +216,7 @@ def test_camera_sees_a_traffic_ship_where_it_is_now(scenario_of):
 
 def test_kinematic_ship_on_a_replayed_ais_csv_passes_its_samples(scenario_of, tmp_path):
     """A kinematic ship on a recorded track turning from north to east (10 kn on a 300 m circle, one sample every
-    ~15 s, heading n/a at one): at every sample time its state and its box (what contacts and sensors see) are at
+    ~15 s, heading n/a at one): at every sample time its state and its geoms (what contacts and sensors see) are at
     the sample within 1 m and head along its course."""
     v, origin = 10.0 * KNOT_MPS, GeodeticOrigin()
     rows = []
@@ -231,15 +231,14 @@ def test_kinematic_ship_on_a_replayed_ais_csv_passes_its_samples(scenario_of, tm
                       "traffic": {"ais": {"enabled": False}, "ships": [
                           ship("replayed", 257000009, {"type": "ais_replay", "path": "turn.csv"})]}}, tmp_path)  # fmt: skip
     sim = Simulation(sc)
-    box = sim.model.geom("kinematic/replayed/col0").id
+    house = sim.model.geom("kinematic/replayed/vis0").id  # the deckhouse box: 5 m aft of the ship's centre
     for t, e, n, _, _, course in rows[1:]:
         sim.run(t - sim.time)
         assert sim.time == pytest.approx(t, abs=1e-9)
         np.testing.assert_allclose(sim.traffic.fleet.pos_enu[0], [e, n], atol=1.0)
-        np.testing.assert_allclose(sim.data.geom_xpos[box, :2], [e, n], atol=1.0)
-        heading = sim.data.geom_xmat[box].reshape(3, 3)[:2, 0]  # the box's x axis: the bow
-        expected = [math.sin(math.radians(course)), math.cos(math.radians(course))]
-        np.testing.assert_allclose(heading, expected, atol=0.02)
+        bow = np.array([math.sin(math.radians(course)), math.cos(math.radians(course))])
+        np.testing.assert_allclose(sim.data.geom_xmat[house].reshape(3, 3)[:2, 0], bow, atol=0.02)  # its x axis
+        np.testing.assert_allclose(sim.data.geom_xpos[house, :2], np.array([e, n]) - 5.0 * bow, atol=1.0)
     sim.close()
 
 

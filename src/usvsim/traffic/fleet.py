@@ -25,7 +25,7 @@ from usvsim.traffic.kernels import TrackTable, evaluate_and_place
 from usvsim.traffic.motion import make_track
 from usvsim.traffic.pilot import LosPilot, TrackPilot
 from usvsim.traffic.ships import ship_parts
-from usvsim.world.builder import COLLISION_GROUP, STRUCK_BY_KINEMATIC, KinematicBody, kinematic_geoms
+from usvsim.world.builder import STRUCK_BY_KINEMATIC, KinematicBody, kinematic_colliders, kinematic_geoms
 
 if TYPE_CHECKING:
     from usvsim.config.scenario import Scenario
@@ -53,9 +53,9 @@ def kinematic_bodies(scenario: Scenario) -> tuple[KinematicBody, ...]:
     table.evaluate(0.0, pos, vel, yaw)
     out = []
     for s, p, a in zip(ships, pos, yaw):
-        collision, visuals = ship_parts(s)
+        solid, visuals = ship_parts(s)
         quat = (math.cos(0.5 * a), 0.0, 0.0, math.sin(0.5 * a))
-        out.append(KinematicBody(s.name, collision, visuals, (float(p[0]), float(p[1]), 0.0), quat))
+        out.append(KinematicBody(s.name, (), visuals, (float(p[0]), float(p[1]), 0.0), quat, solid=solid))
     return tuple(out)
 
 
@@ -80,9 +80,9 @@ def _pilot(world: World, controllers: dict, ship, key: str) -> LosPilot | TrackP
 
 class _ShipGeoms:
     """The kinematic ships' geoms in the MuJoCo model, with their poses in the ship frame (from the build, where
-    ship k stood at pos0[k], yaw0[k]). A ship's collision box pairs with floating bodies only while one is within
+    ship k stood at pos0[k], yaw0[k]). A ship's colliding geom (its hull) pairs with floating bodies only while one is within
     reach (bounding spheres plus `MARGIN_M`); MuJoCo's midphase, whose world-body tree is built once and so
-    knows no moved geom, is off only while some box is near."""
+    knows no moved geom, is off only while some hull is near."""
 
     MARGIN_M = 5.0  # > the distance a ship and a body close in one step (25 m/s each at 100 Hz: 0.5 m)
 
@@ -103,11 +103,14 @@ class _ShipGeoms:
         self.local = np.ascontiguousarray(np.c_[c * d[:, 0] + s * d[:, 1], -s * d[:, 0] + c * d[:, 1], m.geom_pos[geoms, 2],
                                                 w * q[:, 0] - z * q[:, 3], w * q[:, 1] - z * q[:, 2],
                                                 w * q[:, 2] + z * q[:, 1], w * q[:, 3] + z * q[:, 0]])  # fmt: skip
-        solid = m.geom_group[geoms] == COLLISION_GROUP  # compiled with conaffinity 0 (see `_add_kinematic`)
+        solid = kinematic_colliders(m, geoms)  # compiled with conaffinity 0 (see `_add_kinematic`)
         self.affinity = STRUCK_BY_KINEMATIC
-        self.box = np.full(len(names), -1, np.int64)
+        self.box = np.full(len(names), -1, np.int64)  # each ship's colliding geom (its hull), -1: none
         self.box[owner[solid]] = geoms[solid]
-        self.radius = np.where(self.box >= 0, m.geom_rbound[np.maximum(self.box, 0)], 0.0) + self.MARGIN_M
+        reach = m.geom_rbound[geoms] + np.hypot(self.local[:, 0], self.local[:, 1])  # from the ship's origin
+        self.radius = np.zeros(len(names))
+        self.radius[owner[solid]] = reach[solid]
+        self.radius += self.MARGIN_M
         self.body_radius = np.array([_reach(m, b + 1) for b in range(len(world.bodies))])
         self.opt, self.midphase_off = m.opt, None
 
@@ -127,7 +130,7 @@ class _ShipGeoms:
             self.midphase(near)
 
     def midphase(self, near: bool) -> None:
-        """MuJoCo's midphase off while some box is near a floating body (see the class docstring), on otherwise."""
+        """MuJoCo's midphase off while some ship's hull is near a floating body (see the class docstring), on otherwise."""
         self.midphase_off = near
         bit = int(mujoco.mjtDisableBit.mjDSBL_MIDPHASE)
         self.opt.disableflags = (self.opt.disableflags | bit) if near else (self.opt.disableflags & ~bit)
@@ -162,7 +165,7 @@ class Fleet:
         self._geoms.bind(world, self.table, self._kpos, self._kvel, self._kyaw)
         self._eval_ns = -1  # the clock time (ns) the kinematic ships' arrays hold
         self._has_kinematic = nk > 0
-        if nk:  # collision boxes paired (or not) for the start, as after a reset
+        if nk:  # hulls paired (or not) for the start, as after a reset
             self._place(world.clock.now_ns)
         self.update(world)
 

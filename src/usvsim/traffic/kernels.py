@@ -14,7 +14,7 @@ from usvsim.traffic.motion import Track
 # columns of `TrackTable.seg`, one row per segment
 T0, T1, P0, P1, V0, V1, YAW0, YAW1, LINEAR, HALF_COS0, HALF_SIN0 = 0, 1, 2, 4, 6, 8, 10, 11, 12, 13, 14
 SEG_COLUMNS = 15
-# columns of the per-ship tables: integers (segments, collision box geom or -1, geoms), floats
+# columns of the per-ship tables: integers (segments, colliding geom or -1, geoms), floats
 FIRST, COUNT, BOX, GEOM_FIRST, GEOM_END = range(5)
 PERIOD, RADIUS = range(2)
 
@@ -78,12 +78,12 @@ def _segment(t, seg, count, first):
 def evaluate_and_place(t_s, ship_i, ship_f, seg, pos, vel, yaw, geoms, local, geom_pos, geom_quat, body_pos,
                        body_radius, conaffinity, affinity):  # fmt: skip
     """Every track at t_s (into pos, vel, yaw), then the kinematic ships' geoms put where the ships are, a
-    ship's collision box pairing with floating bodies only while it is near one; one call per physics step
+    ship's colliding geom (its hull) pairing with floating bodies only while it is near one; one call per physics step
     (few arguments: numba's dispatch costs ~50 ns per array). Ship k (tables above): pos (N, 2) ENU m, yaw (N,)
-    rad, collision box geom ship_i[k, BOX] (-1: none) with bounding radius ship_f[k, RADIUS] m, geoms
+    rad, colliding geom ship_i[k, BOX] (-1: none) with bounding radius ship_f[k, RADIUS] m, geoms
     geoms[ship_i[k, GEOM_FIRST] : ship_i[k, GEOM_END]] with their poses in the ship's frame local[j] = (x, y, z m,
     w, x, y, z quaternion). Floating bodies: body_pos (B, 3) m, body_radius (B,) m, margin included. Writes
-    MuJoCo's geom_pos, geom_quat and conaffinity (`affinity` near, 0 far); returns the number of boxes near."""
+    MuJoCo's geom_pos, geom_quat and conaffinity (`affinity` near, 0 far); returns the number of ships near."""
     near = 0
     lo_x = lo_y = math.inf  # the box around every floating body's reach: most ships are far from all of them
     hi_x = hi_y = -math.inf

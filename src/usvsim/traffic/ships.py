@@ -31,14 +31,12 @@ def hull_mesh(length: float, beam: float, height: float, draft: float) -> Mesh:
 
 
 def ship_parts(ship: Ship) -> tuple[tuple[Part, ...], tuple[Part, ...]]:
-    """(collision parts, visual parts) of a kinematic ship: the hull's bounding box collides; hull and deckhouse
-    are drawn (and seen by ray sensors)."""
+    """(solid parts, visual parts) of a kinematic ship: the hull prism is drawn, seen by ray sensors and collides
+    (MuJoCo uses its convex hull: the prism itself); the deckhouse is drawn. Two geoms a ship: MuJoCo's step
+    costs per geom, which matters with hundreds of ships."""
     hull = Part("mesh", mesh=hull_mesh(ship.length_m, ship.beam_m, ship.height_m, ship.draft_m),
                 rgba=HULL_RGBA.get(ship.ship_type, DEFAULT_RGBA))  # fmt: skip
     house_half = (0.125 * ship.length_m, 0.4 * ship.beam_m, 0.25 * ship.height_m)
     house = Part("box", size=house_half, pos=(-0.25 * ship.length_m, 0.0, ship.height_m + house_half[2]),
                  rgba=HOUSE_RGBA)  # fmt: skip
-    half_height = 0.5 * (ship.height_m + ship.draft_m)
-    solid = Part("box", size=(0.5 * ship.length_m, 0.5 * ship.beam_m, half_height),
-                 pos=(0.0, 0.0, 0.5 * (ship.height_m - ship.draft_m)))  # fmt: skip
-    return (solid,), (hull, house)  # one box collides: cheap for MuJoCo with hundreds of ships
+    return (hull,), (house,)

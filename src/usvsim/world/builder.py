@@ -52,13 +52,15 @@ class KinematicBody:
     """A body moved along a prescribed track: drawn, seen by ray sensors, and floating bodies collide with it; it
     does not respond to forces. Parts are in its body frame (FLU). It is no MuJoCo body (50 bodies would cost
     more than the whole harbour): its geoms belong to the world body, named `kinematic/<name>/<part>`, and whoever
-    moves it writes their `model.geom_pos`/`geom_quat` (see `kinematic_geoms`)."""
+    moves it writes their `model.geom_pos`/`geom_quat` (see `kinematic_geoms`). `solid` parts are drawn and
+    collide (one geom instead of two: MuJoCo's step costs per geom), `collision` parts only collide."""
 
     name: str
     collision: tuple[Part, ...]
     visuals: tuple[Part, ...]
     position: tuple[float, float, float] = (0.0, 0.0, 0.0)  # world ENU at t = 0 (and after a reset), m
     quat: tuple[float, float, float, float] = (1.0, 0.0, 0.0, 0.0)
+    solid: tuple[Part, ...] = ()
 
 
 def principal_inertia(inertia: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -152,16 +154,22 @@ def _add_kinematic(spec: mujoco.MjSpec, kb: KinematicBody) -> None:
     pos, quat = np.asarray(kb.position, float), np.asarray(kb.quat, float)
     rot = np.zeros(9)
     mujoco.mju_quat2Mat(rot, quat)
-    parts = [(p, True, f"col{k}") for k, p in enumerate(kb.collision)]
-    parts += [(p, False, f"vis{k}") for k, p in enumerate(kb.visuals)]
-    for part, collide, tag in parts:
+    parts = [(p, True, COLLISION_GROUP, f"col{k}") for k, p in enumerate(kb.collision)]
+    parts += [(p, False, VISUAL_GROUP, f"solid{k}") for k, p in enumerate(kb.solid)]  # drawn; collides when near
+    parts += [(p, False, VISUAL_GROUP, f"vis{k}") for k, p in enumerate(kb.visuals)]
+    for part, collide, group, tag in parts:
         name = f"{KINEMATIC_PREFIX}{kb.name}/{tag}"
-        _add_geom(spec, spec.worldbody, part, COLLISION_GROUP if collide else VISUAL_GROUP, collide, name)
+        _add_geom(spec, spec.worldbody, part, group, collide, name)
         geom, q = spec.worldbody.geoms[-1], np.zeros(4)
         mujoco.mju_mulQuat(q, quat, np.asarray(part.quat, float))
         geom.name, geom.pos, geom.quat = name, (pos + rot.reshape(3, 3) @ np.asarray(part.pos, float)).tolist(), q.tolist()
         if collide:
             geom.contype, geom.conaffinity = 0, 0
+
+
+def kinematic_colliders(model: mujoco.MjModel, geoms: np.ndarray) -> np.ndarray:
+    """Which of these kinematic geoms collide (`collision` and `solid` parts; compiled with conaffinity 0)."""
+    return np.array([model.geom(int(g)).name.rsplit("/", 1)[-1].startswith(("col", "solid")) for g in geoms], bool)
 
 
 def kinematic_geoms(model: mujoco.MjModel) -> tuple[list[str], np.ndarray, np.ndarray]:
@@ -229,6 +237,6 @@ def build_model(floating: list[FloatingBody], static: list[Part], dt: float, gra
         spec.option.disableflags |= mujoco.mjtDisableBit.mjDSBL_MIDPHASE
     model = spec.compile()
     model.geom_sameframe[kinematic_geoms(model)[1]] = 0  # frames from geom_pos/geom_quat, not the world's
-    if any(kb.collision for kb in kinematic):  # the world body may collide (its kinematic geoms), even in open sea
+    if any(kb.collision or kb.solid for kb in kinematic):  # the world body may collide (its kinematic geoms)
         model.body_conaffinity[0] |= STRUCK_BY_KINEMATIC
     return model
