@@ -51,3 +51,25 @@ def test_an_imazu_case_runs_with_the_own_ship_on_course():
     situation = sim.traffic.situation.compute(sim)
     assert aw.ENCOUNTER_NAMES[situation["encounter"][0]] == "crossing_give_way"
     sim.close()
+
+
+@pytest.mark.parametrize("case", range(1, 23))
+def test_every_case_runs_and_its_cpa_tcpa_are_the_closed_form(case):
+    """Each of the 22 scenarios runs; the targets are on their straight lines and the situation's CPA and TCPA
+    are the closed form of the true relative state (r, w: TCPA = -r·w/|w|², CPA = |r + w TCPA|)."""
+    sim = Simulation(load_scenario(f"imazu_{case:02d}"))
+    sim.run(2.0)
+    targets = imazu_scenario(case)["traffic"]["ships"][1:]
+    s = sim.traffic.situation.compute(sim.world)
+    own = sim.vessels["own"]
+    own_pos, own_vel = own.position[:2], sim.world.origin_velocity(own.index)[:2]
+    for j, t in enumerate(targets):
+        c = math.radians(t["motion"]["course_deg"])
+        vel = t["motion"]["speed_mps"] * np.array([math.sin(c), math.cos(c)])
+        pos = np.array(t["motion"]["position"]) + vel * sim.time
+        r, w = pos - own_pos, vel - own_vel
+        tcpa = -(r @ w) / (w @ w)
+        assert s["tcpa"][j] == pytest.approx(tcpa, rel=1e-9)
+        assert s["cpa"][j] == pytest.approx(np.linalg.norm(r + w * tcpa), rel=1e-9, abs=1e-9)
+    assert len(s["tcpa"]) == len(IMAZU[case])
+    sim.close()
