@@ -71,13 +71,13 @@ class FlatClusters:
             f0, f1 = int(face_offsets[b]), int(face_offsets[b + 1])
             groups += _clusters(centroids, np.arange(f0, f1), size) if f1 > f0 else []
             body_ptr.append(len(groups))
-        self.body_ptr = np.array(body_ptr, dtype=np.int64)
-        self.ptr = np.concatenate([[0], np.cumsum([len(g) for g in groups])]).astype(np.int64)
+        self.body_ptr = np.array(body_ptr, dtype=np.uint64)  # unsigned: no negative-index handling in the kernel
+        self.ptr = np.concatenate([[0], np.cumsum([len(g) for g in groups])]).astype(np.uint64)
         groups = [np.sort(g) for g in groups]  # faces in mesh order within a cluster (memory locality)
-        self.faces = np.concatenate(groups).astype(np.int64) if groups else np.zeros(0, np.int64)
+        self.faces = np.concatenate(groups).astype(np.uint64) if groups else np.zeros(0, np.uint64)
         verts = [np.unique(faces[g].astype(np.int64)) for g in groups]  # each cluster's vertices
-        self.vert_ptr = np.concatenate([[0], np.cumsum([len(v) for v in verts])]).astype(np.int64)
-        self.verts = np.concatenate(verts) if verts else np.zeros(0, np.int64)
+        self.vert_ptr = np.concatenate([[0], np.cumsum([len(v) for v in verts])]).astype(np.uint64)
+        self.verts = (np.concatenate(verts) if verts else np.zeros(0)).astype(np.uint64)
         nc = len(groups)
         self.coef = np.zeros((nc, WIDTH))
         self.box = np.zeros((nc, 6))  # centre (3), half extents (3), m

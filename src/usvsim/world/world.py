@@ -45,9 +45,10 @@ from usvsim.world.obstacles import static_parts
 from usvsim.world.poses import PoseLike, pose_arrays, twist_array
 from usvsim.world.state import BodyState
 
-FLAT_MAX_FACES = 20_000  # still water: clustered hydrostatics up to this many hull faces (hydro/flat.py); measured
-# (interleaved, same process, load 4.5-4.9): harbor, 2,656 faces, 37-40 vs 41-44 µs CPU per step; 100 WAM-Vs,
-# 112,000 faces, 1,014-1,098 vs 934-967 µs (the per-face kernel streams a large mesh better)
+FLAT_MAX_FACES = 30_000  # still water: clustered hydrostatics up to this many hull faces (hydro/flat.py). A/B in one
+# process, CPU µs per step, clustered vs per-face kernel (load 4.2-4.5): 1 WAM-V 17.8 vs 19.7, 3: 37.3 vs 41.9,
+# harbor 41.0 vs 44.0, 10: 110 vs 119, 20 (22,400 faces): 198 vs 214, 40 (44,800): 486 vs 443, 100: 1,014-1,098
+# vs 934-967 (the per-face kernel streams a mesh that outgrows the caches better)
 OVERLAP_MIN_FACES = 8000  # below this the thread hand-off costs more than overlapping the two kernels saves
 BAD_QPOS, BAD_QVEL, BAD_QACC = (int(mujoco.mjtWarning.mjWARN_BADQPOS), int(mujoco.mjtWarning.mjWARN_BADQVEL),
                                 int(mujoco.mjtWarning.mjWARN_BADQACC))  # fmt: skip
