@@ -1,6 +1,12 @@
 """usvsim: a digital twin and simulation platform for unmanned surface vehicles."""
 
+from typing import TYPE_CHECKING
+
 from usvsim.core.errors import ScenarioError, UsvsimError
+
+if TYPE_CHECKING:  # for type checkers; at run time `__getattr__` imports them on first use
+    from usvsim.config.loader import load_scenario
+    from usvsim.simulation import Simulation
 
 __all__ = ["ScenarioError", "Simulation", "UsvsimError", "load_scenario"]
 __version__ = "0.1.0"

@@ -61,7 +61,7 @@ class CommandInbox:
                     self.topics[topic], self._targets[topic] = FLOAT64, (kind, vname, tname)
         self._queue: deque[tuple[str, str, str | None, Any]] = queues.bounded(QUEUE_LIMIT)
         self._lock = threading.Lock()
-        self.stats = dict.fromkeys(STAT_KEYS, 0)
+        self.stats: dict[str, int] = dict.fromkeys(STAT_KEYS, 0)
         self._velocity_deadline_ns: dict[str, int] = {}  # vessels driven by cmd_vel → when it goes stale
         self._created_loops: set[str] = set()
         self._held_references: dict[str, Any] = {}  # a scenario controller's reference before cmd_vel
@@ -145,8 +145,10 @@ class CommandInbox:
         if kind == "custom":
             return self._handlers[vessel][1](value) is not False
         if kind == "thrust":  # a network source: the vessel's watchdog applies
+            assert thruster is not None
             return world.vessels[vessel].thrusters[thruster].command(value, hold=False)
         if kind == "angle":
+            assert thruster is not None
             return world.vessels[vessel].thrusters[thruster].command_angle(value)
         loop = controllers.get(vessel)
         if loop is None:

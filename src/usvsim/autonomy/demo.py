@@ -29,7 +29,7 @@ def parse_goals(text: str) -> list[tuple[float, float]]:
         raise UsvsimError(
             f"--goals {text!r}: give 'x,y;x,y;...' in metres (map = world ENU), e.g. '10,0;20,5'"
         )
-    return goals
+    return [(g[0], g[1]) for g in goals]
 
 
 def pick(sim, vessel: str | None, lidar: str | None) -> tuple[str, str]:

@@ -14,10 +14,12 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from pathlib import Path
+from typing import cast
 
 import numba
 import numpy as np
 from PIL import Image
+from scipy.ndimage import distance_transform_edt
 
 L_FREE, L_OCC, L_MIN, L_MAX = -0.4, 0.85, -2.0, 3.5  # log-odds per observation and clamps
 OCC_THRESH, FREE_THRESH = 0.65, 0.196  # map_server's defaults
@@ -113,3 +115,9 @@ class OccupancyGrid:
             f"negate: 0\noccupied_thresh: {OCC_THRESH}\nfree_thresh: {FREE_THRESH}\n"
         )
         return png, yaml_path
+
+
+def edt(free: np.ndarray) -> np.ndarray:
+    """Euclidean distance (in cells) of each True cell to the nearest False one. scipy's stub types the return
+    as a union over `return_distances` / `return_indices`; with the defaults it is the distance array."""
+    return cast(np.ndarray, distance_transform_edt(free))

@@ -16,9 +16,9 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from scipy.ndimage import binary_dilation, distance_transform_edt
+from scipy.ndimage import binary_dilation
 
-from usvsim.autonomy.grid import OccupancyGrid
+from usvsim.autonomy.grid import OccupancyGrid, edt
 
 
 def map_iou(grid: OccupancyGrid, truth: np.ndarray, track_xy: np.ndarray, range_m: float = 30.0,
@@ -30,12 +30,18 @@ def map_iou(grid: OccupancyGrid, truth: np.ndarray, track_xy: np.ndarray, range_
     is never observed, so it is not judged."""
     xs, ys = grid.centres()
     gx, gy = np.meshgrid(xs, ys)
-    near = np.zeros(grid.shape, bool)
+    near: np.ndarray = np.zeros(grid.shape, bool)
     for x, y in track_xy[:: max(1, len(track_xy) // 200)]:
         near |= (gx - x) ** 2 + (gy - y) ** 2 < range_m**2
-    grow = (lambda a: binary_dilation(a, iterations=tolerance_cells)) if tolerance_cells else (lambda a: a)
+
+    def dilate(a: np.ndarray, iterations: int) -> np.ndarray:
+        return binary_dilation(a, iterations=iterations) if iterations else a
+
+    def grow(a: np.ndarray) -> np.ndarray:
+        return dilate(a, tolerance_cells)
+
     mapped = grid.occupied() & near
-    face = truth & binary_dilation(~truth) & binary_dilation(grid.known() & ~truth, iterations=2) & near
+    face = truth & dilate(~truth, 1) & dilate(grid.known() & ~truth, 2) & near
     tp = int((mapped & grow(truth)).sum())
     fp, fn = int(mapped.sum()) - tp, int((face & ~grow(mapped)).sum())
     return tp / (tp + fp + fn) if tp + fp + fn else math.nan
@@ -62,7 +68,7 @@ def min_clearance(
     grid: OccupancyGrid, truth: np.ndarray, poses: np.ndarray, length_m: float, beam_m: float
 ) -> float:
     """Smallest distance (m) from the hull box at each true pose (x, y, yaw) to a true occupied cell."""
-    dist = distance_transform_edt(~truth) * grid.resolution_m
+    dist = edt(~truth) * grid.resolution_m
     u, v = np.meshgrid(np.linspace(-0.5, 0.5, 9) * length_m, np.linspace(-0.5, 0.5, 5) * beam_m)
     box = np.column_stack([u.ravel(), v.ravel()])
     best = math.inf

@@ -86,7 +86,8 @@ class Navigator:
         """Goal logic, planning, guidance and avoidance at the current pose: (surge m/s, yaw rate rad/s)."""
         nu = self._velocity(t)
         p, yaw = self.pose[:2, 3], math.atan2(self.pose[1, 0], self.pose[0, 0])
-        if not self.done and np.hypot(*(self.goal - p)) < self.config.goal_tolerance_m:
+        goal = self.goal
+        if goal is not None and np.hypot(*(goal - p)) < self.config.goal_tolerance_m:
             self.reached.append(t)
             self.path = None
         if self.done:

@@ -105,6 +105,8 @@ class KissIcpOdometry:
             self.icp.last_pose = self.icp.last_pose @ to_lidar(twist_motion(twist, max(dt_s - sweep, 0.0)))
             self.icp.last_delta = to_lidar(twist_motion(twist, sweep))
         frame, _ = self.icp.register_frame(np.asarray(xyz, np.float64), times_s)
+        if self.map_from_lidar0 is None:
+            raise RuntimeError("LidarOdometry.update() before initialise()")
         pose = self.map_from_lidar0 @ self.icp.last_pose @ self.lidar_from_base
         return pose, frame
 

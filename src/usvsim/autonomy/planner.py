@@ -18,9 +18,8 @@ import math
 
 import numba
 import numpy as np
-from scipy.ndimage import distance_transform_edt
 
-from usvsim.autonomy.grid import OccupancyGrid
+from usvsim.autonomy.grid import OccupancyGrid, edt
 
 _MOVES = np.array([(-1, -1), (-1, 0), (-1, 1), (0, -1), (0, 1), (1, -1), (1, 0), (1, 1)], np.int32)
 _SQRT2 = math.sqrt(2.0)
@@ -110,7 +109,7 @@ class GridPlanner:
     def cost_map(self, grid: OccupancyGrid) -> np.ndarray:
         """Per-cell extra cost (inf = forbidden) from the distance to the nearest occupied cell."""
         occupied = grid.occupied()
-        self.distance_m = distance_transform_edt(~occupied) * grid.resolution_m if occupied.any() else \
+        self.distance_m = edt(~occupied) * grid.resolution_m if occupied.any() else \
             np.full(grid.shape, np.inf)  # fmt: skip
         d = self.distance_m
         band = np.clip((self.clearance_m + self.comfort_m - d) / self.comfort_m, 0.0, 1.0)
@@ -145,6 +144,7 @@ class GridPlanner:
     def shortcut(self, grid: OccupancyGrid, pts: np.ndarray) -> np.ndarray:
         """Keep only the vertices needed for straight legs clear of the comfort band (or, failing that, clear)."""
         d = self.distance_m
+        assert d is not None, "cost_map() sets the distances before a path is shortened"
         out, i = [pts[0]], 0
         while i < len(pts) - 1:
             j = i + 1  # walk forward while the straight leg stays clear (linear in the path length)

@@ -25,7 +25,7 @@ from usvsim.autonomy.sensing import cloud_arrays, odometry_pose, sweep_end_s, tw
 
 
 def _args(argv):
-    p = argparse.ArgumentParser(prog="usvsim-autonomy", description=__doc__.split("\n\n")[0])
+    p = argparse.ArgumentParser(prog="usvsim-autonomy", description=(__doc__ or "").split("\n\n")[0])
     p.add_argument("--ros2", action="store_true", required=True, help="run as a ROS 2 node (rclpy)")
     p.add_argument("--vessel", default="wamv")
     p.add_argument("--lidar", default="lidar")
@@ -42,7 +42,8 @@ def _args(argv):
 def build(args):
     base_from_lidar = np.eye(4)
     base_from_lidar[:3, 3] = [float(v) for v in args.lidar_xyz.split(",")]
-    grid = OccupancyGrid.around(*(float(v) for v in args.bounds.split(",")), 0.25)
+    xmin, ymin, xmax, ymax = (float(v) for v in args.bounds.split(","))
+    grid = OccupancyGrid.around(xmin, ymin, xmax, ymax, 0.25)
     latest = {}
     odo = KissIcpOdometry(base_from_lidar) if args.odometry == "kiss_icp" else \
         TrackedOdometry(base_from_lidar, lambda: latest.get("odom"))  # fmt: skip
@@ -122,11 +123,13 @@ class AutonomyNode:
         self._path_sent = self.nav.path
         msg = self.Path()
         msg.header.stamp, msg.header.frame_id = stamp, self.frame
+        poses = []
         for x, y in self.nav.path:
             pose = PoseStamped()
             pose.header = msg.header
             pose.pose.position.x, pose.pose.position.y, pose.pose.orientation.w = float(x), float(y), 1.0
-            msg.poses.append(pose)
+            poses.append(pose)
+        msg.poses = poses
         self.plan.publish(msg)
 
     def _grid_msg(self, stamp):

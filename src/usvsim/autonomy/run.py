@@ -51,7 +51,7 @@ def build_navigator(sim, vessel: str, lidar: str, goals, resolution_m: float = 0
     lo, hi = np.full(2, math.inf), np.full(2, -math.inf)
     for obj in sim.scenario.objects:
         lo, hi = np.minimum(lo, obj.position[:2]), np.maximum(hi, obj.position[:2])
-    grid = OccupancyGrid.around(*(lo - 10.0), *(hi + 10.0), resolution_m)
+    grid = OccupancyGrid.around(lo[0] - 10.0, lo[1] - 10.0, hi[0] + 10.0, hi[1] + 10.0, resolution_m)
     tap = Tap(sim, [f"/{vessel}/{lidar}/points", f"/{vessel}/odometry"])
     sim.step()  # /tf_static goes out before the first step
     base_from_lidar = tap.static[f"{vessel}/{lidar}"]

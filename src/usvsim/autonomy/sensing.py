@@ -4,9 +4,14 @@ name, like any ROS consumer; the LiDAR mount from `/tf_static`."""
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import numpy as np
 
 from usvsim.core.transforms import matrix_from_quat
+
+if TYPE_CHECKING:
+    from usvsim.messages.envelope import Envelope
 
 _NUMPY = {7: "<f4", 8: "<f8", 4: "<u2", 6: "<u4", 2: "<u1"}  # sensor_msgs/PointField datatypes
 
@@ -57,7 +62,7 @@ class Tap:
 
     def __init__(self, sim, topics):
         self.topics = set(topics)
-        self.fresh: dict[str, object] = {}
+        self.fresh: dict[str, Envelope] = {}
         self.static: dict[str, np.ndarray] = {}
         self.latest_odometry = None  # the newest nav_msgs/Odometry of the topics
         self._twists: list[np.ndarray] = []  # its twists since the last `mean_twist`
@@ -73,7 +78,7 @@ class Tap:
             for tf in env.msg.transforms:
                 self.static[tf.child_frame_id] = transform_matrix(tf)
 
-    def take(self, topic: str):
+    def take(self, topic: str) -> Envelope | None:
         """The newest envelope on `topic` since the last take, or None."""
         return self.fresh.pop(topic, None)
 

@@ -82,6 +82,13 @@ def _pool(workers: int) -> ProcessPoolExecutor:
     return ProcessPoolExecutor(max_workers=workers, initializer=warm_up)
 
 
+def _filled(out: list[dict | None]) -> list[dict]:
+    """The runs' results in run order, once every slot has been filled."""
+    results = [r for r in out if r is not None]
+    assert len(results) == len(out), "a run's result is missing"
+    return results
+
+
 def _process(runs, workers, progress) -> list[dict]:
     out: list[dict | None] = [None] * len(runs)
     warm_up()
@@ -90,14 +97,14 @@ def _process(runs, workers, progress) -> list[dict]:
             out[i] = run_one(r)
             if progress:
                 progress(i + 1, len(runs))
-        return out
+        return _filled(out)
     with _pool(workers) as pool:
         futures = {pool.submit(run_one, r): i for i, r in enumerate(runs)}
         for done, f in enumerate(as_completed(futures), 1):
             out[futures[f]] = f.result()
             if progress:
                 progress(done, len(runs))
-    return out
+    return _filled(out)
 
 
 def _ray(runs, workers, address, progress) -> list[dict]:
@@ -121,7 +128,7 @@ def _ray(runs, workers, address, progress) -> list[dict]:
             done += 1
             if progress:
                 progress(done, len(runs))
-        return out
+        return _filled(out)
     finally:
         if started:
             ray.shutdown()

@@ -45,7 +45,7 @@ class SweepSpec(Section):
     grid: Grid = Grid()
     backend: Literal["process", "ray"] = "process"
     workers: Annotated[int, Field(ge=1)] | None = None
-    address: str | None = Field(None, description="Ray cluster address; default a local instance")
+    address: str | None = Field(default=None, description="Ray cluster address; default a local instance")
 
     def seed_list(self) -> list[int]:
         s = self.seeds

@@ -52,7 +52,7 @@ def check_raw_api() -> str:
             f"checked on cyclonedds {', '.join(TESTED_CYCLONEDDS)}.x; found {ver}. Install a tested version "
             f"(pip install 'cyclonedds~=11.0') or extend usvsim/bridges/dds_types.py after checking it."
         )
-    from cyclonedds import _clayer
+    from cyclonedds import _clayer  # pyright: ignore[reportAttributeAccessIssue] (a C extension without stubs)
 
     for name in ("ddspy_write", "ddspy_take"):
         if not hasattr(_clayer, name):

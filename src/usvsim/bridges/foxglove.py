@@ -38,7 +38,7 @@ from typing import TYPE_CHECKING
 
 import foxglove
 from foxglove.channels import SceneUpdateChannel
-from foxglove.websocket import Capability
+from foxglove.websocket import Capability, ServerListener
 
 from usvsim.bridges import foxglove_logs
 from usvsim.bridges.foxglove_proxy_process import ProxyProcess
@@ -115,7 +115,7 @@ class FoxgloveBridge:
         client_handshake_s: float = 5.0,
     ) -> None:
         self.sim = sim
-        self.stats = dict.fromkeys(STAT_KEYS, 0)
+        self.stats: dict[str, int] = dict.fromkeys(STAT_KEYS, 0)
         self._lock = threading.Lock()  # stats written from the server's threads
         self._scene_period_ns = scene_period_ns(scene_rate_hz)
         self._scene = SceneBuilder(sim, water_size_m, water_points)
@@ -262,7 +262,7 @@ class FoxgloveBridge:
             self._resend.add(channel_id)
 
 
-class _Listener:
+class _Listener(ServerListener):
     """foxglove.websocket.ServerListener: subscriptions (latched re-sends) and client publishing."""
 
     def __init__(self, bridge: FoxgloveBridge):

@@ -123,6 +123,7 @@ class FoxgloveProxy:
             self._note("connections_refused", f"refused a client: {len(self._pending)} connections wait to start")
             return None
         task = asyncio.current_task()
+        assert task is not None, "called from a coroutine"
         self._pending.add(task)
         try:
             return await asyncio.wait_for(reader.readuntil(b"\r\n\r\n"), self.handshake_s)
@@ -136,6 +137,7 @@ class FoxgloveProxy:
 
     async def _forward(self, request: bytes, reader: asyncio.StreamReader, writer: asyncio.StreamWriter) -> None:
         task = asyncio.current_task()
+        assert task is not None, "called from a coroutine"
         self._clients.add(task)
         self._on_clients(len(self._clients))
         up_writer = None

@@ -62,7 +62,7 @@ def make_profile(sim: Simulation, name: str = "usvsim", vessel: str | None = Non
     if name == "usvsim":
         return Profile(name, commands=_native_commands(sim, skip=()))
     vessel = vessel or next(iter(sim.vessels), None)
-    if vessel not in sim.vessels:
+    if vessel is None or vessel not in sim.vessels:
         raise ValueError(
             f"no vessel named {vessel!r} for the seed profile (vessels: {', '.join(sim.vessels)})"
         )

@@ -35,10 +35,11 @@ def dataset_command(
 
     console = Console(stderr=True)
     try:
-        size = tuple(int(v) for v in resolution.lower().split("x")) if resolution else None
+        wh = [int(v) for v in resolution.lower().split("x")] if resolution else None
         fractions = tuple(float(v) for v in splits.split(","))
-        if (size and len(size) != 2) or len(fractions) != 3:
+        if (wh and len(wh) != 2) or len(fractions) != 3:
             raise ValueError
+        size = (wh[0], wh[1]) if wh else None
     except ValueError:
         console.print(
             "[bold red]usvsim: error:[/] --resolution is WIDTHxHEIGHT and --splits three fractions",

@@ -3,12 +3,14 @@
 
 from __future__ import annotations
 
+from typing import NoReturn
+
 import typer
 from rich.console import Console
 
 console = Console(stderr=True)
 
 
-def fail(exc: Exception) -> None:
+def fail(exc: Exception | str) -> NoReturn:
     console.print(f"[bold red]usvsim: error:[/] {exc}", highlight=False, soft_wrap=True)
     raise typer.Exit(2)

@@ -6,7 +6,7 @@ float, tuple and dict value). The physical limits below are documented in docs/l
 
 from __future__ import annotations
 
-from typing import Annotated
+from typing import Annotated, TypeVar
 
 from pydantic import BaseModel, BeforeValidator, ConfigDict, Field
 
@@ -44,13 +44,13 @@ class LatLon(Section):
     """Optionally placed by geography: `latlon` [latitude, longitude] in degrees (WGS-84) replaces the
     position's x and y (the ENU point at the scenario's geodetic origin); z stays as given."""
 
-    latlon: Vec2 | None = Field(None, description="[latitude_deg, longitude_deg], WGS-84; replaces x, y")
+    latlon: Vec2 | None = Field(default=None, description="[latitude_deg, longitude_deg], WGS-84; replaces x, y")
 
 
 class GeoPose(LatLon):
     """`latlon` plus an optional compass `heading_deg` (clockwise from north), which replaces `yaw_deg`."""
 
-    heading_deg: AngleDeg | None = Field(None, description="compass heading, degrees clockwise from north")
+    heading_deg: AngleDeg | None = Field(default=None, description="compass heading, degrees clockwise from north")
 
 
 class PoseDeg(Section):
@@ -62,6 +62,7 @@ class PoseDeg(Section):
     yaw_deg: AngleDeg = 0.0
 
 
-def tuple_of(item):
-    """A strict tuple field that also accepts a YAML list."""
-    return Annotated[tuple[item, ...], BeforeValidator(_list_to_tuple)]
+_Item = TypeVar("_Item")
+TupleOf = Annotated[tuple[_Item, ...], BeforeValidator(_list_to_tuple)]
+"""A strict tuple field that also accepts a YAML list: `TupleOf[PositiveFloat]` (a generic alias, so that
+type checkers read it as `tuple[float, ...]`)."""

@@ -24,14 +24,14 @@ from usvsim.config.base import NonNegativeFloat, PositiveFloat, Section, Vec2
 class AxisGains(Section):
     """One axis of the velocity controller; omitted values are derived from the vessel (λ-tuning)."""
 
-    bandwidth_rad_s: PositiveFloat | None = Field(None, description="closed-loop error bandwidth λ")
+    bandwidth_rad_s: PositiveFloat | None = Field(default=None, description="closed-loop error bandwidth λ")
     kp: NonNegativeFloat | None = None
     ki: NonNegativeFloat | None = Field(
-        None, description="fixed integral gain; default λ·d(ν_ref), scheduled"
+        default=None, description="fixed integral gain; default λ·d(ν_ref), scheduled"
     )
     reference_bandwidth_rad_s: PositiveFloat | None = None
-    max_acceleration: PositiveFloat | None = Field(None, description="m/s² (yaw: rad/s²)")
-    max_velocity: PositiveFloat | None = Field(None, description="m/s (yaw: rad/s)")
+    max_acceleration: PositiveFloat | None = Field(default=None, description="m/s² (yaw: rad/s²)")
+    max_velocity: PositiveFloat | None = Field(default=None, description="m/s (yaw: rad/s)")
 
 
 class VelocityGains(Section):
@@ -55,7 +55,7 @@ class Hold(Section):
     heading_gain_1ps: PositiveFloat = 0.25
     max_speed_mps: PositiveFloat = 1.0
     max_yaw_rate_rad_s: PositiveFloat = 0.3
-    arrive_radius_m: PositiveFloat = Field(2.0, description="underactuated vessels: drive-to vs hold switch")
+    arrive_radius_m: PositiveFloat = Field(default=2.0, description="underactuated vessels: drive-to vs hold switch")
 
 
 class Target(Section):

@@ -11,7 +11,7 @@ from typing import Annotated, Literal
 
 from pydantic import Discriminator, Field, Tag, model_validator
 
-from usvsim.config.base import NonNegativeFloat, PositiveFloat, Section, tuple_of
+from usvsim.config.base import NonNegativeFloat, PositiveFloat, Section, TupleOf
 
 UnitFloat = Annotated[float, Field(ge=0, le=1)]
 Choppiness = Annotated[float, Field(ge=0, le=2)]
@@ -46,7 +46,7 @@ class FFTRealization(Section):
 
     method: Literal["fft"] = "fft"
     resolution: Resolution = 128
-    tile_sizes_m: tuple_of(PositiveFloat) | None = None
+    tile_sizes_m: TupleOf[PositiveFloat] | None = None
     bands: Annotated[int, Field(ge=1, le=6)] = 3
     gaussian_amplitudes: bool = False
 
@@ -132,7 +132,7 @@ class PhillipsSea(Directed):
     chaos: UnitFloat = 0.0
     ripples_wind_speed_mps: NonNegativeFloat = 2.57 / 3.6
     ripples_chaos: UnitFloat = 0.44
-    band_dimmers: Annotated[tuple_of(UnitFloat), Field(min_length=3, max_length=3)] = (1.0, 1.0, 1.0)
+    band_dimmers: Annotated[TupleOf[UnitFloat], Field(min_length=3, max_length=3)] = (1.0, 1.0, 1.0)
     repetition_size_m: Annotated[float, Field(ge=250, le=5000)] = 500.0
     resolution: Resolution = 256
     choppiness: Choppiness = 0.6
@@ -159,7 +159,7 @@ class ComponentsSea(Section):
     """Explicit components, summed directly: `regular` (usually Airy) or `gerstner` (same keys)."""
 
     type: Literal["regular", "gerstner"]
-    components: Annotated[tuple_of(WaveComponentConfig), Field(min_length=1)]
+    components: Annotated[TupleOf[WaveComponentConfig], Field(min_length=1)]
 
 
 class VrxSea(Directed):
@@ -217,6 +217,6 @@ class Environment(Section):
     sea: Sea = FlatSeaConfig()
     wind: WindConfig = WindConfig()
     current: CurrentConfig = CurrentConfig()
-    water_level_m: float = Field(0.0, ge=-1000, le=1000)
+    water_level_m: float = Field(default=0.0, ge=-1000, le=1000)
     water_depth_m: Annotated[float, Field(gt=0, le=11_000)] | None = None  # None: deep water (FFT: always)
     ramp_time_s: NonNegativeFloat = 2.0

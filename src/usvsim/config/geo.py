@@ -12,7 +12,7 @@ from typing import Annotated, Literal
 
 from pydantic import Field
 
-from usvsim.config.base import NonNegativeFloat, PositiveFloat, Section, tuple_of
+from usvsim.config.base import NonNegativeFloat, PositiveFloat, Section, TupleOf
 from usvsim.config.objects import Color, Mooring
 
 FileName = Annotated[str, Field(min_length=1)]
@@ -22,22 +22,22 @@ class Source(Section):
     """A geospatial file: `file` (relative to the scenario), optional `layer`, optional `crs` override."""
 
     file: FileName
-    layer: str | None = Field(None, description="layer of a multi-layer file (GeoPackage); default the first")
-    crs: str | None = Field(None, description="CRS to assume when the file has none; an error if it has another")
+    layer: str | None = Field(default=None, description="layer of a multi-layer file (GeoPackage); default the first")
+    crs: str | None = Field(default=None, description="CRS to assume when the file has none; an error if it has another")
 
 
 class Dem(Source):
     """A raster of land heights (m above still water), sampled bilinearly."""
 
-    band: int = Field(1, ge=1)
+    band: int = Field(default=1, ge=1)
 
 
 class Land(Source):
     """Land polygons (coastline): solid from the seabed up to a constant height or a DEM's heights."""
 
-    height_m: PositiveFloat = Field(3.0, description="land height above still water when there is no DEM")
+    height_m: PositiveFloat = Field(default=3.0, description="land height above still water when there is no DEM")
     dem: Dem | None = None
-    top_resolution_m: PositiveFloat = Field(25.0, description="grid of the land's top surface under a DEM")
+    top_resolution_m: PositiveFloat = Field(default=25.0, description="grid of the land's top surface under a DEM")
 
 
 class Bathymetry(Source):
@@ -45,17 +45,17 @@ class Bathymetry(Source):
     `value_property`, interpolated linearly). `values: elevation` (z up, negative under water) or `depth`
     (positive down)."""
 
-    band: int = Field(1, ge=1, description="raster band")
-    value_property: str = Field("depth", description="property holding a sounding's or contour's value")
+    band: int = Field(default=1, ge=1, description="raster band")
+    value_property: str = Field(default="depth", description="property holding a sounding's or contour's value")
     values: Literal["elevation", "depth"] = "elevation"
 
 
 class Structures(Source):
     """Footprints of quays, piers and buildings (polygons), extruded to a height. Class `structure`."""
 
-    height_m: PositiveFloat = Field(2.0, description="height above still water when the feature has none")
-    height_property: str | None = Field("height", description="feature property holding the height (m)")
-    base_m: float = Field(-3.0, le=0.0, description="z of the bottom (m); quays reach below the water")
+    height_m: PositiveFloat = Field(default=2.0, description="height above still water when the feature has none")
+    height_property: str | None = Field(default="height", description="feature property holding the height (m)")
+    base_m: float = Field(default=-3.0, le=0.0, description="z of the bottom (m); quays reach below the water")
     color: Color = "concrete"
 
 
@@ -71,11 +71,11 @@ class Marks(Source):
 class Geo(Section):
     """A real place around the geodetic origin (world.origin): land, seabed, structures and marks."""
 
-    extent_m: PositiveFloat = Field(2000.0, le=20000.0, description="half side of the square kept around the origin")
+    extent_m: PositiveFloat = Field(default=2000.0, le=20000.0, description="half side of the square kept around the origin")
     land: Land | None = None
     bathymetry: Bathymetry | None = None
-    default_depth_m: PositiveFloat = Field(20.0, description="seabed depth where no bathymetry covers the water")
-    min_depth_m: NonNegativeFloat = Field(0.0, description="the seabed is kept at least this deep under water")
-    structures: tuple_of(Structures) = ()
-    marks: tuple_of(Marks) = ()
-    terrain_cell_m: PositiveFloat = Field(2.0, ge=0.25, description="cell of the seabed/land collision grid")
+    default_depth_m: PositiveFloat = Field(default=20.0, description="seabed depth where no bathymetry covers the water")
+    min_depth_m: NonNegativeFloat = Field(default=0.0, description="the seabed is kept at least this deep under water")
+    structures: TupleOf[Structures] = ()
+    marks: TupleOf[Marks] = ()
+    terrain_cell_m: PositiveFloat = Field(default=2.0, ge=0.25, description="cell of the seabed/land collision grid")

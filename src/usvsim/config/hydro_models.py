@@ -14,7 +14,7 @@ from typing import Literal
 
 from pydantic import Field
 
-from usvsim.config.base import NonNegativeFloat, PositiveFloat, Section, Vec3, tuple_of
+from usvsim.config.base import NonNegativeFloat, PositiveFloat, Section, TupleOf, Vec3
 
 
 class VoxelBuoyancy(Section):
@@ -43,7 +43,7 @@ class KernerHydrodynamics(Section):
 
     type: Literal["kerner"] = "kerner"
     kinematic_viscosity_m2ps: PositiveFloat = Field(
-        1.19e-6, description="sea water 15 C, 35 g/kg (ITTC), beside the sea-water density; fresh water 15 C "
+        default=1.19e-6, description="sea water 15 C, 35 g/kg (ITTC), beside the sea-water density; fresh water 15 C "
         "1.14e-6; asv_wave_sim used 1.0533e-6 (C_F 2.4 % higher at Rn ~ 5e6)"
     )
     form_factor_k: NonNegativeFloat = 0.0
@@ -59,7 +59,7 @@ class KernerHydrodynamics(Section):
     pressure_scale: NonNegativeFloat = 1.0
     slamming_power: PositiveFloat = 2.0
     slamming_speed_mps: PositiveFloat = Field(
-        5.0, description="normal entry speed at which a face gets its full share of the stopping impulse"
+        default=5.0, description="normal entry speed at which a face gets its full share of the stopping impulse"
     )
     slamming_scale: NonNegativeFloat = 1.0
     air_drag_coefficient: NonNegativeFloat = 0.8
@@ -78,16 +78,16 @@ class FossenHydrodynamics(Section):
 
     type: Literal["fossen"] = "fossen"
     parameters: Literal["otter", "wamv_vrx", "wamv_vrx_classic", "custom"] = "custom"
-    added_mass: tuple_of(NonNegativeFloat) = (0.0,) * 6
-    linear_damping: tuple_of(NonNegativeFloat) = (0.0,) * 6
-    quadratic_damping: tuple_of(NonNegativeFloat) = (0.0,) * 6
+    added_mass: TupleOf[NonNegativeFloat] = (0.0,) * 6
+    linear_damping: TupleOf[NonNegativeFloat] = (0.0,) * 6
+    quadratic_damping: TupleOf[NonNegativeFloat] = (0.0,) * 6
     cross_flow_length_m: NonNegativeFloat = 0.0
     cross_flow_draft_m: NonNegativeFloat = 0.0
     cross_flow_beam_m: NonNegativeFloat = 0.0
     reference_point: Vec3 | None = None
     added_mass_coriolis: bool = True
     vrx_compatible: bool = False
-    acceleration_filter_s: NonNegativeFloat = Field(0.0, description="low-pass on the lagged ν̇ (0 = none)")
+    acceleration_filter_s: NonNegativeFloat = Field(default=0.0, description="low-pass on the lagged ν̇ (0 = none)")
 
 
 class WindLoad(Section):

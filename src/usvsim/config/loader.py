@@ -82,7 +82,7 @@ def _first_error(exc: ValidationError, source: str, data) -> ScenarioError:
 
         msg = "unknown key" + did_you_mean(str(err["loc"][-1]), allowed_keys(err["loc"], data))
     elif err["type"] == "union_tag_invalid":
-        msg = f"unknown type {safe_yaml.excerpt(err['input'].get('type'))}; expected one of {err['ctx']['expected_tags']}"
+        msg = f"unknown type {safe_yaml.excerpt(err['input'].get('type'))}; expected one of {err.get('ctx', {}).get('expected_tags')}"
     elif err["type"].endswith("_type") or err["type"] in ("literal_error", "finite_number"):
         msg = f"{msg} (got {safe_yaml.excerpt(err['input'])})"
     more = len(exc.errors()) - 1

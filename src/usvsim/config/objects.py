@@ -44,7 +44,7 @@ class Mooring(Section):
     """A slack mooring line from the buoy's bottom to an anchor on the seabed straight below."""
 
     water_depth_m: Size = 5.0
-    scope: float = Field(1.2, ge=1.0, description="line length / water depth")
+    scope: float = Field(default=1.2, ge=1.0, description="line length / water depth")
 
 
 class Buoy(LatLon):

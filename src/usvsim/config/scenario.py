@@ -6,7 +6,7 @@ from typing import Literal
 
 from pydantic import Field, model_validator
 
-from usvsim.config.base import PositiveFloat, Section, tuple_of
+from usvsim.config.base import PositiveFloat, Section, TupleOf
 from usvsim.config.environment import Environment
 from usvsim.config.geo import Geo
 from usvsim.config.objects import WorldObject
@@ -18,24 +18,24 @@ from usvsim.config.vessel import Vessel
 class GeodeticOrigin(Section):
     """WGS-84 position of the world frame's origin (ENU)."""
 
-    latitude_deg: float = Field(59.42083, ge=-90, le=90)
-    longitude_deg: float = Field(10.43278, ge=-180, le=180)
-    altitude_m: float = Field(0.0, ge=-11_000, le=10_000)
+    latitude_deg: float = Field(default=59.42083, ge=-90, le=90)
+    longitude_deg: float = Field(default=10.43278, ge=-180, le=180)
+    altitude_m: float = Field(default=0.0, ge=-11_000, le=10_000)
 
 
 class DivergenceLimits(Section):
     """A floating body beyond any of these has diverged numerically: the run stops with an error naming it."""
 
-    max_speed_mps: float = Field(100.0, gt=0, le=10_000)
-    max_angular_speed_radps: float = Field(100.0, gt=0, le=100_000)
-    max_acceleration_mps2: float = Field(10_000.0, gt=0, le=1e7)
+    max_speed_mps: float = Field(default=100.0, gt=0, le=10_000)
+    max_angular_speed_radps: float = Field(default=100.0, gt=0, le=100_000)
+    max_acceleration_mps2: float = Field(default=10_000.0, gt=0, le=1e7)
 
 
 class World(Section):
-    physics_rate_hz: float = Field(100.0, ge=20, le=10_000, description="MuJoCo step rate; must divide 1e9 ns")
-    gravity_mps2: float = Field(9.81, ge=0.1, le=100)
-    water_density_kgpm3: float = Field(1025.0, ge=500, le=2000)
-    air_density_kgpm3: float = Field(1.225, gt=0, le=10)
+    physics_rate_hz: float = Field(default=100.0, ge=20, le=10_000, description="MuJoCo step rate; must divide 1e9 ns")
+    gravity_mps2: float = Field(default=9.81, ge=0.1, le=100)
+    water_density_kgpm3: float = Field(default=1025.0, ge=500, le=2000)
+    air_density_kgpm3: float = Field(default=1.225, gt=0, le=10)
     origin: GeodeticOrigin = GeodeticOrigin()
     divergence: DivergenceLimits = DivergenceLimits()
 
@@ -53,8 +53,8 @@ class Tf(Section):
     it: SLAM or AMCL publishing `map → odom` needs `world_to_odom: false` (a frame has one parent), and
     robot_localization's EKF publishing `odom → base_link` needs `odom_to_base_link: false`."""
 
-    world_to_odom: bool = Field(True, description="static world → <vessel>/odom at the start pose")
-    odom_to_base_link: bool = Field(True, description="dynamic <vessel>/odom → <vessel>/base_link (true pose)")
+    world_to_odom: bool = Field(default=True, description="static world → <vessel>/odom at the start pose")
+    odom_to_base_link: bool = Field(default=True, description="dynamic <vessel>/odom → <vessel>/base_link (true pose)")
 
 
 class Outputs(Section):
@@ -64,13 +64,13 @@ class Outputs(Section):
 
 class Scenario(Section):
     version: Literal[1]
-    name: str = Field("scenario", max_length=200)
-    description: str = Field("", max_length=20_000)
+    name: str = Field(default="scenario", max_length=200)
+    description: str = Field(default="", max_length=20_000)
     world: World = World()
     environment: Environment = Environment()
-    vessels: tuple_of(Vessel) = Field(default=(), max_length=256)
-    objects: tuple_of(WorldObject) = ()
-    geo: Geo | None = Field(None, description="a real place from geospatial files (docs/geo.md)")
+    vessels: TupleOf[Vessel] = Field(default=(), max_length=256)
+    objects: TupleOf[WorldObject] = ()
+    geo: Geo | None = Field(default=None, description="a real place from geospatial files (docs/geo.md)")
     outputs: Outputs = Outputs()
     rendering: Rendering = Rendering()
     traffic: Traffic = Traffic()

@@ -12,7 +12,7 @@ from typing import Annotated, Literal
 
 from pydantic import Field, model_validator
 
-from usvsim.config.base import NonNegativeFloat, PoseDeg, PositiveFloat, Section, Vec2, tuple_of
+from usvsim.config.base import NonNegativeFloat, PoseDeg, PositiveFloat, Section, TupleOf, Vec2
 
 Name = Annotated[str, Field(pattern=r"^[A-Za-z][A-Za-z0-9_]*$")]
 TOPIC_PATTERN = r"^/?[A-Za-z_][A-Za-z0-9_]*(/[A-Za-z_][A-Za-z0-9_]*)*$"  # ROS 2 topic name rules
@@ -30,7 +30,7 @@ class SensorBase(Section):
 
     name: Name
     rate_hz: PositiveFloat = 10.0
-    latency_s: NonNegativeFloat = Field(0.0, description="publish this long after sampling (stamp = sample time)")
+    latency_s: NonNegativeFloat = Field(default=0.0, description="publish this long after sampling (stamp = sample time)")
     mount: Mount = Mount()
     topic: Annotated[str, Field(pattern=TOPIC_PATTERN, max_length=256)] | None = None
     frame_id: Annotated[str, Field(pattern=FRAME_PATTERN, max_length=256)] | None = None
@@ -104,7 +104,7 @@ class Gnss(SensorBase):
     preset: Literal["none", "ublox_m8", "ublox_f9p_rtk"] = "none"
     horizontal_stddev_m: NonNegativeFloat | None = None
     vertical_stddev_m: NonNegativeFloat | None = None
-    correlation_time_s: NonNegativeFloat | None = Field(None, description="Gauss–Markov τ of the position error; 0 = white")
+    correlation_time_s: NonNegativeFloat | None = Field(default=None, description="Gauss–Markov τ of the position error; 0 = white")
     velocity_stddev_mps: NonNegativeFloat = 0.0
     fix: Literal["no_fix", "fix", "sbas_fix", "gbas_fix"] = "fix"
     velocity: bool = False
@@ -137,18 +137,18 @@ class Lidar(SensorBase):
     output: Literal["points", "scan"] | None = None
     channels: Annotated[int, Field(ge=1, le=1024)] | None = None
     columns: Annotated[int, Field(ge=1, le=100_000)] | None = None
-    elevations_deg: tuple_of(float) | None = None
-    vertical_fov_deg: Vec2 | None = Field(None, description="(lowest, highest) elevation, evenly spaced")
+    elevations_deg: TupleOf[float] | None = None
+    vertical_fov_deg: Vec2 | None = Field(default=None, description="(lowest, highest) elevation, evenly spaced")
     horizontal_fov_deg: Annotated[float, Field(gt=0, le=360)] | None = None
     range_min_m: NonNegativeFloat | None = None
     range_max_m: PositiveFloat | None = None
-    range_stddev_m: NonNegativeFloat | None = Field(None, description="Gaussian range noise; default from the preset")
+    range_stddev_m: NonNegativeFloat | None = Field(default=None, description="Gaussian range noise; default from the preset")
     dropout: Probability = 0.0
     organized: bool = False
     motion_distortion: bool = False
-    water_returns: bool = Field(False, description="incidence-dependent returns from the ocean surface")
+    water_returns: bool = Field(default=False, description="incidence-dependent returns from the ocean surface")
     water_reflectivity: Annotated[float, Field(ge=0, le=1)] = 0.02
-    self_returns: bool = Field(True, description="false: beams that hit the own vessel give no return (crop)")
+    self_returns: bool = Field(default=True, description="false: beams that hit the own vessel give no return (crop)")
     geometry: Literal["visual", "collision"] = "visual"
     reflectivity: dict[str, Annotated[float, Field(ge=0, le=1)]] = Field(
         default_factory=dict, description="per body name ('world' = static objects); default from colour"
@@ -180,7 +180,7 @@ ALL_CATEGORIES = ("vessel", "buoy", "static")
 class ObjectFilter(Section):
     """Which objects are reported: by category (static = docks, walls, piers, berths, mesh obstacles)."""
 
-    categories: tuple_of(Category) = ALL_CATEGORIES
+    categories: TupleOf[Category] = ALL_CATEGORIES
     include_own_vessel: bool = False
 
 
@@ -206,13 +206,13 @@ class Camera(SensorBase):
     horizontal_fov_deg: Annotated[float, Field(gt=1, lt=179)] = 80.0
     near_m: PositiveFloat = 0.05
     far_m: PositiveFloat = 400.0
-    streams: tuple_of(Literal["rgb", "depth", "segmentation"]) = ("rgb",)
+    streams: TupleOf[Literal["rgb", "depth", "segmentation"]] = ("rgb",)
     distortion: Distortion = Distortion()
-    rgb_noise_stddev: NonNegativeFloat = Field(0.0, description="multiplicative Gaussian, out = in·(1 + σ n)")
+    rgb_noise_stddev: NonNegativeFloat = Field(default=0.0, description="multiplicative Gaussian, out = in·(1 + σ n)")
     depth_noise_stddev_m: NonNegativeFloat = 0.0
     shadows: bool = False
     fog: bool = False
-    water_surface: bool = Field(True, description="draw the wave surface from the ocean (else the flat plane)")
+    water_surface: bool = Field(default=True, description="draw the wave surface from the ocean (else the flat plane)")
     detections: CameraDetections | None = None
 
     @model_validator(mode="after")
@@ -240,7 +240,7 @@ class SeaClutter(Section):
     ~5 dB per Douglas state, after Nathanson's X-band low-grazing σ0 tables), falling as range^-`range_exponent`;
     K-distributed intensity (gamma texture of shape `shape` × exponential speckle)."""
 
-    sea_state: Annotated[int, Field(ge=0, le=9)] | None = Field(None, description="default: the environment's")
+    sea_state: Annotated[int, Field(ge=0, le=9)] | None = Field(default=None, description="default: the environment's")
     snr_at_100m_db: float | None = None
     range_exponent: PositiveFloat = 3.0
     shape: PositiveFloat = 2.0
@@ -253,7 +253,7 @@ class Arpa(Section):
     threshold_db: PositiveFloat = 12.0
     training_bins: Annotated[int, Field(ge=2, le=64)] = 16
     min_cells: Annotated[int, Field(ge=1)] = 3
-    range_min_m: NonNegativeFloat = Field(30.0, description="no plots nearer (sea clutter around the own ship)")
+    range_min_m: NonNegativeFloat = Field(default=30.0, description="no plots nearer (sea clutter around the own ship)")
     gate_m: PositiveFloat = 30.0
     alpha: Annotated[float, Field(gt=0, le=1)] = 0.6
     beta: Annotated[float, Field(gt=0, le=1)] = 0.3
@@ -273,7 +273,7 @@ class Radar(SensorBase):
     spokes: Annotated[int, Field(ge=16, le=8192)] = 1024
     range_bins: Annotated[int, Field(ge=8, le=8192)] = 512
     range_max_m: PositiveFloat = 1500.0
-    range_min_m: NonNegativeFloat = Field(5.0, description="no echoes nearer (transmit pulse, own hull)")
+    range_min_m: NonNegativeFloat = Field(default=5.0, description="no echoes nearer (transmit pulse, own hull)")
     horizontal_beamwidth_deg: Annotated[float, Field(gt=0, le=30)] = 1.8
     vertical_beamwidth_deg: Annotated[float, Field(gt=0, le=60)] = 22.0
     elevation_rays: Annotated[int, Field(ge=2, le=128)] = 16
@@ -282,7 +282,7 @@ class Radar(SensorBase):
     dynamic_range_db: PositiveFloat = 60.0
     sea_clutter: SeaClutter = SeaClutter()
     rain_rate_mm_h: NonNegativeFloat = 0.0
-    blind_sectors_deg: tuple_of(Vec2) = Field((), description="[from, to] CCW from the bow, degrees")
+    blind_sectors_deg: TupleOf[Vec2] = Field(default=(), description="[from, to] CCW from the bow, degrees")
     image: Literal["polar", "cartesian", "none"] = "cartesian"
     image_size_px: Annotated[int, Field(ge=32, le=4096)] = 512
     arpa: Arpa | None = Arpa()
@@ -290,4 +290,4 @@ class Radar(SensorBase):
 
 Sensor = Annotated[Imu | Odometry | Gnss | GroundTruth | Lidar | Camera | Detections | Radar,
                    Field(discriminator="type")]  # fmt: skip
-Sensors = tuple_of(Sensor)
+Sensors = TupleOf[Sensor]

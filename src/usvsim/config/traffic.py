@@ -15,7 +15,7 @@ from typing import Annotated, Literal
 
 from pydantic import Field, model_validator
 
-from usvsim.config.base import NonNegativeFloat, PositiveFloat, Section, Vec2, tuple_of
+from usvsim.config.base import NonNegativeFloat, PositiveFloat, Section, TupleOf, Vec2
 
 Name = Annotated[str, Field(pattern=r"^[A-Za-z][A-Za-z0-9_]*$")]
 # AIS ship type (ITU-R M.1371 table 53, first digit 3x/5x specials and 6x-8x classes) by name
@@ -34,7 +34,7 @@ class Route(Section):
     """Straight legs between waypoints at each leg's speed; stops at the last one (or starts over if `loop`)."""
 
     type: Literal["route"] = "route"
-    waypoints: tuple_of(Waypoint) = Field(min_length=2)
+    waypoints: TupleOf[Waypoint] = Field(min_length=2)
     loop: bool = False
 
 
@@ -63,7 +63,7 @@ class ShipAis(Section):
 
     enabled: bool = True
     ais_class: Literal["A", "B"] = "A"
-    callsign: str = Field("", max_length=7)
+    callsign: str = Field(default="", max_length=7)
 
 
 class Ship(Section):
@@ -73,9 +73,9 @@ class Ship(Section):
     ship_type: ShipType = "cargo"
     length_m: PositiveFloat = 20.0
     beam_m: PositiveFloat = 6.0
-    height_m: PositiveFloat = Field(4.0, description="hull top above the waterline (superstructure adds half)")
+    height_m: PositiveFloat = Field(default=4.0, description="hull top above the waterline (superstructure adds half)")
     draft_m: NonNegativeFloat = 1.5
-    vessel: Name | None = Field(None, description="a scenario vessel (with a velocity controller) to drive")
+    vessel: Name | None = Field(default=None, description="a scenario vessel (with a velocity controller) to drive")
     ais: ShipAis = ShipAis()
 
 
@@ -96,9 +96,9 @@ class Ais(Section):
 
     enabled: bool = True
     topic: str = "/ais"
-    udp_port: int | None = Field(None, ge=1024, le=65535)
-    position_noise_m: NonNegativeFloat = Field(0.0, description="Gaussian std-dev per axis of reported position")
-    dropout_probability: float = Field(0.0, ge=0.0, lt=1.0, description="chance a report is lost")
+    udp_port: int | None = Field(default=None, ge=1024, le=65535)
+    position_noise_m: NonNegativeFloat = Field(default=0.0, description="Gaussian std-dev per axis of reported position")
+    dropout_probability: float = Field(default=0.0, ge=0.0, lt=1.0, description="chance a report is lost")
     own_ship: OwnShipAis | None = None
 
 
@@ -106,20 +106,20 @@ class Awareness(Section):
     """Ground-truth situational awareness of `own_ship`: per target range, bearing, CPA, TCPA and COLREG
     encounter, on `topic` at `rate_hz`; the minimum CPA per target goes into the run report."""
 
-    own_ship: Name | None = Field(None, description="default: the first scenario vessel")
+    own_ship: Name | None = Field(default=None, description="default: the first scenario vessel")
     rate_hz: PositiveFloat = 1.0
     topic: str = "/traffic/situation"
 
 
 class Traffic(Section):
-    ships: tuple_of(Ship) = Field(default=(), max_length=1000)
+    ships: TupleOf[Ship] = Field(default=(), max_length=1000)
     ais: Ais = Ais()
     awareness: Awareness = Awareness()
 
     @model_validator(mode="after")
     def _unique(self):
-        for what, values in (("names", [s.name for s in self.ships]), ("MMSIs", [s.mmsi for s in self.ships])):
-            dupes = sorted({str(v) for v in values if values.count(v) > 1})
+        for what, values in (("names", [s.name for s in self.ships]), ("MMSIs", [str(s.mmsi) for s in self.ships])):
+            dupes = sorted({v for v in values if values.count(v) > 1})
             if dupes:
                 raise ValueError(f"ship {what} must be unique; repeated: {', '.join(dupes)}")
         return self

@@ -20,8 +20,8 @@ from usvsim.config.base import (
     PositiveFloat,
     Scale,
     Section,
+    TupleOf,
     Vec3,
-    tuple_of,
 )
 from usvsim.config.control import Controller
 from usvsim.config.hydro_models import FossenHydrodynamics, KernerHydrodynamics, VoxelBuoyancy, WindLoad
@@ -36,8 +36,8 @@ class MassProperties(Section):
     """Rigid-body mass properties. Omitted values come from the library model or the hull mesh."""
 
     mass_kg: MassKg | None = None
-    com: Vec3 | None = Field(None, description="centre of mass in base_link (FLU), m")
-    inertia: Inertia3 | None = Field(None, description="principal moments about the CoM along FLU axes, kg m^2")
+    com: Vec3 | None = Field(default=None, description="centre of mass in base_link (FLU), m")
+    inertia: Inertia3 | None = Field(default=None, description="principal moments about the CoM along FLU axes, kg m^2")
 
 
 class StateSpaceDrag(Section):
@@ -118,7 +118,7 @@ class Thruster(Section):
 
     name: str = Field(pattern=r"^[A-Za-z][A-Za-z0-9_]*$")
     position: Vec3 = Field(description="force application point in base_link (FLU), m")
-    mount_yaw_deg: AngleDeg = Field(0.0, description="thrust direction at zero azimuth, CCW from +x (90 = tunnel)")
+    mount_yaw_deg: AngleDeg = Field(default=0.0, description="thrust direction at zero azimuth, CCW from +x (90 = tunnel)")
     thrust: ThrustMap = ThrustMap()
     time_constant_s: PositiveFloat = 0.2
     max_rate_n_s: PositiveFloat | None = None
@@ -140,7 +140,7 @@ class Vessel(Section):
 
     name: str = Field(pattern=r"^[A-Za-z][A-Za-z0-9_]*$")
     model: str
-    hull_mesh: str | None = Field(None, description="physics hull mesh file for model 'custom'")
+    hull_mesh: str | None = Field(default=None, description="physics hull mesh file for model 'custom'")
     visual_mesh: str | None = None
     mesh_scale: Scale = 1.0
     pose: Pose = Pose()
@@ -148,11 +148,11 @@ class Vessel(Section):
     buoyancy: Buoyancy = TriangleBuoyancy()
     water_sampling: WaterSampling = WaterSampling()
     hydrodynamics: Hydrodynamics | None = None
-    thrusters: tuple_of(Thruster) | None = None
-    wind_load: WindLoad | None = Field(None, description="wind force on the hull above water (library default)")
-    sensors: Sensors = Field((), description="LiDAR, cameras, IMU, GNSS, odometry, ground truth")
-    controller: Controller | None = Field(None, description="velocity control / station keeping (cmd_vel)")
-    command_timeout_s: NonNegativeFloat = Field(1.0, description="watchdog: zero thrust after this silence; 0 = off")
+    thrusters: TupleOf[Thruster] | None = None
+    wind_load: WindLoad | None = Field(default=None, description="wind force on the hull above water (library default)")
+    sensors: Sensors = Field(default=(), description="LiDAR, cameras, IMU, GNSS, odometry, ground truth")
+    controller: Controller | None = Field(default=None, description="velocity control / station keeping (cmd_vel)")
+    command_timeout_s: NonNegativeFloat = Field(default=1.0, description="watchdog: zero thrust after this silence; 0 = off")
 
     @model_validator(mode="after")
     def _custom_needs_mesh(self):

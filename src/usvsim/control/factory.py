@@ -16,7 +16,8 @@ from usvsim.core.errors import ScenarioError
 
 
 def tuning_from_config(gains: cfg.VelocityGains) -> tuple[AxisTuning, AxisTuning, AxisTuning]:
-    return tuple(AxisTuning(**getattr(gains, axis).model_dump()) for axis in ("surge", "sway", "yaw"))
+    surge, sway, yaw = (AxisTuning(**getattr(gains, axis).model_dump()) for axis in ("surge", "sway", "yaw"))
+    return surge, sway, yaw
 
 
 def build_controller(config: cfg.VelocityController, model) -> VesselController:

@@ -98,8 +98,8 @@ def manual_commands(
         x = [t.position[0] - com_flu_m[0] for t in thrusters]
         lim = [(math.radians(t.azimuth.min_deg), math.radians(t.azimuth.max_deg)) if t.azimuth else (0.0, 0.0)
                for t in thrusters]  # fmt: skip
-        return azimuth_commands(axes, names, x, angle_limits_rad=lim)
-    return differential_commands(axes, names, [t.position[1] - com_flu_m[1] for t in thrusters])
+        return dict(azimuth_commands(axes, names, x, angle_limits_rad=lim))
+    return dict(differential_commands(axes, names, [t.position[1] - com_flu_m[1] for t in thrusters]))
 
 
 def axes_to_velocity(axes: DriveAxes, max_speed_mps: float, max_yaw_rate_rad_s: float,

@@ -70,7 +70,7 @@ def actuator_time_constant(thrusters) -> float:
 def design_gains(plant: PlantModel, layout: ThrusterLayout, actuator_tau_s: float = 0.2,
                  tuning: tuple[AxisTuning, AxisTuning, AxisTuning] | None = None) -> np.ndarray:  # fmt: skip
     """(3, N_AXIS) parameter table of the velocity controller (see the module docstring for the design)."""
-    tuning = tuning or (AxisTuning(),) * 3
+    tuning = tuning or (AxisTuning(), AxisTuning(), AxisTuning())
     cap = layout.capacity()
     active = np.array([cap[0] > 0, layout.is_fully_actuated(), cap[2] > 0], dtype=float)
     p = np.zeros((3, N_AXIS))

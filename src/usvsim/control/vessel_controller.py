@@ -70,8 +70,8 @@ class VesselController:
     # -- pure: state in, allocation out -------------------------------------------------------
     def compute_force(self, state: VesselState, tau, dt: float) -> Allocation:
         """Allocate a force τ (X [N], Y [N], N [N m]) about the CoM (the `cmd_force` path)."""
-        self.last = self.allocator.allocate(tau, state.thruster_angle_rad, state.thruster_thrust_n, dt)
-        return self.last
+        self.last = last = self.allocator.allocate(tau, state.thruster_angle_rad, state.thruster_thrust_n, dt)
+        return last
 
     def compute(self, state: VesselState, nu_cmd_base, dt: float) -> Allocation:
         """Track a velocity command (u [m/s], v [m/s], r [rad/s]) for base_link (the `cmd_vel` path)."""

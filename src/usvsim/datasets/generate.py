@@ -19,6 +19,7 @@ from concurrent.futures import ThreadPoolExecutor
 from dataclasses import asdict, dataclass
 from functools import partial
 from pathlib import Path
+from typing import TYPE_CHECKING, Any
 
 import mujoco
 import numpy as np
@@ -38,6 +39,9 @@ from usvsim.sensors.camera.clip import camera_planes
 from usvsim.sensors.camera.sensor import Camera
 from usvsim.sensors.objects import catalogue
 from usvsim.simulation import Simulation
+
+if TYPE_CHECKING:
+    from usvsim.config.sensors import Camera as CameraConfig
 
 
 @dataclass(frozen=True)
@@ -104,7 +108,7 @@ def draw_scene(scene: dict, buoys: list[str], rng: np.random.Generator) -> dict:
     def one(key):
         return draw(scene[key], rng) if key in scene else 0.0
 
-    out = {"buoy_offset_m": {b: [one("buoy_offset_m"), one("buoy_offset_m")] for b in buoys}}
+    out: dict[str, Any] = {"buoy_offset_m": {b: [one("buoy_offset_m"), one("buoy_offset_m")] for b in buoys}}
     out["vessel_offset_m"] = [one("vessel_offset_m"), one("vessel_offset_m")]
     for key in ("vessel_yaw_deg", "camera_height_m", "camera_pitch_deg"):
         out[key] = one(key)
@@ -123,7 +127,7 @@ def apply_scene(sim: Simulation, values: dict, vessel: str) -> None:
 
 def jittered_pose(cam: Camera, sim: Simulation, values: dict):
     """Camera position (ENU, m) and optical → world rotation with the height and pitch jitter."""
-    pos, rot = cam.pose_world(sim)
+    pos, rot = cam.pose_world(sim.world)
     pitch = math.radians(values["camera_pitch_deg"])
     c, s = math.cos(pitch), math.sin(pitch)
     pos = pos + sim.state.rot[cam.body][:, 2] * values["camera_height_m"]
@@ -227,7 +231,7 @@ class DatasetGenerator:
         `look`, and its object labels (amodal masks rendered for the visible fractions)."""
         (_, cam), lab, sim = self.cameras[k], self.labellers[k], self.sim
         self.looks[k].before(look)
-        images = cam.render(sim, pose=(pos, rot), streams=("rgb", "depth", "segmentation"))
+        images = cam.render(sim.world, pose=(pos, rot), streams=("rgb", "depth", "segmentation"))
         labels = lab.objects_in(sim, images["segmentation"], pos, rot @ OPTICAL_ROT, self.spec.min_visible_pixels,
                                 self.spec.min_visible_fraction,
                                 partial(self.amodals[k].counts, cam, sim, (pos, rot)) if self.spec.amodal_masks else None)  # fmt: skip
@@ -243,12 +247,12 @@ class DatasetGenerator:
         return records
 
 
-def _camera_config(cfg: dict):
+def _camera_config(cfg: dict) -> CameraConfig:
     from pydantic import TypeAdapter
 
-    from usvsim.config.sensors import Sensor
+    from usvsim.config.sensors import Camera as CameraConfig
 
-    return TypeAdapter(Sensor).validate_python(cfg)
+    return TypeAdapter(CameraConfig).validate_python(cfg)
 
 
 def frame_metadata(sim, i, camera, split, look, scene, environment, pos, rot) -> dict:

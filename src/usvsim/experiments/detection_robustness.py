@@ -118,7 +118,9 @@ def _plot(matrices: dict, classes: list[str], path: Path) -> None:
         im = ax.imshow(mat, vmin=0, vmax=1, cmap="Blues")
         ax.set_xticks(range(len(classes)), classes, rotation=60, ha="right", fontsize=7)
         ax.set_yticks(range(len(classes)), classes, fontsize=7)
-        ax.set_xlabel("predicted"), ax.set_ylabel("true"), ax.set_title(f"{name}: normalized confusion")
+        ax.set_xlabel("predicted")
+        ax.set_ylabel("true")
+        ax.set_title(f"{name}: normalized confusion")
         fig.colorbar(im, ax=ax, fraction=0.046)
     fig.tight_layout()
     fig.savefig(path, dpi=110)
@@ -138,8 +140,10 @@ def coco_map50(root: Path, predictions: dict) -> dict:
             for name, preds in predictions.items() for cls, score, x0, y0, x1, y1 in preds]  # fmt: skip
     if not dets:
         return {"map50": 0.0, "per_class": {}}
-    ev = COCOeval(gt, gt.loadRes(dets), "bbox")
-    ev.evaluate(), ev.accumulate()
+    # typeshed's pycocotools stub types `resFile` as a path; COCO.loadRes also takes the result list itself
+    ev = COCOeval(gt, gt.loadRes(dets), "bbox")  # pyright: ignore[reportArgumentType]
+    ev.evaluate()
+    ev.accumulate()
     precision = ev.eval["precision"][0, :, :, 0, -1]  # IoU 0.5, recall points, classes, all areas, 100 dets
     per_class = {}
     for k, cat in enumerate(ev.params.catIds):

@@ -16,6 +16,7 @@ from __future__ import annotations
 import json
 import math
 import pathlib
+from typing import Any
 
 import numpy as np
 from scipy.signal import welch
@@ -228,7 +229,7 @@ def run(out_dir: pathlib.Path) -> dict:
         "fft_point_records": fft_point_records(),
     }
     _plot(out_dir / "waves.png", record, spread)
-    clean = {k: {kk: vv for kk, vv in v.items() if not kk.startswith("_")} for k, v in results.items()}
+    clean: dict[str, Any] = {k: {kk: vv for kk, vv in v.items() if not kk.startswith("_")} for k, v in results.items()}
     clean["passed"] = all(v["pass"] for v in clean.values())
     clean["summary"] = _summary(clean)
     (out_dir / "waves.json").write_text(json.dumps(clean, indent=2, default=float))

@@ -13,7 +13,7 @@ from pathlib import Path
 
 
 def main(job_path: str) -> None:
-    from ultralytics import YOLO
+    from ultralytics import YOLO  # pyright: ignore[reportMissingImports] (in USVSIM_YOLO_PYTHON's venv only)
 
     job = json.loads(Path(job_path).read_text())
     out = Path(job["out"])

@@ -108,13 +108,15 @@ def convex_footprints(polygon) -> list:
     while merged and len(pieces) > 1:
         merged = False
         tree = shapely.STRtree(pieces)
-        for i, p in enumerate(pieces):
+        work: list[shapely.Polygon | None] = list(pieces)  # merged pieces become None
+        for i, p in enumerate(work):
             for j in tree.query(p, predicate="touches"):
-                if j == i or pieces[j] is None or p is None:
+                other = work[j]
+                if j == i or other is None or p is None:
                     continue
-                union = shapely.union(p, pieces[j])
+                union = shapely.union(p, other)
                 if union.geom_type == "Polygon" and abs(union.convex_hull.area - union.area) < 1e-9 * max(union.area, 1):
-                    pieces[i], pieces[j], p = union, None, union
+                    work[i], work[j], p = union, None, union
                     merged = True
-        pieces = [p for p in pieces if p is not None]
+        pieces = [p for p in work if p is not None]
     return [shapely.normalize(shapely.simplify(p, 0.0)) for p in pieces]

@@ -10,8 +10,10 @@ error is far below a millimetre over a 10 km scene).
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 from numba import njit
@@ -26,7 +28,7 @@ class Raster:
     """One band (float64, NaN for no data) and the map ENU (x, y) → fractional pixel (col, row)."""
 
     values: np.ndarray
-    enu_to_pixel: object  # (x, y) arrays → (col, row) arrays, pixel centres at integers
+    enu_to_pixel: Callable[[np.ndarray, np.ndarray], tuple[Any, Any]]  # (x, y) → (col, row), pixel centres at integers
     source: str
 
     def sample(self, x_m, y_m) -> np.ndarray:

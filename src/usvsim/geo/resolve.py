@@ -6,12 +6,17 @@ simulation sees has plain ENU positions, and the marks of the geo section are or
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING, Any
+
 from usvsim.config.loader import base_dir, source_of
 from usvsim.config.objects import COLORS, Buoy
 from usvsim.config.scenario import Scenario
 from usvsim.core.errors import ScenarioError
 from usvsim.geo.frame import GeoFrame
 from usvsim.geo.vector import read_features
+
+if TYPE_CHECKING:
+    from usvsim.geo.scene import GeoScene
 
 
 def frame_of(scenario: Scenario) -> GeoFrame:
@@ -30,6 +35,7 @@ def resolve_geo(scenario: Scenario) -> Scenario:
                     for i, v in enumerate(scenario.vessels))  # fmt: skip
     objects = tuple(_place(o, frame, f"{source}: objects[{i}]") for i, o in enumerate(scenario.objects))
     for k, spec in enumerate(marks):
+        assert scenario.geo is not None  # marks come from it
         extent = scenario.geo.extent_m
         feats = read_features(base_dir(scenario) / spec.file, spec.layer, spec.crs, frame, extent, ("Point",))
         for i, (point, props) in enumerate(zip(feats.geometries, feats.properties)):
@@ -56,7 +62,7 @@ def _placed(section) -> bool:
 def _place(section, frame: GeoFrame, where: str):
     if not _placed(section):
         return section
-    update = {"heading_deg": None, "latlon": None}
+    update: dict[str, Any] = {"heading_deg": None, "latlon": None}
     if section.latlon is not None:
         if tuple(section.position[:2]) != (0.0, 0.0):
             raise ScenarioError(where, "latlon", "give either latlon or the position's x, y, not both")
@@ -70,7 +76,7 @@ def _place(section, frame: GeoFrame, where: str):
     return section.model_copy(update=update)
 
 
-def load_place(scenario: Scenario):
+def load_place(scenario: Scenario) -> GeoScene | None:
     """The GeoScene of the scenario's `geo:` section (None without one)."""
     if scenario.geo is None:
         return None

@@ -72,6 +72,7 @@ class GeoScene:
         geo = self.settings
         depth = np.full(x.shape, geo.default_depth_m if geo else 20.0)
         if self.bathymetry is not None:
+            assert geo is not None and geo.bathymetry is not None  # the raster came from these settings
             raw = self.bathymetry.sample(x, y)
             raw = -raw if geo.bathymetry.values == "elevation" else raw
             depth = np.where(np.isnan(raw), depth, np.maximum(raw, geo.min_depth_m))
@@ -107,7 +108,9 @@ def _build(geo: Geo, frame: GeoFrame, base_dir: Path) -> GeoScene:
 
 
 def _bathymetry(geo: Geo, frame: GeoFrame, base_dir: Path):
-    b, path = geo.bathymetry, base_dir / geo.bathymetry.file
+    b = geo.bathymetry
+    assert b is not None, "called for a Geo with bathymetry"
+    path = base_dir / b.file
     if is_raster(path):
         return read_raster(path, b.band, b.crs, frame, geo.extent_m)
     return read_soundings(path, b.layer, b.crs, frame, geo.extent_m, b.value_property)
@@ -115,6 +118,7 @@ def _bathymetry(geo: Geo, frame: GeoFrame, base_dir: Path):
 
 def _land(geo: Geo, frame: GeoFrame, base_dir: Path, xs, ys, seabed, bottom):
     spec = geo.land
+    assert spec is not None, "called for a Geo with land"
     polygons = read_features(base_dir / spec.file, spec.layer, spec.crs, frame, geo.extent_m, ("Polygon",)).geometries
     heights = None
     if spec.dem is not None:
@@ -123,8 +127,10 @@ def _land(geo: Geo, frame: GeoFrame, base_dir: Path, xs, ys, seabed, bottom):
         def land_height(values):
             return np.nan_to_num(np.maximum(values, 0.1), nan=spec.height_m)
 
-        def heights(x, y):
+        def dem_heights(x, y):
             return land_height(dem.sample(x, y))
+
+        heights = dem_heights
 
         land_z = land_height(dem.sample_grid(xs, ys))
     else:

@@ -6,6 +6,7 @@ scene's default depth applies there). Contour lines contribute their vertices.
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -28,7 +29,7 @@ class Soundings:
 
     points: np.ndarray  # (n, 2) ENU m
     values: np.ndarray  # (n,)
-    interpolant: object
+    interpolant: Callable[[np.ndarray, np.ndarray], np.ndarray]  # (x, y) ENU m → value
 
     def sample(self, x_m, y_m) -> np.ndarray:
         x = np.atleast_1d(np.asarray(x_m, float))
@@ -49,7 +50,7 @@ def read_soundings(path: Path, layer: str | None, crs: str | None, frame: GeoFra
     xy, values = [], []
     for geom, props in zip(feats.geometries, feats.properties):
         try:
-            value = float(props.get(value_property))
+            value = float(props.get(value_property))  # pyright: ignore[reportArgumentType] (None → TypeError below)
         except (TypeError, ValueError):
             raise GeoError(f"{path}: a feature has no number in property '{value_property}'") from None
         coords = shapely.get_coordinates(geom)

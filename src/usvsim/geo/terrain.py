@@ -74,4 +74,5 @@ def land_mask(polygons: list, xs: np.ndarray, ys: np.ndarray) -> np.ndarray:
     transform = Affine(dx, 0.0, xs[0] - dx / 2, 0.0, dy, ys[0] - dy / 2)  # pixel (c, r) centred on vertex
     mask = features.rasterize(((p, 1) for p in polygons), out_shape=(len(ys), len(xs)), transform=transform,
                               fill=0, dtype="uint8")  # fmt: skip
+    assert mask is not None  # rasterio's stub: None only when writing into a given `out`
     return mask.astype(bool)

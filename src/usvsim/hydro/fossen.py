@@ -217,9 +217,10 @@ class FossenForces:
         self.ref = np.array([com[i] * 0 if p.reference_point is None else np.asarray(p.reference_point) - com[i]
                              for i, p in enumerate(flu)]).reshape(nb, 3)  # fmt: skip
         self.filter_s = float(filter_s)
-        self.at_com = None
+        self.at_com: tuple[np.ndarray, np.ndarray] | None = None
         if at_com is not None:
-            self.at_com = tuple(np.ascontiguousarray(np.asarray(m, dtype=float).reshape(nb, 6, 6)) for m in at_com)
+            ma, mc = (np.ascontiguousarray(np.asarray(m, dtype=float).reshape(nb, 6, 6)) for m in at_com)
+            self.at_com = (ma, mc)
             self.Ma = np.zeros((nb, 6, 6))
         self._nu_ref, self._nu_prev = np.zeros((nb, 6)), np.zeros((nb, 6))
         self._nu_dot, self._tmp, self._out = np.zeros((nb, 6)), np.zeros(6), np.zeros((nb, 6))

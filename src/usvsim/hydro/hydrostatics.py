@@ -279,9 +279,9 @@ class HullSet:
         self.face_area = 0.5 * np.linalg.norm(np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0]), axis=1)
         nb, nf = self.n_bodies, len(self.faces)
         self._world = np.zeros_like(self.vertices_body)
-        body_shapes = ((nb, 3), (nb, 3), nb, (nb, 3), nb, nb)  # force, torque, volume, cob, areas
-        face_buffers = (np.zeros(nf), np.zeros((nf, 2, 3)), np.zeros(nf, dtype=np.int8))
-        self._out = (*(np.zeros(shape) for shape in body_shapes), *face_buffers)
+        # force, torque, volume, cob, areas (two), then the per-face buffers
+        self._out = (np.zeros((nb, 3)), np.zeros((nb, 3)), np.zeros(nb), np.zeros((nb, 3)), np.zeros(nb), np.zeros(nb),
+                     np.zeros(nf), np.zeros((nf, 2, 3)), np.zeros(nf, dtype=np.int8))  # fmt: skip
         self._result = HydrostaticsResult(*self._out)
         self._flat = None  # FlatClusters (hydro/flat.py), made by `use_flat`
 

@@ -160,7 +160,7 @@ class MarineModels:
         self.displaced_volume_m3 = hydrostatics.volume.copy()
         if self._voxels is not None:
             self._add_voxels(state, ocean, t)
-        if kerner is not None:
+        if kerner is not None and self._kerner is not None:
             self.world_force += kerner.force
             self.world_torque += kerner.torque
             self._kerner.set_waterline(hydrostatics, state.rot)  # Reynolds length for the next step
@@ -173,10 +173,11 @@ class MarineModels:
         return hydrostatics
 
     def _add_voxels(self, state, ocean, t: float) -> None:
-        idx = self._voxel_index
-        centers = self._voxels.world_centers(state.pos[idx], state.rot[idx])
+        idx, voxels = self._voxel_index, self._voxels
+        assert voxels is not None and self.displaced_volume_m3 is not None, "called after the hydrostatics"
+        centers = voxels.world_centers(state.pos[idx], state.rot[idx])
         eta = ocean.elevation(centers[:, 0], centers[:, 1], t)
-        res = self._voxels.compute(centers, eta, np.ascontiguousarray(state.com_world[idx]), self.rho, self.g)
+        res = voxels.compute(centers, eta, np.ascontiguousarray(state.com_world[idx]), self.rho, self.g)
         self.world_force[idx] = res.force
         self.world_torque[idx] = res.torque
         self.displaced_volume_m3[idx] = res.volume

@@ -15,7 +15,7 @@ from mcap.records import Channel, Footer, Message, Schema
 from mcap.stream_reader import StreamReader
 
 from usvsim.core.errors import UsvsimError
-from usvsim.io.mcap_recorder import McapRecorder
+from usvsim.io.mcap_recorder import McapRecorder, _Topic
 
 
 @dataclass(frozen=True)
@@ -31,7 +31,7 @@ def recover(source: Path, target: Path) -> Recovered:
     if source.resolve() == target.resolve():
         raise UsvsimError(f"recover writes a new file; choose an output other than {source}")
     schemas: dict[int, Schema] = {}
-    topics: dict[int, object] = {}
+    topics: dict[int, _Topic] = {}
     complete = False
     with source.open("rb") as f, McapRecorder(target) as out:
         try:
@@ -48,7 +48,7 @@ def recover(source: Path, target: Path) -> Recovered:
         return Recovered(target, out.message_count, out._end_ns, complete)
 
 
-def _register(out: McapRecorder, channel: Channel, schema: Schema):
+def _register(out: McapRecorder, channel: Channel, schema: Schema) -> _Topic:
     meta = channel.metadata
     return out._register_raw(channel.topic, schema.name, schema.data, meta.get("offered_qos_profiles", ""),
                              meta.get("topic_type_hash", ""))  # fmt: skip

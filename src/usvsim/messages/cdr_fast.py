@@ -47,7 +47,7 @@ class _Writer:
 
     def f32_array(self, data: Any) -> None:
         """sequence<float32>: length, then the values."""
-        view = memoryview(np.ascontiguousarray(data, dtype="<f4")).cast("B")
+        view = np.ascontiguousarray(data, dtype="<f4").data.cast("B")
         self.u32(view.nbytes // 4)
         self.chunks.append(view)
         self.pos += view.nbytes
@@ -63,7 +63,7 @@ class _Writer:
         self.pos += len(raw)
 
     def blob(self, data: Any) -> None:
-        view = memoryview(np.ascontiguousarray(data, dtype=np.uint8)).cast("B")
+        view = np.ascontiguousarray(data, dtype=np.uint8).data.cast("B")
         self.u32(view.nbytes)
         self.chunks.append(view)
         self.pos += view.nbytes

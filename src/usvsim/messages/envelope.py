@@ -54,6 +54,7 @@ class Envelope:
     """
 
     __slots__ = ("_cdr", "msg", "msgtype", "publish_ns", "qos", "stamp_ns", "topic")
+    msgtype: str  # set in __init__: given, or the message's own
 
     def __init__(
         self,
@@ -68,12 +69,13 @@ class Envelope:
     ) -> None:
         if msg is None and cdr is None:
             raise ValueError("an Envelope needs a message or its CDR bytes")
-        if msgtype is None:
-            if msg is None:
-                raise ValueError("msgtype is required when only CDR bytes are given")
-            msgtype = msg.__msgtype__
         self.topic = topic
-        self.msgtype = msgtype
+        if msgtype is not None:
+            self.msgtype = msgtype
+        elif msg is None:
+            raise ValueError("msgtype is required when only CDR bytes are given")
+        else:
+            self.msgtype = msg.__msgtype__
         self.stamp_ns = int(stamp_ns)
         self.publish_ns = self.stamp_ns if publish_ns is None else int(publish_ns)
         self.msg = msg

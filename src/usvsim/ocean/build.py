@@ -62,7 +62,7 @@ def build_waves(env: cfg.Environment, wind: Wind, rng: np.random.Generator) -> W
     return builder(env.sea, env, wind, rng)
 
 
-def _spectral(sea, env, spectrum, tp, direction, rng) -> WaveField:
+def _spectral(sea, env, spectrum: partial, tp, direction, rng) -> WaveField:
     omega_p = 2.0 * math.pi / tp
     r = sea.realization
     if r.method == "direct":
@@ -72,6 +72,9 @@ def _spectral(sea, env, spectrum, tp, direction, rng) -> WaveField:
         )
         return DirectWaveField(comps, depth, env.ramp_time_s)
     sizes = r.tile_sizes_m or cascade_sizes(2.0 * math.pi * spectra.G / omega_p**2, r.bands, r.resolution)
+    # the spectrum is a partial of a module function: its name and keywords say which function it is
+    key = ("directional", spectrum.func.__module__, spectrum.func.__qualname__, tuple(sorted(spectrum.keywords.items())),
+           direction, sea.spreading_s)  # fmt: skip
     return FFTWaveField(
         directional_spectrum(spectrum, direction, sea.spreading_s),
         sizes,
@@ -80,6 +83,7 @@ def _spectral(sea, env, spectrum, tp, direction, rng) -> WaveField:
         sea.choppiness,
         env.ramp_time_s,
         r.gaussian_amplitudes,
+        spectrum_key=key,
     )
 
 
@@ -93,6 +97,7 @@ def _pierson_moskowitz(sea: cfg.PiersonMoskowitzSea, env, wind: Wind, rng):
     direction = sea.direction_rad
     if sea.hs_m is not None:
         hs, tp = sea.hs_m, sea.tp_s
+        assert tp is not None  # validated: hs_m and tp_s come together
     else:
         speed = sea.wind_speed_mps if sea.wind_speed_mps is not None else wind.speed_mps
         if sea.from_wind and sea.direction is None and sea.direction_deg is None:
@@ -130,17 +135,21 @@ def _phillips(sea: cfg.PhillipsSea, env, wind: Wind, rng):
     def spectrum(kx, ky, band):
         return sea.band_dimmers[band] ** 2 * spectra.phillips(kx, ky, speeds[band], direction, chaos[band])
 
-    return FFTWaveField(spectrum, sizes, rng, sea.resolution, sea.choppiness, env.ramp_time_s)
+    key = ("phillips", tuple(sea.band_dimmers), speeds, direction, chaos)
+    return FFTWaveField(spectrum, sizes, rng, sea.resolution, sea.choppiness, env.ramp_time_s, spectrum_key=key)
+
+
+def _wavenumber(c: cfg.WaveComponentConfig, depth: float) -> float:
+    """k (rad/m) of a component given by its wavelength or else (validated: exactly one is set) its period."""
+    if c.wavelength_m:
+        return 2.0 * math.pi / c.wavelength_m
+    assert c.period_s is not None
+    return float(spectra.wavenumber(2 * math.pi / c.period_s, depth))
 
 
 def _components(sea: cfg.ComponentsSea, env, wind, rng):
     depth = env.water_depth_m or math.inf
-    k = [
-        2.0 * math.pi / c.wavelength_m
-        if c.wavelength_m
-        else float(spectra.wavenumber(2 * math.pi / c.period_s, depth))
-        for c in sea.components
-    ]
+    k = [_wavenumber(c, depth) for c in sea.components]
     comps = from_arrays(
         [c.amplitude_m for c in sea.components],
         k,

@@ -9,13 +9,14 @@ Jacobian is nearly singular (Σ Q A k ≥ 1 lets the surface fold) the step fall
 from __future__ import annotations
 
 import math
+from typing import Literal, overload
 
 import numpy as np
 from numba import njit, prange
 
 from usvsim.ocean.components import WaveComponents
 from usvsim.ocean.dispatch import pick, serial_and_parallel
-from usvsim.ocean.field import WaveField, as_points
+from usvsim.ocean.field import Labels, LabelsIterations, WaveField, as_points
 
 
 @njit(cache=True, inline="always")
@@ -176,7 +177,11 @@ class DirectWaveField(WaveField):
         self._args = (c.amplitude, c.kx, c.ky, c.omega, c.phase, qa * c.kx / k, qa * c.ky / k)
         self._flat_labels = not np.any(qa)  # no displacement: labels are the points, no inversion needed
 
-    def surface_labels(self, x, y, t: float, return_iterations: bool = False):
+    @overload
+    def surface_labels(self, x, y, t: float, return_iterations: Literal[False] = False) -> Labels: ...
+    @overload
+    def surface_labels(self, x, y, t: float, return_iterations: Literal[True]) -> LabelsIterations: ...
+    def surface_labels(self, x, y, t: float, return_iterations: bool = False) -> Labels | LabelsIterations:
         """Labels (x0, y0) displaced onto the world points, the height z there and optionally iterations used."""
         px, py = as_points(x, y)
         x0, y0, z = np.empty_like(px), np.empty_like(px), np.empty_like(px)

@@ -11,13 +11,21 @@ Heights at world points invert the displacement by Newton's method on the biline
 (default 1e-9 m horizontal residual), at most `max_iter` (default 20) iterations. Tiles are transformed at
 snapshot times and blended in time (`fft_time`): `time_tolerance` bounds the interpolation error (rms over the
 sea, relative to the sea's rms height, vertical velocity and acceleration); 0 transforms at every queried time.
+
+What does not depend on the random draw (each bin's variance, wave vectors and frequencies, the snapshot intervals,
+which use the bins' expected variance) is kept per process for a `spectrum_key` (`FFTTables`): a second field of the
+same sea, e.g. after `World.reset`, only draws its amplitudes. The tables are the same numbers a first build makes,
+so a field is bit-identical with or without them.
 """
 
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
+from collections import OrderedDict
+from collections.abc import Callable, Hashable
+from dataclasses import dataclass, field
 from functools import partial
+from typing import Literal, overload
 
 import numpy as np
 
@@ -25,7 +33,7 @@ from usvsim.ocean import fft_kernels as kern
 from usvsim.ocean.components import WaveComponents
 from usvsim.ocean.dispatch import pick
 from usvsim.ocean.fft_time import SnapshotRing, snapshot_interval
-from usvsim.ocean.field import WaveField, as_points
+from usvsim.ocean.field import Labels, LabelsIterations, WaveField, as_points
 from usvsim.ocean.spectra import G, cos2s
 
 Spectrum2D = Callable[[np.ndarray, np.ndarray, int], np.ndarray]
@@ -65,6 +73,25 @@ def _bin_variance(spectrum, band, kx, ky, dk, k_lo, k_hi, sub: int = 4) -> np.nd
             k = np.hypot(sx, sy)
             total += np.where((k >= k_lo) & (k < k_hi), spectrum(sx, sy, band), 0.0)
     return total * dk**2 / sub**2
+
+
+@dataclass
+class FFTTables:
+    """The draw-independent tables of one sea (spectrum, tile sizes, resolution), shared read-only by its fields:
+    per band (bands, N, N) the bin variance (m², the expected |c|²/2), ω, unit wave vector and wave vector, and
+    the snapshot intervals per (time tolerance, powers)."""
+
+    var: np.ndarray
+    omega: np.ndarray
+    khx: np.ndarray
+    khy: np.ndarray
+    kx: np.ndarray
+    ky: np.ndarray
+    intervals: dict = field(default_factory=dict)
+
+
+_TABLES: OrderedDict[Hashable, FFTTables] = OrderedDict()
+TABLES_KEPT = 8  # seas whose tables a process keeps (about 3.3 MB each at 3 bands of 256²)
 
 
 def _bilinear_gain(k_times_cell: np.ndarray) -> np.ndarray:
@@ -136,7 +163,10 @@ class FFTWaveField(WaveField):
         tol: float = 1e-9,
         max_iter: int = 20,
         time_tolerance: float = 1e-3,
+        spectrum_key: Hashable | None = None,
     ):
+        """`spectrum_key`: a hashable description of `spectrum` (equal keys: the same function), under which the
+        draw-independent tables are kept for later fields of the same sea (None: computed for this field only)."""
         super().__init__(ramp_time_s)
         import scipy.fft  # here: ~0.4 s to import, and only FFT seas need it (a process start pays it otherwise)
 
@@ -147,13 +177,27 @@ class FFTWaveField(WaveField):
         self.tol, self.max_iter = float(tol), int(max_iter)
         if self.n < 8 or self.n & (self.n - 1):
             raise ValueError(f"resolution must be a power of two >= 8, got {self.n}")
-        limits = self._band_limits()
-        shape = (len(self.sizes), self.n, self.n)
-        self._amp = np.zeros(shape, np.complex128)
-        self._omega, self._khx, self._khy = np.zeros(shape), np.zeros(shape), np.zeros(shape)
-        self._kx, self._ky = np.zeros(shape), np.zeros(shape)
-        for b, size in enumerate(self.sizes):
-            self._init_band(b, size, limits[b], limits[b + 1], spectrum, rng, gaussian_amplitudes)
+        key = None if spectrum_key is None else (spectrum_key, tuple(self.sizes.tolist()), self.n)
+        tables = _TABLES.get(key) if key is not None else None
+        if tables is None:
+            tables = self._tables(spectrum)
+            if key is not None:
+                _TABLES[key] = tables
+                while len(_TABLES) > TABLES_KEPT:
+                    _TABLES.popitem(last=False)
+        elif key is not None:
+            _TABLES.move_to_end(key)
+        self._tables_of = tables
+        self._var, self._omega, self._khx, self._khy = tables.var, tables.omega, tables.khx, tables.khy
+        self._kx, self._ky = tables.kx, tables.ky
+        self._amp = np.zeros(tables.var.shape, np.complex128)
+        for b in range(len(self.sizes)):  # draws in band order: the same stream use as one band at a time
+            var = self._var[b]
+            if gaussian_amplitudes:
+                xi = rng.standard_normal((2, self.n, self.n))
+                self._amp[b] = (xi[0] + 1j * xi[1]) * np.sqrt(var)
+            else:
+                self._amp[b] = np.sqrt(2.0 * var) * np.exp(2j * math.pi * rng.random((self.n, self.n)))
         self.inv_cells = self.n / self.sizes
         self.decay_k = self._decay_wavenumbers()
         self._spec = np.zeros((3, self.n, self.n), np.complex64)  # one band's spectra (scratch)
@@ -171,13 +215,17 @@ class FFTWaveField(WaveField):
 
     def _ring(self, tolerance: float, powers, slots: int, compute) -> SnapshotRing:
         """Snapshots whose interval per band bounds the error of ω^p η for every p in `powers` (η, w: 0, 1;
-        velocity 1; acceleration 2) to `tolerance` of that field's rms over the sea."""
-        var = 0.5 * np.abs(self._amp) ** 2
-        rms = [math.sqrt(float(np.sum(var * self._omega ** (2 * p)))) for p in range(3)]
-        active = max(int(np.count_nonzero(var.sum(axis=(1, 2)))), 1)
-        tol = float(tolerance) / math.sqrt(active)  # the bands' errors add in variance
-        dt = [snapshot_interval(var[b], self._omega[b], tol, rms, powers) for b in range(len(self.sizes))]
-        return SnapshotRing(dt, slots, self.n, compute)
+        velocity 1; acceleration 2) to `tolerance` of that field's rms over the sea, for the bins' expected
+        variance (the spectrum's: the same for every draw of the sea)."""
+        cached = self._tables_of.intervals
+        key = (float(tolerance), tuple(powers))
+        if key not in cached:
+            var = self._var
+            rms = [math.sqrt(float(np.sum(var * self._omega ** (2 * p)))) for p in range(3)]
+            active = max(int(np.count_nonzero(var.sum(axis=(1, 2)))), 1)
+            tol = float(tolerance) / math.sqrt(active)  # the bands' errors add in variance
+            cached[key] = [snapshot_interval(var[b], self._omega[b], tol, rms, powers) for b in range(len(self.sizes))]
+        return SnapshotRing(cached[key], slots, self.n, compute)
 
     @property
     def snapshot_intervals_s(self) -> dict[str, list[float]]:
@@ -205,25 +253,27 @@ class FFTWaveField(WaveField):
             limits.append(cut)
         return limits + [math.inf]
 
-    def _init_band(self, b, size, k_lo, k_hi, spectrum, rng, gaussian):
-        k1 = 2.0 * math.pi * np.fft.fftfreq(self.n, d=size / self.n)
-        kx, ky = np.meshgrid(k1, k1)
-        k = np.hypot(kx, ky)
-        nyquist = (np.abs(kx) >= math.pi * self.n / size - 1e-9) | (
-            np.abs(ky) >= math.pi * self.n / size - 1e-9
-        )
-        owned = (k > 0) & ~nyquist
-        var = np.where(owned, _bin_variance(spectrum, b, kx, ky, 2.0 * math.pi / size, k_lo, k_hi), 0.0)
-        var /= _bilinear_gain(kx * size / self.n) * _bilinear_gain(ky * size / self.n)
-        if gaussian:
-            xi = rng.standard_normal((2, self.n, self.n))
-            self._amp[b] = (xi[0] + 1j * xi[1]) * np.sqrt(var)
-        else:
-            self._amp[b] = np.sqrt(2.0 * var) * np.exp(2j * math.pi * rng.random((self.n, self.n)))
-        safe = np.where(k > 0, k, 1.0)
-        self._omega[b] = np.sqrt(G * k)
-        self._khx[b], self._khy[b] = kx / safe, ky / safe
-        self._kx[b], self._ky[b] = kx, ky
+    def _tables(self, spectrum: Spectrum2D) -> FFTTables:
+        limits = self._band_limits()
+        shape = (len(self.sizes), self.n, self.n)
+        t = FFTTables(np.zeros(shape), np.zeros(shape), np.zeros(shape), np.zeros(shape), np.zeros(shape),
+                      np.zeros(shape))  # fmt: skip
+        for b, size in enumerate(self.sizes):
+            k1 = 2.0 * math.pi * np.fft.fftfreq(self.n, d=size / self.n)
+            kx, ky = np.meshgrid(k1, k1)
+            k = np.hypot(kx, ky)
+            nyquist = (np.abs(kx) >= math.pi * self.n / size - 1e-9) | (
+                np.abs(ky) >= math.pi * self.n / size - 1e-9
+            )
+            owned = (k > 0) & ~nyquist
+            var = np.where(owned, _bin_variance(spectrum, b, kx, ky, 2.0 * math.pi / size, limits[b], limits[b + 1]),
+                           0.0)  # fmt: skip
+            var /= _bilinear_gain(kx * size / self.n) * _bilinear_gain(ky * size / self.n)
+            safe = np.where(k > 0, k, 1.0)
+            t.var[b], t.omega[b] = var, np.sqrt(G * k)
+            t.khx[b], t.khy[b] = kx / safe, ky / safe
+            t.kx[b], t.ky[b] = kx, ky
+        return t
 
     def _decay_wavenumbers(self) -> np.ndarray:
         """Per band, the mean k weighted by velocity variance |c|² ω²: the band's depth attenuation rate."""
@@ -290,7 +340,11 @@ class FFTWaveField(WaveField):
         d = g[:, 1] if g.shape[1] > 1 else np.zeros_like(g[:, 0])
         return np.stack([g[:, 0].real, d.real, d.imag, g[:, 0].imag], axis=1)
 
-    def surface_labels(self, x, y, t: float, return_iterations: bool = False):
+    @overload
+    def surface_labels(self, x, y, t: float, return_iterations: Literal[False] = False) -> Labels: ...
+    @overload
+    def surface_labels(self, x, y, t: float, return_iterations: Literal[True]) -> LabelsIterations: ...
+    def surface_labels(self, x, y, t: float, return_iterations: bool = False) -> Labels | LabelsIterations:
         px, py = as_points(x, y)
         wts = self.update(t)
         x0, y0, z = np.empty_like(px), np.empty_like(px), np.empty_like(px)

@@ -95,7 +95,7 @@ class SnapshotRing:
         self.weights = np.zeros((bands, 4))
         self._held = np.full((bands, 4), np.nan)  # the snapshot time each ring entry holds
         self._compute = compute  # compute(band, t, out (slots, n, n)) writes the band's tiles at time t
-        self._base = [None] * bands  # the interval index m each band's ring was last filled for
+        self._base: list[int | None] = [None] * bands  # the interval index m each band's ring was last filled for
         self._key = None
         self.transforms = 0  # snapshots computed so far (for tests and benchmarks)
 

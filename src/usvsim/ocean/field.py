@@ -11,6 +11,11 @@ import math
 
 import numpy as np
 
+Labels = tuple[np.ndarray, np.ndarray, np.ndarray]
+"""(x0, y0, z) of `WaveField.surface_labels`."""
+LabelsIterations = tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]
+"""(x0, y0, z, iterations used per point) of `surface_labels(..., return_iterations=True)`."""
+
 
 def as_points(*arrays) -> tuple[np.ndarray, ...]:
     """Flatten coordinate arrays to contiguous float64 1-D arrays of equal length (arrays that already are
@@ -37,7 +42,7 @@ class WaveField:
             return 1.0
         return 0.0 if t <= 0 else 1.0 - math.exp(-t / self.ramp_time_s)
 
-    def surface_labels(self, x, y, t: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    def surface_labels(self, x, y, t: float) -> Labels:
         """(x0, y0, z): the labels whose displaced position is the world point (x, y), and the height there."""
         raise NotImplementedError
 
@@ -59,4 +64,16 @@ class WaveField:
         return self.displaced_surface(gx.ravel(), gy.ravel(), t).reshape(n, n, 3)
 
     def displaced_surface(self, x0, y0, t: float) -> np.ndarray:
+        raise NotImplementedError
+
+    def normal(self, x, y, t: float) -> np.ndarray:
+        """Unit surface normal (n, 3), ENU, at world points (x, y)."""
+        raise NotImplementedError
+
+    def kinematics(self, x, y, z, t: float) -> tuple[np.ndarray, np.ndarray]:
+        """Orbital velocity and acceleration (n, 3), ENU, at world points (x, y, z) (z relative to still water)."""
+        raise NotImplementedError
+
+    def velocity(self, x, y, z, t: float) -> np.ndarray:
+        """Orbital velocity (n, 3), ENU, at world points (x, y, z) (z relative to still water)."""
         raise NotImplementedError

@@ -82,7 +82,8 @@ class WaterPatch:
         if self.mode == "direct":
             return self.surface.elevation(px, py, self.t)
         out = np.empty_like(px)
-        outside = interpolate_patch(px, py, *self.origin, *self.cell, self.heights, out)
+        (ox, oy), (cx, cy) = self.origin, self.cell
+        outside = interpolate_patch(px, py, ox, oy, cx, cy, self.heights, out)
         if outside:
             raise ValueError(
                 f"{outside} point(s) lie outside the water patch [{self.origin[0]:.2f}, {self.origin[1]:.2f}] + "

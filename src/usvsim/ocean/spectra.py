@@ -110,7 +110,7 @@ def phillips(
     return np.where((k > 0) & (length > 0), s, 0.0)
 
 
-def wavenumber(omega: np.ndarray, depth: float = math.inf) -> np.ndarray:
+def wavenumber(omega: float | np.ndarray, depth: float = math.inf) -> np.ndarray:
     """Wavenumber k (rad/m) from ω² = g k tanh(k h) by Newton's method (deep water: k = ω²/g)."""
     w = np.asarray(omega, dtype=float)
     k = w**2 / G

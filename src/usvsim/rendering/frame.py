@@ -107,4 +107,4 @@ def water_label(model: mujoco.MjModel) -> int:
 
 def id_color(index: int) -> tuple[float, float, float]:
     """MuJoCo's segmentation colour of scene index `index` - 1 (24-bit little-endian in R, G, B)."""
-    return tuple(((index >> shift) & 255) / 255.0 for shift in (0, 8, 16))
+    return (index & 255) / 255.0, ((index >> 8) & 255) / 255.0, ((index >> 16) & 255) / 255.0

@@ -55,7 +55,11 @@ def render_look(name: str, out_dir: Path, width: int = 960, height: int = 540, s
     try:
         sim.run(settle_s)
         if view == "camera":
-            return save_png(sim.sensors["wamv/camera"].render(sim)["rgb"], Path(out_dir) / f"{name}.png")
+            from usvsim.sensors.camera.sensor import Camera
+
+            camera = sim.sensors["wamv/camera"]
+            assert isinstance(camera, Camera)
+            return save_png(camera.render(sim.world)["rgb"], Path(out_dir) / f"{name}.png")
         viewer = OffscreenViewer(sim, width, height)
         viewer.view.show_hud = False
         try:

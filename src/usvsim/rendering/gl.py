@@ -39,4 +39,6 @@ def attach_current():
     except ModuleNotFoundError as exc:
         raise UsvsimError("the shader renderer needs moderngl (pip install moderngl) "
                           "(or set rendering.renderer: mujoco)") from exc  # fmt: skip
-    return moderngl.create_context(context=_Loader(), require=330)
+    # moderngl's stub types `context` as a dict; its loader protocol (load_opengl_function, release) is what
+    # create_context uses with an object (moderngl's "external context" documentation)
+    return moderngl.create_context(context=_Loader(), require=330)  # pyright: ignore[reportArgumentType]

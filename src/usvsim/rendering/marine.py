@@ -12,6 +12,7 @@ the same displaced grid in one flat id colour.
 from __future__ import annotations
 
 import ctypes
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -21,6 +22,9 @@ from usvsim.rendering.grid import CELL_PX, FAR_M, screen_grid
 from usvsim.rendering.mips import mip_levels
 from usvsim.rendering.sky import Daylight, hazy_sky_table
 from usvsim.rendering.surface import SurfaceData
+
+if TYPE_CHECKING:
+    import moderngl
 
 GL_DEPTH_CLAMP, GL_GEQUAL = 0x864F, 0x0206
 TEXTURE_UNITS = {"u_geo": 5, "u_slope": 6, "u_depth": 7, "u_sky": 8, "u_noise": 9, "u_wake": 10}  # above MuJoCo's
@@ -64,7 +68,9 @@ class MarinePass:
         self._grid_rows: dict[tuple[int, int], np.ndarray] = {}  # viewport size → NDC of each row's end vertices
         self._columns: dict[tuple[int, int], int] = {}  # viewport size → vertices per grid row
         self._rows = (0, 0)  # the grid's vertex rows displaced and drawn this frame (first, count)
-        self._geo = self._slope = self._depth = self._periodic = None
+        self._geo: moderngl.TextureArray | None = None
+        self._slope: moderngl.TextureArray | None = None
+        self._depth = self._periodic = None
         self._sky = ctx.texture((SKY_TEXELS, SKY_TEXELS), 3, dtype="f4")
         self._sky.repeat_x = self._sky.repeat_y = False
         noise = np.random.default_rng(17).random((64, 64), dtype=np.float32)  # fixed: same bytes every run
@@ -128,6 +134,7 @@ class MarinePass:
                 tex.repeat_x = tex.repeat_y = periodic
                 tex.filter = (0x2701, 0x2601)  # LINEAR_MIPMAP_NEAREST, LINEAR: half the fetches of trilinear
                 tex.build_mipmaps()  # allocates the levels (and sets the level range) once; filled below
+        assert self._geo is not None and self._slope is not None
         for tex, layers in ((self._geo, data.geo), (self._slope, data.slope)):
             _write_levels(tex, mip_levels(layers))  # the box filter on the CPU: no blit per level and layer
         self._key, self._data = data.key, data
@@ -352,6 +359,7 @@ class MarinePass:
         self.ctx.blend_func = self.ctx.SRC_ALPHA, self.ctx.ONE_MINUS_SRC_ALPHA
 
     def bind_textures(self) -> None:
+        assert self._geo is not None and self._slope is not None, "upload() first"
         self._geo.use(TEXTURE_UNITS["u_geo"])
         self._slope.use(TEXTURE_UNITS["u_slope"])
         self._sky.use(TEXTURE_UNITS["u_sky"])

@@ -17,6 +17,7 @@ from usvsim.sensors.messages import detection3d_msg, detection_array_msg
 from usvsim.sensors.objects import TrackedObject, catalogue
 
 if TYPE_CHECKING:
+    from usvsim.config.sensors import Detections as DetectionsConfig
     from usvsim.config.sensors import ObjectFilter
     from usvsim.world.world import World
 
@@ -47,7 +48,9 @@ def quat_of(rot: np.ndarray) -> np.ndarray:
 class Detections3D(Sensor):
     """Oriented 3D boxes of the selected objects in `world` or in the sensor frame, on `/<vessel>/<name>`."""
 
-    def __init__(self, cfg, vessel: str, sim: World, shared: dict):
+    cfg: DetectionsConfig
+
+    def __init__(self, cfg: DetectionsConfig, vessel: str, sim: World, shared: dict):
         super().__init__(cfg, vessel, sim)
         self.objects = selected(shared_objects(sim, shared), cfg, vessel)
 

@@ -31,6 +31,8 @@ if TYPE_CHECKING:
 
 
 class Imu(Sensor):
+    cfg: ImuConfig
+
     observes_every_step = True
 
     def __init__(self, cfg: ImuConfig, vessel: str, sim: World):

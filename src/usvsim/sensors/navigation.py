@@ -23,6 +23,9 @@ from usvsim.sensors.base import Sensor, gaussian
 from usvsim.sensors.messages import navsat_fix_msg, twist_cov_stamped_msg
 
 if TYPE_CHECKING:
+    from usvsim.config.sensors import Gnss as GnssConfig
+    from usvsim.config.sensors import GroundTruth as GroundTruthConfig
+    from usvsim.config.sensors import Odometry as OdometryConfig
     from usvsim.world.world import World
 
 _FIX_STATUS = {"no_fix": -1, "fix": 0, "sbas_fix": 1, "gbas_fix": 2}
@@ -39,7 +42,9 @@ def _cov6(linear_var: float, angular_var: float) -> np.ndarray:
 
 
 class Odometry(Sensor):
-    def __init__(self, cfg, vessel: str, sim: World):
+    cfg: OdometryConfig
+
+    def __init__(self, cfg: OdometryConfig, vessel: str, sim: World):
         super().__init__(cfg, vessel, sim)
         self.odom_frame, self.child_frame = f"{vessel}/odom", f"{vessel}/base_link"
         self.reset(sim)
@@ -67,7 +72,9 @@ class Odometry(Sensor):
 
 
 class Gnss(Sensor):
-    def __init__(self, cfg, vessel: str, sim: World):
+    cfg: GnssConfig
+
+    def __init__(self, cfg: GnssConfig, vessel: str, sim: World):
         super().__init__(cfg, vessel, sim)
         o = sim.scenario.world.origin
         self.origin = (o.latitude_deg, o.longitude_deg, o.altitude_m)
@@ -80,14 +87,15 @@ class Gnss(Sensor):
 
     def lla(self, pos_enu: np.ndarray) -> tuple[float, float, float]:
         """WGS-84 latitude, longitude (deg) and ellipsoidal altitude (m) of an ENU point."""
-        lat, lon, alt = pymap3d.enu2geodetic(*pos_enu, *self.origin)
+        (e, n, u), (lat0, lon0, alt0) = pos_enu, self.origin
+        lat, lon, alt = pymap3d.enu2geodetic(e, n, u, lat0, lon0, alt0)
         return float(lat), float(lon), float(alt)
 
     def position_error(self) -> np.ndarray:
         """Advance the ENU error (m) one fix: x ← φx + σ√(1-φ²)·n, φ = exp(-T/τ) (exact discretisation of a
         first-order Gauss–Markov process; φ = 0 is white noise). Starts at a draw from the stationary law."""
-        if not self.sigma.any():
-            return self.error
+        if self.error is not None and not self.sigma.any():
+            return self.error  # exact zeros
         kick = self.rng.normal(0.0, 1.0, 3) * self.sigma
         self.error = kick if self.error is None else self.phi * self.error + math.sqrt(1.0 - self.phi**2) * kick
         return self.error
@@ -110,6 +118,8 @@ class Gnss(Sensor):
 
 
 class GroundTruthPose(Sensor):
+    cfg: GroundTruthConfig
+
     def sample(self, sim: World, stamp_ns: int) -> list[Envelope]:
         pos, rot = self.pose_world(sim)
         lin = rot.T @ mount_velocity_world(self, sim)

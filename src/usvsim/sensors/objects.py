@@ -122,7 +122,7 @@ def catalogue(sim: World) -> list[TrackedObject]:
         out.append(_static(sim, obj, static[first : first + count]))
         first += count
     place = getattr(sim, "place", None)
-    for k, (name, label) in enumerate(place.labels() if place is not None else ()):
+    for k, (name, label) in enumerate(place.labels() if place is not None else []):
         center, size = _box_of(m, static[first + k : first + k + 1], np.zeros(3), np.eye(3))
         out.append(TrackedObject(name, "static", label, static[first + k : first + k + 1], -1, np.zeros(3),
                                  np.eye(3), center, size))  # fmt: skip

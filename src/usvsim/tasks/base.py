@@ -9,6 +9,7 @@ level, as in VRX's worlds) and clears the scorer. Frames: world ENU (m), yaw rad
 from __future__ import annotations
 
 import math
+from typing import TYPE_CHECKING, Protocol
 
 import mujoco
 import numpy as np
@@ -17,10 +18,24 @@ from usvsim.config.scenario import Scenario
 from usvsim.tasks import levels
 from usvsim.tasks.timing import CollisionCounter, TaskTiming
 
+if TYPE_CHECKING:
+    from usvsim.world.world import World
+
 VESSEL = "wamv"
 
 
+class Scorer(Protocol):
+    """What every task's scorer offers the task (`collide()` is optional)."""
+
+    @property
+    def score(self) -> float: ...
+
+    def reset(self) -> None: ...
+
+
 class Task:
+    sim: World  # set by `bind` (a Simulation also works: it delegates to its world)
+    scorer: Scorer  # built by `sample`
     name = ""  # usvsim name (registry key); vrx_name is VRX's task_name
     vrx_name = ""
     higher_is_better = False
@@ -33,7 +48,7 @@ class Task:
         self.timing = timing or TaskTiming()
         self.environment = levels.environment(self.difficulty, sea_state)
         self.collisions = CollisionCounter(self.collision_buffer_s)
-        self.sim, self.seed = None, int(seed)
+        self.seed = int(seed)
         self.sample(np.random.default_rng(self.seed))
 
     # -- scene -------------------------------------------------------------------------------

@@ -25,6 +25,7 @@ def _goal_features(x, y, yaw, goal) -> list[float]:
 class StationKeeping(Task):
     """Hold a goal pose (sampled 5–15 m away, any heading); score: mean VRX pose error (m + rad)."""
 
+    scorer: StationKeepingScorer
     name, vrx_name, n_features = "station_keeping", "station_keeping", 4
 
     def sample(self, rng):
@@ -56,6 +57,7 @@ class StationKeeping(Task):
 class Wayfinding(Task):
     """Visit 3 waypoints (each 10–20 m on from the last, any heading); score: mean of per-waypoint minimum errors."""
 
+    scorer: WayfindingScorer
     name, vrx_name, n_features = "wayfinding", "wayfinding", 15
     waypoint_count = 3
 
@@ -114,6 +116,7 @@ class FollowPath(Task):
     """Pass the gates of a buoy channel in order with red to starboard; +10 per gate, +1 consecutive bonus,
     +1 on completion, −3 per collision (10 s collision buffer). Higher is better."""
 
+    scorer: GateCourseScorer
     name, vrx_name, n_features, higher_is_better = "follow_path", "follow_path", 6, True
     collision_buffer_s = 10.0
 
@@ -159,6 +162,7 @@ class Wildlife(Task):
     score: elapsed s minus 30 s per goal met (set when all circles are done). Lower is better.
     The animals move as in VRX's wildlife world (tasks/animals.py): each shuttles between two waypoints."""
 
+    scorer: WildlifeScorer
     name, vrx_name, n_features = "wildlife", "wildlife", 15
     collision_buffer_s = 10.0
     circle_radius_m = 6.0
@@ -245,6 +249,7 @@ class Perception(Task):
     (capped at 2 m when the class is right, 10 m if never matched). Objects stand in the scene all along
     (MuJoCo models are fixed); they count only during their window."""
 
+    scorer: PerceptionScorer
     name, vrx_name = "perception", "perception"
     schedule = PERCEPTION_OBJECTS  # (appearance s, class, (x, y) m, colour); `duration_s` each
     duration_s = 5.0

@@ -52,4 +52,5 @@ def limit_numba_threads(threads: int | None) -> None:
     if threads is not None:
         import numba
 
-        numba.set_num_threads(min(threads, numba.config.NUMBA_NUM_THREADS))
+        # numba fills its config module from the environment at import: no static attribute to see
+        numba.set_num_threads(min(threads, numba.config.NUMBA_NUM_THREADS))  # pyright: ignore

@@ -90,6 +90,7 @@ class AisPublisher:
             f = self.fleet
             return f.pos_enu[t.ship], f.vel_enu[t.ship], float(f.yaw_rad[t.ship])
         v = self.own
+        assert v is not None, "own-ship transmitters exist only with an own ship"
         return v.position[:2], world.origin_velocity(v.index)[:2], float(v.rpy[2])
 
     def due(self, world: World, publish: bool = True) -> list[Envelope]:

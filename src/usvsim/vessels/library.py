@@ -38,6 +38,7 @@ def _custom(cfg: Vessel, key: str, base_dir: Path, source: str) -> BodyModel:
 
     if cfg.mass.mass_kg is None:
         raise ScenarioError(source, f"{key}.mass.mass_kg", "required for a custom vessel")
+    assert cfg.hull_mesh is not None  # validated: model 'custom' needs it
     hull = load_mesh(base_dir / cfg.hull_mesh, cfg.mesh_scale, key=f"{source}: {key}.hull_mesh")
     com, inertia = solid_mass_properties(hull, cfg.mass.mass_kg)
     visual = hull

@@ -28,10 +28,15 @@ class BodyModel:
     wind_load: WindLoad | None = None
 
 
-def composite_inertia(parts: list[tuple[float, tuple[float, float, float], np.ndarray | None]]):
+def composite_inertia(
+    parts: list[tuple[float, tuple[float, float, float], np.ndarray | None]],
+) -> tuple[float, np.ndarray, np.ndarray]:
     """Mass, CoM and inertia about the CoM of rigid parts (mass, position, own inertia about its CoM or None)."""
     mass = sum(m for m, _, _ in parts)
-    com = sum(m * np.asarray(p, dtype=float) for m, p, _ in parts) / mass
+    moment = np.zeros(3)
+    for m, p, _ in parts:
+        moment += m * np.asarray(p, dtype=float)
+    com = moment / mass
     inertia = np.zeros((3, 3))
     for m, p, own in parts:
         r = np.asarray(p, dtype=float) - com

@@ -61,12 +61,12 @@ def drag() -> StateSpaceDrag:
 
 def build() -> BodyModel:
     left, right = pontoon(PONTOON_Y_M), pontoon(-PONTOON_Y_M)
-    deck = {"size": (0.55, 0.4, 0.03), "pos": (-0.1, 0.0, PONTOON_DEPTH_M - 0.03)}
-    collision = (Part("mesh", mesh=left), Part("mesh", mesh=right), Part("box", **deck))
+    deck_size, deck_pos = (0.55, 0.4, 0.03), (-0.1, 0.0, PONTOON_DEPTH_M - 0.03)
+    collision = (Part("mesh", mesh=left), Part("mesh", mesh=right), Part("box", size=deck_size, pos=deck_pos))
     visuals = (
         Part("mesh", mesh=left, rgba=HULL_RGBA),
         Part("mesh", mesh=right, rgba=HULL_RGBA),
-        Part("box", rgba=(0.15, 0.15, 0.15, 1.0), **deck),
+        Part("box", size=deck_size, pos=deck_pos, rgba=(0.15, 0.15, 0.15, 1.0)),
         Part("cylinder", size=(0.02, 0.25), pos=(0.1, 0.0, PONTOON_DEPTH_M + 0.25), rgba=(0.9, 0.9, 0.9, 1.0)),
     )
     return BodyModel(

@@ -40,7 +40,7 @@ def _mass_properties():
     batteries 2x23.5, CPU case 20 kg, at their VRX positions (keel-level origin)."""
     base = np.diag([120.0, 393.0, 446.0])
     engine = np.diag([0.889245, 0.911125, 0.078125])
-    parts = [(180.0, (0.0, 0.0, 0.0), base)]
+    parts: list[tuple[float, tuple[float, float, float], np.ndarray | None]] = [(180.0, (0.0, 0.0, 0.0), base)]
     for s in (1, -1):
         parts += [
             (15.0, (-2.373776, s * 1.027135, 0.318237), engine),

@@ -32,6 +32,7 @@ class Capture:
     def _write_video(self, window) -> None:
         rgb = window.renderer.read_rgb(window.viewport)
         if self._writer is None:
+            assert self.video_path is not None
             self._writer = _open_writer(self.video_path, rgb.shape[1], rgb.shape[0], self.fps)
         self._writer.write(rgb[..., ::-1].copy())  # OpenCV wants BGR
 
@@ -46,7 +47,7 @@ def _open_writer(path: Path, width: int, height: int, fps: float):
         import cv2
     except ImportError:
         raise UsvsimError("--video needs OpenCV: pip install opencv-python-headless") from None
-    fourcc = cv2.VideoWriter_fourcc(*("mp4v" if path.suffix.lower() == ".mp4" else "MJPG"))
+    fourcc = cv2.VideoWriter.fourcc(*("mp4v" if path.suffix.lower() == ".mp4" else "MJPG"))
     writer = cv2.VideoWriter(str(path), fourcc, fps, (width, height))
     if not writer.isOpened():
         raise UsvsimError(f"cannot write the video {path} (use .mp4 or .avi in an existing directory)")

@@ -76,7 +76,7 @@ class FrameRenderer:
                                self.scene)  # fmt: skip
         if points is not None and len(points):
             add_points(self.scene, points, max_points=self.max_points)
-        if marine is not None:
+        if marine is not None and marine.daylight is not None:
             from usvsim.rendering.frame import apply_lights
 
             apply_lights(self.scene, marine.daylight, marine.materials)

@@ -11,6 +11,7 @@ about 0.02 % with the frame at the CoM). `model.body_user[b, :3]` keeps the CoM 
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass, replace
 
 import mujoco
@@ -86,6 +87,7 @@ def _add_geom(spec: mujoco.MjSpec, parent, part: Part, group: int, collide: bool
     geom = parent.add_geom()
     geom.type = _KIND[part.kind]
     if part.kind == "mesh":
+        assert part.mesh is not None, "a mesh part has its mesh"
         mesh = spec.add_mesh(name=tag)
         mesh.uservert = part.mesh.vertices.flatten().tolist()
         mesh.userface = part.mesh.faces.flatten().tolist()
@@ -198,7 +200,7 @@ def geom_owners(model: mujoco.MjModel) -> list[str]:
 
 
 def build_model(floating: list[FloatingBody], static: list[Part], dt: float, gravity: float,
-                visual_only: list[Part] = (), collision_only: list[Part] = (),
+                visual_only: Sequence[Part] = (), collision_only: Sequence[Part] = (),
                 kinematic: tuple[KinematicBody, ...] = ()) -> mujoco.MjModel:  # fmt: skip
     """Compile the world. Body i+1 of the result is floating[i] (body 0 is the world). `static` parts are
     drawn and solid; `visual_only` (after them, in order) and `collision_only` parts one or the other.

@@ -11,6 +11,7 @@ import hashlib
 import math
 import os
 from pathlib import Path
+from typing import Any, cast
 
 import numpy as np
 
@@ -107,7 +108,7 @@ def convex_pieces(mesh: Mesh, key: str = "mesh") -> list[Mesh]:
     pieces = [Mesh(np.asarray(v), np.asarray(f)) for v, f in parts]
     cache.parent.mkdir(parents=True, exist_ok=True)
     arrays = {f"v{i}": p.vertices for i, p in enumerate(pieces)} | {f"f{i}": p.faces for i, p in enumerate(pieces)}
-    np.savez(cache, n=len(pieces), **arrays)
+    np.savez(cache, n=len(pieces), **cast(dict[str, Any], arrays))  # (keys v0.., f0..: no savez option)
     return pieces
 
 

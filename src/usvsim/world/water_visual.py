@@ -175,9 +175,16 @@ def _paint(
     ].ravel()  # texture rows run north → south
 
 
+def _surface_ids(model: mujoco.MjModel) -> WaterSurfaceIds:
+    ids = WaterSurfaceIds.of(model)
+    if ids is None:
+        raise ValueError("the model has no water surface field")
+    return ids
+
+
 def drawn_heights(model: mujoco.MjModel) -> np.ndarray:
     """The surface heights (n, n) [iy, ix] the field currently draws (world z, m)."""
-    ids = WaterSurfaceIds.of(model)
+    ids = _surface_ids(model)
     _, n = grid_axis(model, ids)
     a = model.hfield_adr[ids.hfield]
     normalized = model.hfield_data[a : a + n * n].reshape(n, n).astype(np.float64)
@@ -186,7 +193,7 @@ def drawn_heights(model: mujoco.MjModel) -> np.ndarray:
 
 def grid_points(model: mujoco.MjModel) -> tuple[np.ndarray, np.ndarray]:
     """World x, y (n, n) of the field's vertices at its current position."""
-    ids = WaterSurfaceIds.of(model)
+    ids = _surface_ids(model)
     size_m, n = grid_axis(model, ids)
     axis = np.linspace(-0.5 * size_m, 0.5 * size_m, n)
     gx, gy = np.meshgrid(model.geom_pos[ids.geom, 0] + axis, model.geom_pos[ids.geom, 1] + axis)

@@ -81,7 +81,7 @@ class World:
         geo = geo_parts(self.place) if self.place else GeoParts([], [])
         self.model = build_model(floating, static, self.clock.dt, self.g, geo.visual, geo.collision, kinematic)
         self._geom_owners: list[str] | None = None
-        if self.place:
+        if self.place and self.place.settings is not None:
             set_clip_planes(self.model, self.place.settings.extent_m)
         self.data = mujoco.MjData(self.model)
         self._overlap = Overlap()

@@ -51,7 +51,8 @@ class Intrinsics:
     def from_fov(cls, width: int, height: int, horizontal_fov_deg: float, D=(0.0,) * 5) -> Intrinsics:
         """Square pixels, optical axis at the image centre."""
         f = 0.5 * width / math.tan(math.radians(horizontal_fov_deg) / 2)
-        return cls(width, height, f, f, (width - 1) / 2, (height - 1) / 2, tuple(float(d) for d in D))
+        k1, k2, p1, p2, k3 = (float(d) for d in D)
+        return cls(width, height, f, f, (width - 1) / 2, (height - 1) / 2, (k1, k2, p1, p2, k3))
 
     @property
     def K(self) -> np.ndarray:

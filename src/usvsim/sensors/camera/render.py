@@ -70,6 +70,11 @@ class RenderContext:
         self.water = WaterUpload()
         self.marine = None  # the shader passes (usvsim.rendering), made on first use
 
+    def make_current(self) -> None:
+        if self.gl is None:
+            raise RuntimeError("the render context is closed")
+        self.gl.make_current()
+
     def marine_look(self, sim, center_xy):
         """The shader passes ready for a frame of `sim` at its current look and time (None: MuJoCo's look)."""
         look = getattr(sim, "look", None)
@@ -77,7 +82,7 @@ class RenderContext:
             return None
         from usvsim.rendering.frame import prepare
 
-        self.gl.make_current()
+        self.make_current()
         if self.marine is None:
             from usvsim.rendering.marine import MarinePass
 
@@ -89,13 +94,13 @@ class RenderContext:
         """Grow the offscreen buffer to hold a `width` x `height` image."""
         if width > self.width or height > self.height:
             self.width, self.height = max(width, self.width), max(height, self.height)
-            self.gl.make_current()
+            self.make_current()
             mujoco.mjr_resizeOffscreen(self.width, self.height, self.ctx)
             mujoco.mjr_setBuffer(mujoco.mjtFramebuffer.mjFB_OFFSCREEN, self.ctx)
 
     def refresh_water(self, sim, center_xy) -> None:
         """Draw the ocean's surface at `sim.time` around `center_xy` (world ENU, m); uploads only on change."""
-        self.gl.make_current()
+        self.make_current()
         refresh_water_visual(sim, self.ctx, center_xy, self.water)
 
     def close(self) -> None:
@@ -156,7 +161,7 @@ class PinholeRenderer:
         mujoco.mj_kinematics(self.model, self.data)
         mujoco.mjv_updateScene(self.model, self.data, self.option, self.pert, self.free,
                                mujoco.mjtCatBit.mjCAT_ALL, self.scene)  # fmt: skip
-        if self.marine is not None:
+        if self.marine is not None and self.marine.daylight is not None:
             from usvsim.rendering.frame import apply_lights
 
             apply_lights(self.scene, self.marine.daylight, self.marine.materials)
@@ -172,7 +177,7 @@ class PinholeRenderer:
             gl.orthographic = 0
 
     def _render(self, segment: bool, water_label_pass: bool = True) -> None:
-        self.context.gl.make_current()
+        self.context.make_current()
         for flag, on in self.flags.items():
             self.scene.flags[flag] = on and not segment
         if self._look_shadows and not segment:

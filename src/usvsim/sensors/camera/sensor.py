@@ -30,6 +30,7 @@ from usvsim.sensors.detections import selected, shared_objects
 from usvsim.sensors.messages import camera_info_msg, detection_array_msg
 
 if TYPE_CHECKING:
+    from usvsim.config.sensors import Camera as CameraConfig
     from usvsim.world.world import World
 
 GL_KEY = "camera/gl"  # the suite's one RenderContext in `shared`, closed by SensorSuite.close()
@@ -53,9 +54,11 @@ def lens_effects(rgb: np.ndarray, camera_look, intrinsics: Intrinsics, cache: di
 
 
 class Camera(Sensor):
+    cfg: CameraConfig
+
     optical = True
 
-    def __init__(self, cfg, vessel: str, sim: World, shared: dict):
+    def __init__(self, cfg: CameraConfig, vessel: str, sim: World, shared: dict):
         super().__init__(cfg, vessel, sim)
         d = cfg.distortion
         self.intrinsics = Intrinsics.from_fov(cfg.width, cfg.height, cfg.horizontal_fov_deg, (d.k1, d.k2, d.p1, d.p2, d.k3))
@@ -144,5 +147,6 @@ class Camera(Sensor):
     def _detections(self, sim: World, seg: np.ndarray, stamp_ns: int):
         pos, rot = self.pose_world(sim)
         frame = self.optical_frame_id
+        assert self.boxes is not None, "called only with detections configured"
         boxes = self.boxes.detections(sim, seg, pos, rot @ OPTICAL_ROT, stamp_ns, frame)
         return detection_array_msg(stamp_ns, frame, boxes, 2)

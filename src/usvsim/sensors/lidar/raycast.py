@@ -34,7 +34,7 @@ class _Chunk:
         self.spread_m = kernels.max_offset(origins)  # spheres grow by this to cover rays from every origin
         self.dz_range = (float(dirs[:, 2].min()), float(dirs[:, 2].max()))
 
-    def cast_all(self, scene: BodyScene, pose) -> None:
+    def cast_all(self, scene: BodyScene, pose: tuple[np.ndarray, np.ndarray] | None) -> None:
         """Every ray of the chunk against `scene` (pose (pos, rot) of its body; None: world frame)."""
         o, d = self.origins, self.dirs
         if pose is not None:
@@ -56,7 +56,8 @@ class _Chunk:
             kernels.gather_rows(self.origins, self.dirs, rows[:count], o, d)
             self._run(scene, o, d, rows[:count], False, tfar[:count])
 
-    def cast_spheres(self, scenes: list[BodyScene], poses, to_center, center_dist, radius) -> None:
+    def cast_spheres(self, scenes: list[BodyScene], poses: list[tuple[np.ndarray, np.ndarray]], to_center, center_dist,
+                     radius) -> None:  # fmt: skip
         """Bodies outside the origins' reach (up to 32, nearest first): each gets the rays that meet its bounding
         sphere (centre at to_center from origin0) before a nearer hit, in its body frame."""
         elevation = np.arcsin(to_center[:, 2] / center_dist)
@@ -75,8 +76,10 @@ class _Chunk:
         for bit in np.flatnonzero(counts):
             count = kernels.rows_of_bit(masks, bit, self.dist, rows, tfar)  # current distances: nearer bodies cast
             o, d = np.empty((count, 3), np.float32), np.empty((count, 3), np.float32)
-            kernels.rays_to_body(self.origins, self.dirs, rows[:count], False, *poses[seen[bit]], o, d)
-            self._run(scenes[seen[bit]], o, d, rows[:count], False, tfar[:count])
+            body = int(seen[bit])
+            pos_b, rot_b = poses[body]
+            kernels.rays_to_body(self.origins, self.dirs, rows[:count], False, pos_b, rot_b, o, d)
+            self._run(scenes[body], o, d, rows[:count], False, tfar[:count])
 
     def _rows(self) -> tuple[np.ndarray, np.ndarray]:
         return np.empty(len(self.dirs), np.int64), np.empty(len(self.dirs), np.float32)
@@ -169,6 +172,7 @@ class RayWorld:
         if count == 1:
             work(slices[0])
         else:
+            assert self.pool is not None  # count > 1 only with a pool
             list(self.pool.map(work, slices))
 
     def _cast_chunk(self, chunk: _Chunk, max_range: float, pos, rot, centers, bodies: list[int]) -> None:

@@ -95,7 +95,7 @@ def _body_scene(geoms: list[int], tris: list[np.ndarray], body: int) -> BodyScen
     all_tris = np.concatenate(tris)
     center, radius = bounding_sphere(all_tris.reshape(-1, 3))
     parts = [bounding_sphere(t.reshape(-1, 3)) for t in tris]
-    scene = rtcs.EmbreeScene()
+    scene = rtcs.EmbreeScene()  # pyright: ignore[reportAttributeAccessIssue] (Cython module: pyright reads its .pxd)
     TriangleMesh(scene, np.ascontiguousarray(all_tris, dtype=np.float32))
     prim_geom = np.repeat(np.array(geoms, np.int32), [len(t) for t in tris])
     verts = all_tris.reshape(-1, 3)
@@ -127,9 +127,11 @@ def _kinematic_scenes(model: mujoco.MjModel, world: tuple[list[int], list[np.nda
         found = np.flatnonzero(kin == g)
         if len(found):
             k = geoms.index(g)
-            geoms.pop(k), tris.pop(k)
+            geoms.pop(k)
+            tris.pop(k)
             parts = by_owner.setdefault(int(owner[found[0]]), ([], []))
-            parts[0].append(g), parts[1].append(t)
+            parts[0].append(g)
+            parts[1].append(t)
     out = []
     for gs, ts in by_owner.values():
         anchor = gs[0]

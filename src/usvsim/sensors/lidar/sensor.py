@@ -39,6 +39,7 @@ from usvsim.sensors.navigation import mount_velocity_world
 from usvsim.world.builder import geom_owners
 
 if TYPE_CHECKING:
+    from usvsim.config.sensors import Lidar as LidarConfig
     from usvsim.world.world import World
 
 GROUPS = {"visual": 1, "collision": 3}
@@ -68,7 +69,9 @@ def rotations(rotvecs: np.ndarray) -> np.ndarray:
 
 
 class Lidar(Sensor):
-    def __init__(self, cfg, vessel: str, sim: World, shared: dict):
+    cfg: LidarConfig
+
+    def __init__(self, cfg: LidarConfig, vessel: str, sim: World, shared: dict):
         super().__init__(cfg, vessel, sim)
         self.pattern = p = patterns.resolve(cfg)
         self.azimuths, self.increment = patterns.azimuths(p)

@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import cast
 
 import numpy as np
 from scipy import ndimage
@@ -54,7 +55,8 @@ def plots(power: np.ndarray, pose: np.ndarray, time_s: np.ndarray, cfg) -> list[
     detected[:, : int(cfg.arpa.range_min_m / cfg.range_max_m * bins)] = False
     # pieces of one target (bow, stern, superstructure) closer than a few cells join into one plot
     joined = ndimage.binary_dilation(detected, np.ones((2 * JOIN_CELLS + 1, 2 * JOIN_CELLS + 1), bool))
-    labels, count = ndimage.label(joined, np.ones((3, 3)))
+    # scipy's stub unions the return over `output`; without one it is (labels, count)
+    labels, count = cast(tuple[np.ndarray, int], ndimage.label(joined, np.ones((3, 3))))
     labels[~detected] = 0
     if count == 0:
         return []

@@ -30,6 +30,7 @@ from usvsim.sensors.radar.beam import SpokeRays, elevations, two_way_gain
 from usvsim.sensors.radar.revolution import Revolution
 
 if TYPE_CHECKING:
+    from usvsim.config.sensors import Radar as RadarConfig
     from usvsim.world.world import World
 
 VISUAL_GROUP = 1
@@ -37,7 +38,9 @@ REFERENCE_SOLID_ANGLE = 1e-6  # sr: 1 m² at 1 km
 
 
 class Radar(Sensor):
-    def __init__(self, cfg, vessel: str, world: World, shared: dict):
+    cfg: RadarConfig
+
+    def __init__(self, cfg: RadarConfig, vessel: str, world: World, shared: dict):
         super().__init__(cfg, vessel, world)
         self.n, self.bins = cfg.spokes, cfg.range_bins
         self.spokes_per_ns = cfg.rpm / 60.0 * cfg.spokes / 1e9

@@ -65,7 +65,7 @@ class TaskEnv(gym.Env):
         if observation == ("state",):
             self.observation_space = state
         else:
-            parts = {"state": state} if "state" in observation else {}
+            parts: dict[str, spaces.Space] = {"state": state} if "state" in observation else {}
             self.observation_space = spaces.Dict(parts | sensor_spaces(observation))
 
     # -- gymnasium API ----------------------------------------------------------------------

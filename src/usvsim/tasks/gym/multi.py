@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import functools
 import math
+from typing import cast
 
 import numpy as np
 from gymnasium import spaces
@@ -49,7 +50,8 @@ class MultiStationKeeping(ParallelEnv):
         return spaces.Box(-1.0, 1.0, (4,), np.float32)
 
     def reset(self, seed: int | None = None, options: dict | None = None):
-        seed = int(seed) if seed is not None else int(np.random.SeedSequence().entropy % (2**31))
+        entropy = cast(int, np.random.SeedSequence().entropy)  # drawn from the OS when none is given: an int
+        seed = int(seed) if seed is not None else entropy % (2**31)
         self.sim.reset(seed=seed)  # exact: a fresh start with `seed`, the compiled model kept
         rng = np.random.default_rng(seed)
         self.scorers = {}

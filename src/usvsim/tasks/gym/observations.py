@@ -35,8 +35,8 @@ def sensor_configs(wanted, rate_hz: float) -> list[dict]:
     return out
 
 
-def sensor_spaces(wanted) -> dict[str, spaces.Box]:
-    out = {}
+def sensor_spaces(wanted) -> dict[str, spaces.Space]:
+    out: dict[str, spaces.Space] = {}
     if "lidar" in wanted:
         out["lidar"] = spaces.Box(0.0, LIDAR_RANGE_M, (LIDAR_COLUMNS,), np.float32)
     if "camera" in wanted:
