@@ -304,6 +304,8 @@ class HullSet:
         from usvsim.hydro.flat import flat_hydrostatics
 
         fl = self._flat
+        if fl is None:
+            raise RuntimeError("compute_flat() needs use_flat() first")
         flat_hydrostatics(fl.vertices, fl.vert_ptr, fl.verts, self.faces, self.face_area, self.face_offsets, fl.body_ptr, fl.ptr, fl.faces,
                           fl.coef, fl.box, fl.state, fl.scratch, rot, com_world, level, rho, g, *self._out)  # fmt: skip
         return self._result

@@ -105,7 +105,7 @@ class NavigationLights:
         for name in vessels:
             body = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_BODY, name)
             lo, hi = _visual_box(model, body)
-            if lo is None:
+            if lo is None or hi is None:
                 continue
             length, beam = hi[0] - lo[0], hi[1] - lo[1]
             deck = lo[2] + 0.6 * (hi[2] - lo[2])
@@ -121,7 +121,7 @@ class NavigationLights:
             body = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_BODY, name)
             lo, hi = _visual_box(model, body)
             color = _paint(model, body)
-            if lo is None or color is None:
+            if lo is None or hi is None or color is None:
                 continue
             top = (0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1]), hi[2] + 0.05)
             lamps.append((body, top, color, None, (0.9 * i) % FLASH_PERIOD_S))

@@ -12,7 +12,7 @@ the same displaced grid in one flat id colour.
 from __future__ import annotations
 
 import ctypes
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, cast
 
 import numpy as np
 
@@ -78,7 +78,7 @@ class MarinePass:
         self._key, self._sky_key, self._fbos = None, None, {}
         self.daylight = None
         self.sea_cache: dict = {}  # per wave field: the short-wave band and the whitecap slope (frame.py)
-        self.lamps = None  # navigation lights of this frame (frame.lamps), drawn by `self._lights`
+        self.lamps: tuple | None = None  # navigation lights of this frame (frame.lamps), drawn by `self._lights`
         self.materials = None  # the geoms' gloss (rendering/materials.py), applied by frame.apply_lights
         self._lights = None
         self.wake = None  # the wakes' ribbons of this frame (frame.prepare), drawn by `self._wakes`
@@ -267,11 +267,12 @@ class MarinePass:
 
         if self._lights is None:
             self._lights = LightPass(self.ctx)
+        assert self.lamps is not None, "drawn only for a frame with lamps"
         nav, pos, rot, t, intensity = self.lamps
         focal = rect.height * camera.frustum_near / (camera.frustum_top - camera.frustum_bottom)
         at_eye = tuple(np.exp(-(eye[2] - self._level_m) / np.array([self._fog_height_m, HAZE_HEIGHT_M])))
         uniforms = {"u_cam": tuple(eye), "u_focal_px": float(focal), "u_level": self._level_m,
-                    "u_at_eye": at_eye, "u_fog": self.sky["u_fog"].value}  # fmt: skip
+                    "u_at_eye": at_eye, "u_fog": cast("moderngl.Uniform", self.sky["u_fog"]).value}  # fmt: skip
         self._lights.prog["u_view_proj"].write(_mat(view_proj))
         self._lights.draw(nav.world(pos, rot, eye, t, intensity), uniforms)
 
@@ -323,7 +324,7 @@ class MarinePass:
         if self._depth is None or self._depth.size != (width, height):
             self._release_depth()
             glo = int(GL.glGenTextures(1))
-            GL.glActiveTexture(GL.GL_TEXTURE0 + TEXTURE_UNITS["u_depth"])
+            GL.glActiveTexture(int(GL.GL_TEXTURE0) + TEXTURE_UNITS["u_depth"])
             GL.glBindTexture(GL.GL_TEXTURE_2D, glo)
             _raw_tex_image_2d(GL.GL_TEXTURE_2D, 0, GL.GL_DEPTH32F_STENCIL8, width, height, 0, GL.GL_DEPTH_STENCIL,
                               GL.GL_FLOAT_32_UNSIGNED_INT_24_8_REV, None)  # fmt: skip

@@ -202,7 +202,7 @@ class PinholeRenderer:
         if rgb_depth:
             self._render(segment=False)
             mujoco.mjr_readPixels(self._gl_rgb, self._gl_depth, self.rect, self.ctx)
-            if water_mask:
+            if water_mask and self.marine is not None:
                 self.marine.read_water_mask(self.rect, self._gl_water)
         if segmentation:
             self._render(segment=True, water_label_pass=not water_mask)  # returns before the pixels are drawn
