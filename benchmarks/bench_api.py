@@ -1,7 +1,7 @@
 """Costs of the Python API (docs/python-api.md), each beside a baseline measured in the same run.
 
 - `reset()` of `harbor` (target <= 20 ms) vs building a fresh `Simulation` of it (what a reset avoids);
-  the same in sea state 4 (FFT waves rebuilt at each reset);
+  the same in sea state 4 (FFT waves: each reset draws new amplitudes; the seed-independent tables are kept);
 - `observe()` after every step of `harbor_sensors` (target <= 5 % of a step): the time in `observe()`
   (each new sample converted once) against the time of the steps it follows, timed separately.
 Medians over repeats; the load average is written beside the figures (the machine may be shared).
@@ -45,7 +45,7 @@ def reset_figures(label: str, scenario) -> dict:
 
 
 def rough_harbor():
-    """`harbor` in sea state 4 (FFT waves, rebuilt at every reset), gusting wind, a Gauss–Markov current."""
+    """`harbor` in sea state 4 (FFT waves, redrawn at every reset), gusting wind, a Gauss–Markov current."""
     data = yaml.safe_load(resolve("harbor")[0])
     data["environment"] = {"sea": {"type": "sea_state", "code": 4}, "wind": {"speed_mps": 8.0, "gust_gain": 3.0},
                            "current": {"speed_mps": 0.3, "speed_std_mps": 0.1, "time_constant_s": 5.0}}  # fmt: skip

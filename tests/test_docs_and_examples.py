@@ -37,6 +37,21 @@ def test_readme_python_example_runs(capsys):
     assert capsys.readouterr().out.startswith("10.0 ")  # sim.time after run(seconds=10.0)
 
 
+def test_readme_python_example_drives_the_boat_for_10_s():
+    """`boat.command(0.5); sim.run(seconds=10.0)` drives for the whole 10 s: a Python command holds (the
+    watchdog of network commands, 1 s here, does not stop it)."""
+    (code,) = readme_blocks("python")
+    head = code.split("\nprint(")[0]  # the block up to `sim.run(seconds=10.0)`
+    assert head.rstrip().endswith("sim.run(seconds=10.0)")
+    start = Simulation.from_scenario("harbor", seed=0).vessels["wamv"].position
+    namespace: dict = {}
+    exec(compile(head, "README.md", "exec"), namespace)
+    sim, boat = namespace["sim"], namespace["boat"]
+    assert sim.time == 10.0
+    assert all(t.thrust_n > 50.0 for t in boat.thrusters.values())  # still driving at 10 s (82 N each)
+    assert np.hypot(*(boat.position[:2] - start[:2])) > 5.0  # 10.7 m; stopped by a watchdog at 1 s: 1.49 m
+
+
 def test_every_builtin_scenario_runs():
     for name in builtin_scenarios():
         sim = Simulation(load_scenario(name))
