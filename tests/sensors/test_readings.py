@@ -22,8 +22,11 @@ SENSORS = [
     {"type": "gnss", "name": "gps", "rate_hz": 5, "velocity": True, "horizontal_stddev_m": 0.5},
     {"type": "ground_truth", "name": "truth", "rate_hz": 20},
     {"type": "detections", "name": "objects", "rate_hz": 10},
+    {"type": "radar", "name": "radar", "rpm": 60, "rate_hz": 10, "range_max_m": 200.0, "spokes": 128, "range_bins": 64,
+     "image": "none", "mount": {"position": [0.0, 0.0, 2.5]}},
 ]  # fmt: skip
-DTYPES = {"points": None, "ranges": np.float32, "rgb": np.uint8, "depth": np.float32, "segmentation": np.uint16}
+DTYPES = {"points": None, "ranges": np.float32, "rgb": np.uint8, "depth": np.float32, "segmentation": np.uint16,
+          "echoes": np.float32}  # fmt: skip
 
 
 def _bytes(a: np.ndarray) -> bytes:

@@ -9,6 +9,7 @@ stays valid after later steps. Fields (frames and units as in the messages):
 |---|---|
 | PointCloud2 | `points`: structured (N,) or (rings, columns) `x, y, z, intensity` float32 (m, sensor FLU), `ring` uint16, `time` float32 (s after the stamp) |
 | LaserScan | `ranges`, `intensities` float32 (m), `angles` float32 (rad) |
+| RadarSector | `echoes` (spokes, range bins) float32 (0..1 over the dynamic range), `angles` float32 (rad, sensor frame) |
 | Image | `rgb` (H, W, 3) uint8, `depth` (H, W) float32 m, `segmentation` (H, W) uint16 (model geom id + 1, 0 = none; the camera's `segmentation_ids` maps id → (object name, class)); other encodings (a radar's mono8 PPI) as `image` |
 | CameraInfo | `K` (3, 3) float64 |
 | Imu | `orientation` (w, x, y, z), `angular_velocity` rad/s, `linear_acceleration` m/s² (sensor frame) |
@@ -103,6 +104,15 @@ def _image(msg) -> dict[str, np.ndarray]:
     return {name: _read_only(np.frombuffer(msg.data, dtype).reshape(shape))}
 
 
+def _radar_sector(msg) -> dict[str, np.ndarray]:
+    """One radar sample's spokes: `echoes` (spokes, bins) float32 (a new array: one row per spoke, tens per
+    sample, not per bin) and each spoke's `angles` float32 (rad, CCW from the bow)."""
+    rows = [np.asarray(e.echoes, np.float32) for e in msg.intensities]
+    echoes = np.stack(rows) if rows else np.zeros((0, 0), np.float32)
+    angles = (msg.angle_start + msg.angle_increment * np.arange(len(rows))).astype(np.float32)
+    return {"echoes": _read_only(echoes), "angles": angles}
+
+
 def _camera_info(msg) -> dict[str, np.ndarray]:
     return {"K": np.asarray(msg.k, dtype=float).reshape(3, 3)}
 
@@ -155,6 +165,7 @@ def _detections(dims: int) -> Callable[[Any], dict[str, np.ndarray]]:
 _CONVERTERS: dict[str, Callable[[Any], dict[str, np.ndarray]]] = {
     "sensor_msgs/msg/PointCloud2": _cloud,
     "sensor_msgs/msg/LaserScan": _scan,
+    "marine_sensor_msgs/msg/RadarSector": _radar_sector,
     "sensor_msgs/msg/Image": _image,
     "sensor_msgs/msg/CameraInfo": _camera_info,
     "sensor_msgs/msg/Imu": _imu,
