@@ -36,7 +36,7 @@ class WakeTracks:
         for vessel in world.vessels.values():
             body = world.model.body(vessel.name).id
             lo, hi = _visual_box(world.model, body)
-            if lo is not None:
+            if lo is not None and hi is not None:
                 self.vessels.append((vessel, float(lo[0]), 0.5 * float(hi[1] - lo[1])))
         self.reset()
 

@@ -6,7 +6,7 @@ CPA predicted while the target was closing."""
 from __future__ import annotations
 
 import math
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from numba import njit
@@ -53,7 +53,7 @@ class SituationPublisher:
                      self.min_dist, self.t_min, self.min_cpa)  # fmt: skip
         return self._out
 
-    def compute(self, world: World) -> dict[str, np.ndarray]:
+    def compute(self, world: World) -> dict[str, Any]:
         """Every target's situation now (arrays over targets; see awareness.py for the conventions)."""
         out = self._run(world, -1.0).copy()
         own = self._own.copy()
