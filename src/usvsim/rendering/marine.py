@@ -12,6 +12,7 @@ the same displaced grid in one flat id colour.
 from __future__ import annotations
 
 import ctypes
+from collections.abc import Callable
 from typing import TYPE_CHECKING, cast
 
 import numpy as np
@@ -39,7 +40,7 @@ POINTS = 0x0000
 class MarinePass:
     """Programs, the water grid and the ocean textures on one GL context (create with it current)."""
 
-    def __init__(self, cell_px=None):
+    def __init__(self, cell_px: float | Callable[[int], float] | None = None):
         """`cell_px`: the water grid's cell size in pixels, a number or a function of the image height (default
         `grid.CELL_PX`; the viewer passes `grid.view_cell_px`)."""
         from OpenGL import GL
