@@ -29,7 +29,7 @@ from usvsim.core.rng import RngStreams
 from usvsim.core.transforms import matrix_from_quat, quat_from_rpy
 from usvsim.geo.parts import GeoParts, geo_parts, set_clip_planes
 from usvsim.geo.resolve import load_place, resolve_geo, with_local_depth
-from usvsim.hydro.hydrostatics import NO_HEAD, HullSet
+from usvsim.hydro.hydrostatics import NO_HEAD, HullSet, HydrostaticsResult
 from usvsim.hydro.models import MarineModels
 from usvsim.hydro.thrusters import ThrusterBank
 from usvsim.hydro.wrenches import assemble, body_kinematics, relative_velocity_body
@@ -321,6 +321,7 @@ class World:
             else:
                 hydrostatics = self.hulls.compute(verts, eta, s.com_world, self.rho, self.g, head)
         if simple:  # the rest of the step in one compiled call (marine.tail)
+            assert isinstance(hydrostatics, HydrostaticsResult)  # simple models have no Kerner: no overlapped call
             steady = ocean.steady_velocity_rows(len(s.com_world))
             if steady is None:
                 self._water_vel[:] = ocean.velocity(s.com_world[:, 0], s.com_world[:, 1], s.com_world[:, 2], t)
