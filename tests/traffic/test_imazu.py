@@ -73,3 +73,14 @@ def test_every_case_runs_and_its_cpa_tcpa_are_the_closed_form(case):
         assert s["cpa"][j] == pytest.approx(np.linalg.norm(r + w * tcpa), rel=1e-9, abs=1e-9)
     assert len(s["tcpa"]) == len(IMAZU[case])
     sim.close()
+
+
+def test_usvsim_scenarios_lists_all_22():
+    from typer.testing import CliRunner
+
+    from usvsim.cli.app import app
+
+    result = CliRunner().invoke(app, ["scenarios"])
+    assert result.exit_code == 0
+    listed = {word for line in result.output.splitlines() for word in line.split() if word.startswith("imazu_")}
+    assert {f"imazu_{k:02d}" for k in range(1, 23)} <= listed
