@@ -141,3 +141,16 @@ def test_one_call_hull_water_and_velocity_equal_the_array_code_bit_for_bit():
         assert np.array_equal(eta, ref_eta + level) and np.array_equal(head, (zeta + level) - verts[:, 2])
         vel = field.velocity(verts[:, 0], verts[:, 1], verts[:, 2], t)
         assert np.array_equal(vel, field.kinematics(verts[:, 0], verts[:, 1], verts[:, 2], t, acceleration=False)[0])
+
+
+def test_velocity_into_equals_velocity_bit_for_bit():
+    """Ocean.velocity_into (one compiled call for an FFT sea under a constant uniform current) writes what
+    Ocean.velocity returns, at points above and below the surface, at several times."""
+    field = FFTWaveField(JONSWAP, cascade_sizes(70.0, 3, 64), np.random.default_rng(9), 64, ramp_time_s=1.0)
+    ocean = Ocean(waves=field, current=Current(0.6, -1.1), level_m=0.3)
+    points = np.column_stack([RNG.uniform(-30, 30, 50), RNG.uniform(-30, 30, 50), RNG.uniform(-2.0, 1.5, 50)])
+    out = np.empty((50, 3))
+    for t in (0.0, 0.33, 0.34, 7.0):
+        ocean.velocity_into(points, t, out)
+        assert np.array_equal(out, ocean.velocity(points[:, 0], points[:, 1], points[:, 2], t))
+    assert not np.allclose(out[:, :2], Current(0.6, -1.1).velocity(points[:, 2] - 0.3)[:, :2])  # waves move it

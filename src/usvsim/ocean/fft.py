@@ -413,6 +413,22 @@ class FFTWaveField(WaveField):
                 return vel
         return self.kinematics(x, y, z, t, acceleration=False)[0]
 
+    def velocity_at_points(self, points: np.ndarray, level: float, t: float, current: np.ndarray, out: np.ndarray
+                           ) -> bool:  # fmt: skip
+        """Ocean.velocity's rows for points (n,3) m world (z relative to `level`) plus a uniform current (3,) m/s,
+        written into out (n,3) in one compiled call; False (nothing done) where that path does not apply."""
+        n = len(points)
+        if self.choppiness != 0.0 or pick(kern.SAMPLE_KINEMATICS, n) is not kern.SAMPLE_KINEMATICS[0]:
+            return False
+        wts = self.update(t)
+        ring = self.velocity_ring
+        ring.prepare(float(t), self.ramp(t))
+        kern.velocity_cached_points(points, float(level), self.geometry.tiles, wts, ring.tiles, ring.weights,
+                                    self.acceleration_ring.tiles, self.acceleration_ring.weights, self.inv_cells,
+                                    self.decay_k, self.scratch("bands", n), self.scratch("coords", n),
+                                    *self.node_cache(), current, out)  # fmt: skip
+        return True
+
     def acceleration(self, x, y, z, t: float) -> np.ndarray:
         return self.kinematics(x, y, z, t)[1]
 

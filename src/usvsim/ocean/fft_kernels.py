@@ -347,3 +347,18 @@ def velocity_cached(px, py, pz, geo, geo_wts, vel, vel_wts, acc, acc_wts, inv_ce
         zeff[p] = 0.0 if d > 0.0 else d  # np.minimum(d, 0.0), NaN kept
     _SAMPLE_KINEMATICS_SERIAL(px, py, zeff, geo, geo_wts, vel, vel_wts, acc, acc_wts, inv_cells, decay_k, v_out,
                               v_out[:0])  # fmt: skip
+
+
+@njit(cache=True)
+def velocity_cached_points(points, level, geo, geo_wts, vel, vel_wts, acc, acc_wts, inv_cells, decay_k, band_h,
+                           coords, cache, stamp, now, current, v_out):  # fmt: skip
+    """`velocity_cached` at points (n,3) world m, z relative to `level` (z - level, as Ocean.kinematics forms it),
+    plus a uniform current (3,) m/s added to each row (as Ocean adds its rows): `Ocean.velocity` for an FFT sea
+    without displacement and a constant uniform current, bit for bit. coords (3, n): scratch."""
+    for p in range(points.shape[0]):
+        coords[0, p], coords[1, p], coords[2, p] = points[p, 0], points[p, 1], points[p, 2] - level
+    velocity_cached(coords[0], coords[1], coords[2], geo, geo_wts, vel, vel_wts, acc, acc_wts, inv_cells, decay_k,
+                    band_h, cache, stamp, now, v_out)  # fmt: skip
+    for p in range(points.shape[0]):
+        for k in range(3):
+            v_out[p, k] = v_out[p, k] + current[k]

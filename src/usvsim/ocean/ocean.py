@@ -88,6 +88,16 @@ class Ocean:
             self._current_rows = np.tile(self._current_const, (np.size(zrel), 1))
         return self._current_rows.copy()
 
+    def velocity_into(self, points: np.ndarray, t: float, out: np.ndarray) -> None:
+        """`velocity` at points (n, 3) m ENU, written into out (n, 3): one compiled call for an FFT sea without
+        displacement under a constant uniform current (the same values bit for bit), the array path otherwise."""
+        fast = getattr(self.waves, "velocity_at_points", None)
+        if fast is not None and self._current_const is not None and self.current.profile == "uniform":
+            self.advance(t)
+            if fast(points, self.level_m, t, self._current_const, out):
+                return
+        out[:] = self.velocity(points[:, 0], points[:, 1], points[:, 2], t)
+
     def steady_velocity_rows(self, n: int) -> np.ndarray | None:
         """Still water with a constant uniform current: its velocity (n, 3), m/s ENU, as one read-only array
         made once (the same array every call); None otherwise (use `velocity`)."""

@@ -324,7 +324,7 @@ class World:
             assert isinstance(hydrostatics, HydrostaticsResult)  # simple models have no Kerner: no overlapped call
             steady = ocean.steady_velocity_rows(len(s.com_world))
             if steady is None:
-                self._water_vel[:] = ocean.velocity(s.com_world[:, 0], s.com_world[:, 1], s.com_world[:, 2], t)
+                ocean.velocity_into(s.com_world, t, self._water_vel)
             elif self._water_from is not ocean:
                 self._water_vel[:], self._water_from = steady, ocean
             if self._air_from is not ocean or not ocean.wind_constant:
