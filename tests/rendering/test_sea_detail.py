@@ -49,3 +49,22 @@ def test_whitecap_threshold_gives_monahans_coverage(sea4):
     foams = g * np.hypot(*slopes) > 0.9 * tau  # the middle of the shader's foam ramp
     assert foams.mean() == pytest.approx(whitecap_fraction(hs), rel=0.1)
     assert whitecap_threshold(0.0, mss) == math.inf
+
+
+def test_mip_slope_ratio_matches_block_means_of_the_slope_tile(sea4):
+    from usvsim.rendering.detail import mip_slope_ratio
+    from usvsim.rendering.surface import surface_data
+
+    class Ocean:  # the FFT field alone, at full height
+        waves, level_m = sea4, 0.0
+
+    tile = surface_data(Ocean, 30.0, (0.0, 0.0)).slope[-1, ..., :2].astype(np.float64)  # the shortest band
+    n = tile.shape[0]
+    rms0 = np.sqrt(np.mean(np.sum(tile**2, axis=-1)))
+    ratio = mip_slope_ratio(sea4)
+    for level in (1, 2, 3, 4):
+        m = 2**level
+        blocks = tile.reshape(n // m, m, n // m, m, 2).mean(axis=(1, 3))  # a mip level: 2^L x 2^L block means
+        measured = np.sqrt(np.mean(np.sum(blocks**2, axis=-1))) / rms0
+        assert measured == pytest.approx(ratio[level], rel=0.08)
+    assert ratio[0] == pytest.approx(1.0) and np.all(np.diff(ratio) <= 0)

@@ -115,3 +115,26 @@ def whitecap_threshold(hs_m: float, mean_square_slope: float) -> float:
         mid = 0.5 * (lo + hi)
         lo, hi = (mid, hi) if cover(mid) > w else (lo, mid)
     return 0.5 * (lo + hi)
+
+
+MIP_LEVELS = 8
+
+
+def mip_slope_ratio(waves) -> np.ndarray:
+    """(MIP_LEVELS,) float32: rms slope of the shortest band's slope tile at each mipmap level over level 0's.
+    A mip level L of a periodic 2^n texture is the mean over 2^L x 2^L blocks, which scales a wave's slope by
+    the box response sin(k h 2^L / 2) / (2^L sin(k h / 2)) per axis; the shader scales the whitecap threshold by
+    this ratio at the level it samples, so distant (filtered) water keeps the same whitecap share."""
+    var = 0.5 * np.abs(waves._amp[-1]) ** 2
+    h = float(waves.sizes[-1]) / waves.n
+    kx, ky = waves._kx[-1] * h, waves._ky[-1] * h
+    slope2 = (np.sin(kx) ** 2 + np.sin(ky) ** 2) / h**2 * var
+
+    def box(k, m):
+        den = m * np.sin(0.5 * k)
+        return np.where(np.abs(den) > 1e-12, np.sin(0.5 * k * m) / np.where(np.abs(den) > 1e-12, den, 1.0), 1.0)
+
+    base = float(slope2.sum())
+    out = [math.sqrt(float(np.sum(slope2 * (box(kx, 2**lv) * box(ky, 2**lv)) ** 2)) / base) if base > 0 else 1.0
+           for lv in range(MIP_LEVELS)]  # fmt: skip
+    return np.maximum(np.array(out, np.float32), 1e-3)

@@ -20,6 +20,7 @@ def prepare(marine, sim, center_xy) -> Daylight:
     origin = sim.scenario.world.origin
     light = daylight(sim.look, origin.latitude_deg, origin.longitude_deg)
     detail, whitecap = sea_extras(marine.sea_cache, sim.ocean, sim.look)
+    marine.mip_ratio = marine.sea_cache["mip_ratio"] if detail is not None or whitecap != float("inf") else None
     marine.upload(surface_data(sim.ocean, sim.time, center_xy, detail, whitecap))
     marine.set_light(light, sim.look, sim.ocean.level_m)
     marine.restore()  # setting uniforms binds programs: MuJoCo's fixed-function pipeline needs none bound
@@ -64,13 +65,21 @@ def _rotation(quat) -> np.ndarray:
 
 def sea_extras(cache: dict, ocean, look):
     """(the FFT field's `DetailBand` or None, the whitecap slope) of `ocean`, made once per wave field."""
-    from usvsim.rendering.detail import DetailBand, fft_waves, resolved_statistics, whitecap_threshold
+    from usvsim.rendering.detail import (
+        DetailBand,
+        fft_waves,
+        mip_slope_ratio,
+        resolved_statistics,
+        whitecap_threshold,
+    )
 
     waves = fft_waves(ocean)
     if waves is None:
+        cache.pop("waves", None)
         return None, float("inf")  # a patch measures its own whitecap slope (surface.py)
     if cache.get("waves") is not waves:
-        cache.update(waves=waves, whitecap=whitecap_threshold(*resolved_statistics(waves)), detail=None)
+        cache.update(waves=waves, whitecap=whitecap_threshold(*resolved_statistics(waves)), detail=None,
+                     mip_ratio=tuple(float(r) for r in mip_slope_ratio(waves)))  # fmt: skip
     if look.water.short_waves > 0 and cache["detail"] is None:
         cache["detail"] = DetailBand(waves)
     return (cache["detail"] if look.water.short_waves > 0 else None), cache["whitecap"]

@@ -19,12 +19,23 @@ LOOKS = {  # name: (sea state, look, view: "viewer" or "camera")
     "sea_state_5": (5, {"sun": {"azimuth_deg": 120.0, "elevation_deg": 30.0}}, "viewer"),
     "dawn_haze": (
         2,
-        {"sun": {"utc": "2025-06-21T02:50:00Z"}, "sky": {"turbidity": 6.0}, "haze": {"visibility_m": 5000.0}},
+        {"sun": {"azimuth_deg": 78.0, "elevation_deg": 5.0, "intensity": 2.5}, "sky": {"turbidity": 6.0},
+         "haze": {"visibility_m": 5000.0}},  # intensity: as a camera would expose for dawn
         "viewer",
     ),
     "fog": (3, {"fog": {"visibility_m": 250.0}, "sun": {"elevation_deg": 25.0}}, "viewer"),
     "dusk": (2, {"sun": {"azimuth_deg": 300.0, "elevation_deg": -3.0}}, "viewer"),
     "onboard_sea_state_4": (4, {"sun": {"azimuth_deg": 100.0, "elevation_deg": 20.0}}, "camera"),
+    "wake": (2, {"sun": {"azimuth_deg": 230.0, "elevation_deg": 30.0}, "shadows": True}, "viewer"),
+    "rain_onboard": (
+        4,
+        {"sun": {"azimuth_deg": 270.0, "elevation_deg": 35.0, "intensity": 0.6}, "sky": {"turbidity": 8.0},
+         "fog": {"visibility_m": 1500.0}, "rain": {"rate_mm_h": 8.0}, "camera": {"droplets": 0.5}},
+        "camera",
+    ),  # fmt: skip
+}
+UNDER_WAY = {  # looks drawn with the WAM-V under way: thrust, seconds, start pose (open water west of the buoys)
+    "wake": (1.0, 12.0, {"position": [8.0, -30.0, 0.0], "yaw_deg": 180.0}),
 }
 
 
@@ -51,8 +62,15 @@ def render_look(name: str, out_dir: Path, width: int = 960, height: int = 540, s
     from usvsim.viewer.offscreen import OffscreenViewer, save_png
 
     sea_state, look, view = LOOKS[name]
-    sim = load(scenario_dict(sea_state, look, width, height))
+    raw = scenario_dict(sea_state, look, width, height)
+    if name in UNDER_WAY:
+        raw["vessels"][0]["pose"] = UNDER_WAY[name][2]
+    sim = load(raw)
     try:
+        if name in UNDER_WAY:
+            thrust, seconds, _ = UNDER_WAY[name]
+            sim.vessels["wamv"].command(thrust, 0.0)
+            settle_s = seconds
         sim.run(settle_s)
         if view == "camera":
             from usvsim.sensors.camera.sensor import Camera
@@ -72,3 +90,36 @@ def render_look(name: str, out_dir: Path, width: int = 960, height: int = 540, s
 
 def render_gallery(out_dir: Path, width: int = 960, height: int = 540, names=None) -> list[Path]:
     return [render_look(name, out_dir, width, height) for name in (names or LOOKS)]
+
+
+README_LOOK = {"sun": {"azimuth_deg": 290.0, "elevation_deg": 24.0}, "shadows": True}
+
+
+def render_readme(out_dir: Path, width: int = 1280, height: int = 720) -> list[Path]:
+    """docs/harbor.png (the harbour from the south-east, the WAM-V under way with its wake, sea state 2) and
+    docs/viewer.png (the viewer's follow camera and HUD, sea state 4, under way)."""
+    import numpy as np
+
+    from usvsim.viewer.camera import CameraPose
+    from usvsim.viewer.offscreen import OffscreenViewer, save_png
+
+    out = []
+    for name, sea_state, seconds in (("harbor", 2, 10.0), ("viewer", 4, 8.0)):
+        raw = scenario_dict(sea_state, README_LOOK, 640, 480)
+        raw["vessels"][0]["pose"] = UNDER_WAY["wake"][2]
+        sim = load(raw)
+        try:
+            sim.vessels["wamv"].command(0.8, 0.0)
+            sim.run(seconds)
+            viewer = OffscreenViewer(sim, width, height)
+            try:
+                if name == "harbor":
+                    viewer.view.show_hud = False
+                    pose = CameraPose(np.array([-8.0, -17.0, 0.0]), 58.0, 128.0, -17.0)
+                    viewer.view.camera_pose = lambda dt=0.0, pose=pose: pose
+                out.append(save_png(viewer.render(), Path(out_dir) / f"{name}.png"))
+            finally:
+                viewer.close()
+        finally:
+            sim.close()
+    return out

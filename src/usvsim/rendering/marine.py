@@ -81,6 +81,7 @@ class MarinePass:
         self.sea_cache: dict = {}  # per wave field: the short-wave band and the whitecap slope (frame.py)
         self.lamps: tuple | None = None  # navigation lights of this frame (frame.lamps), drawn by `self._lights`
         self.materials = None  # the geoms' gloss (rendering/materials.py), applied by frame.apply_lights
+        self.mip_ratio = None  # rms slope of the shortest band per mip level / level 0 (detail.mip_slope_ratio)
         self._lights = None
         self.wake = None  # the wakes' ribbons of this frame (frame.prepare), drawn by `self._wakes`
         self._wakes = None
@@ -221,7 +222,8 @@ class MarinePass:
             for prog in (self.fog, self.water):
                 _set(prog, u_near_far=(near, far), u_viewport=viewport[:2])
             _set(self.water, u_look=(*self._look, time_s), u_pixel=pixel_tan,
-                 u_sea=(self._short_waves, self._whitecap_slope), **grid)  # fmt: skip
+                 u_sea=(self._short_waves, self._whitecap_slope), u_mip_ratio=self.mip_ratio or (1.0,) * 8,
+                 **grid)  # fmt: skip
             self._fullscreen(self.fog, "<", blend=True)  # only where a geom was drawn (depth > 0)
             GL.glClear(GL.GL_STENCIL_BUFFER_BIT)
             self._water(water_vao, stencil=True, blend=True, columns=self._columns[(rect.width, rect.height)])

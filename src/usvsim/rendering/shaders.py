@@ -200,6 +200,7 @@ uniform sampler2D u_depth;
 uniform vec3 u_water;
 uniform vec4 u_look;     // foam, glint, render choppiness for whitecaps, time (s)
 uniform vec2 u_sea;      // gain on the short-wave slopes, resolved slope above which the surface breaks
+uniform float u_mip_ratio[8];  // the shortest band's rms slope per mip level over level 0's (whitecaps)
 uniform sampler2D u_wake;  // wakes' foam, top-down (rendering/wakes.py)
 uniform vec4 u_wake_region;  // its corner x, y, side (m); w = 0: no wake
 uniform float u_pixel;   // view width of one pixel at unit distance
@@ -220,9 +221,13 @@ void main() {
     float footprint = length(u_cam - v_world) * u_pixel;
     int bands = u_bands - u_detail;
     vec2 zr = zs;  // whitecaps: where the shortest resolved waves are steepest
+    float filtered = 1.0;  // their rms slope at the mip level sampled, over the unfiltered one
     if (bands > 1) {  // the shortest band per pixel, filtered by the footprint across the ray: distant glitter
         int b = bands - 1;
-        vec4 s = textureLod(u_slope, vec3(tile_uv(v_label, b), b), log2(max(footprint * u_surface.w / u_tile[b], 1.0)));
+        float lod_s = log2(max(footprint * u_surface.w / u_tile[b], 1.0));
+        int level = min(int(lod_s + 0.5), 7);  // LINEAR_MIPMAP_NEAREST: the nearest level
+        filtered = u_mip_ratio[level];
+        vec4 s = textureLod(u_slope, vec3(tile_uv(v_label, b), b), lod_s);
         zs += s.xy;
         jac += vec3(s.zw, 0.0);
         zr = s.xy;
@@ -263,7 +268,7 @@ void main() {
     // foam: whitecaps where the choppy surface folds, broken up by noise; and along hulls at the waterline
     float grain = noise(v_label * 1.7 + u_look.w * 0.3);
     float gust = 0.7 + 0.6 * noise(v_label * 0.23 - u_look.w * 0.05);  // breaking is patchy: crests break here and there
-    float steep = smoothstep(0.8, 1.0, gust * u_surface.x * length(zr) / u_sea.y);  // the steepest faces: Monahan's share
+    float steep = smoothstep(0.8, 1.0, gust * u_surface.x * length(zr) / (u_sea.y * filtered));  // the steepest faces: Monahan's share
     float whitecap = max(smoothstep(0.6, 0.1, det), steep) * (0.55 + 0.45 * grain);
     float raw = texelFetch(u_depth, ivec2(gl_FragCoord.xy - u_viewport), 0).r;
     float n0 = u_near_far.x, f0 = u_near_far.y;
@@ -272,7 +277,7 @@ void main() {
     if (u_wake_region.w > 0.0) {
         vec2 uv = (v_label - u_wake_region.xy) / u_wake_region.z;
         if (all(greaterThan(uv, vec2(0.0))) && all(lessThan(uv, vec2(1.0))))
-            contact = max(contact, texture(u_wake, uv).r * (0.45 + 0.55 * grain));
+            contact = max(contact, texture(u_wake, uv).r * smoothstep(0.15, 0.65, 0.5 * noise(v_label * 0.9) + 0.5 * grain));
     }
     float foam = clamp(u_look.x * max(whitecap, contact), 0.0, 1.0);
     vec3 foam_light = vec3(0.85) * (u_ambient * 2.5 + u_sun_color * max(u_sun_dir.z, 0.0));

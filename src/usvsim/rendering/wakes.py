@@ -112,11 +112,11 @@ out vec4 f_color;
 void main() {
     float x = abs(v_across) * v_half;  // metres from the track
     float go = smoothstep(0.3, 2.0, v_speed);
-    float width = max(v_half - v_speed * v_age * TAN, 1.0) * (0.6 + 0.02 * v_age);  // the turbulent wake spreads
+    float width = max(v_half - v_speed * v_age * TAN - 1.0, 0.3) * (0.6 + 0.03 * v_age);  // the turbulent wake spreads
     float centre = exp(-x * x / (width * width)) * exp(-v_age / TURB);
     float arm = exp(-pow((v_half - 1.0 - x) / (0.3 + 0.03 * v_age), 2.0)) * exp(-v_age / KELVIN) * step(1.0, v_speed);
     float fresh = smoothstep(0.0, 0.6, v_age + 0.1);  // no foam ahead of the stern
-    f_color = vec4(go * fresh * max(0.8 * centre, 0.5 * arm), 0.0, 0.0, 1.0);
+    f_color = vec4(go * fresh * max(0.7 * centre, 0.4 * arm), 0.0, 0.0, 1.0);
 }
 """.replace("TAN", repr(KELVIN_TAN))
     .replace("TURB", repr(TURBULENT_S))

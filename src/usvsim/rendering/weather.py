@@ -23,6 +23,7 @@ import math
 import zlib
 
 import numpy as np
+from numba import njit
 
 EXPOSURE_S = 1.0 / 60.0
 FALL_MPS = 6.0
@@ -58,17 +59,30 @@ def rain_streaks(rgb: np.ndarray, rate_mm_h: float, slant_deg: float, focal_px: 
     length = np.minimum(FALL_MPS * EXPOSURE_S * focal_px / dist, 0.5 * h)
     width_alpha = np.clip(1.5 / dist, 0.05, 0.4) * dense  # near drops are larger and blurrier: more visible
     slant = math.radians(slant_deg)
-    dx, dy = math.sin(slant), math.cos(slant)
+    bright = np.minimum(0.5 * rgb.reshape(-1, 3).max(axis=0).astype(np.float32) + 110.0, 255.0)
+    _streaks(rgb, x, y, length, width_alpha.astype(np.float32), math.sin(slant), math.cos(slant), bright)
+
+
+@njit(cache=True, nogil=True)
+def _streaks(rgb, x, y, length, alpha, dx, dy, bright):
+    """Accumulate the streaks' coverage (24 points each, at most 0.6 per pixel) and blend toward `bright`."""
+    h, w = rgb.shape[0], rgb.shape[1]
+    cover = np.zeros((h, w), np.float32)
     steps = 24
-    s = np.linspace(-0.5, 0.5, steps)[None, :]
-    px = np.clip((x[:, None] + dx * length[:, None] * s).astype(np.int64), 0, w - 1)
-    py = np.clip((y[:, None] + dy * length[:, None] * s).astype(np.int64), 0, h - 1)
-    weight = np.repeat(width_alpha[:, None] * np.minimum(length[:, None], steps) / steps, steps, axis=1)
-    alpha = np.zeros((h, w), np.float32)
-    np.add.at(alpha, (py.ravel(), px.ravel()), weight.ravel().astype(np.float32))
-    alpha = np.minimum(alpha, 0.6)[..., None]
-    bright = np.float32(0.5) * rgb.reshape(-1, 3).max(axis=0).astype(np.float32) + 110.0
-    rgb[:] = np.clip(rgb * (1 - alpha) + np.minimum(bright, 255.0) * alpha, 0, 255).astype(np.uint8)
+    for i in range(x.shape[0]):
+        weight = alpha[i] * min(length[i], steps) / steps
+        for k in range(steps):
+            s = -0.5 + k / (steps - 1)
+            px = min(max(int(x[i] + dx * length[i] * s), 0), w - 1)
+            py = min(max(int(y[i] + dy * length[i] * s), 0), h - 1)
+            cover[py, px] += weight
+    for r in range(h):
+        for c in range(w):
+            a = min(cover[r, c], 0.6)
+            if a > 0.0:
+                for ch in range(3):
+                    v = rgb[r, c, ch] * (1.0 - a) + bright[ch] * a
+                    rgb[r, c, ch] = np.uint8(min(max(v, 0.0), 255.0))
 
 
 def lens_droplets(rgb: np.ndarray, amount: float, seed: int, name: str, time_s: float) -> None:
