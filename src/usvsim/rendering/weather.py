@@ -131,13 +131,13 @@ def motion_blur(rgb: np.ndarray, flow_px: tuple[float, float]) -> None:
     if steps < 2:
         return
     h, w = rgb.shape[:2]
-    acc = np.zeros(rgb.shape, np.float32)
-    for s in np.linspace(-0.5, 0.5, steps):
-        dx, dy = int(round(fx * s)), int(round(fy * s))
-        ys = np.clip(np.arange(h) + dy, 0, h - 1)
-        xs = np.clip(np.arange(w) + dx, 0, w - 1)
-        acc += rgb[ys][:, xs]
-    rgb[:] = np.clip(acc / steps + 0.5, 0, 255).astype(np.uint8)
+    shifts = [(int(round(fx * s)), int(round(fy * s))) for s in np.linspace(-0.5, 0.5, steps)]
+    px, py = max(abs(dx) for dx, _ in shifts), max(abs(dy) for _, dy in shifts)
+    padded = np.pad(rgb, ((py, py), (px, px), (0, 0)), mode="edge")
+    acc = np.zeros(rgb.shape, np.uint16)  # at most 32 x 255
+    for dx, dy in shifts:
+        acc += padded[py + dy : py + dy + h, px + dx : px + dx + w]
+    rgb[:] = ((acc + steps // 2) // steps).astype(np.uint8)
 
 
 def rotation_flow(omega_optical: np.ndarray, focal_px: float, exposure_s: float) -> tuple[float, float]:
