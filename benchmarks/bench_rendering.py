@@ -4,10 +4,12 @@
    shader` with sky, glint, foam and fog (visibility 2 km) vs `renderer: mujoco` (flat sky, height field).
 2. Viewer 1280x720 (offscreen, HUD on) in sea state 4, shader vs mujoco.
 
-    MUJOCO_GL=egl python benchmarks/bench_rendering.py [--frames 12]
-Writes benchmarks/results/rendering.json: per case the median and best frame time, the median CPU time of the
-process per frame (all threads; on a shared machine the least disturbed figure), frames/s, the ratio
-shader / mujoco, and the 1-minute load average (the machine is shared: compare ratios, not absolutes).
+    MUJOCO_GL=egl python benchmarks/bench_rendering.py [--frames 24]
+Both looks of a case run side by side in one process, frame by frame in alternation, so that the shared
+machine's changing load falls on both alike. Writes benchmarks/results/rendering.json: per case the median and
+best frame time, the median CPU time of the process per frame (all threads; on a shared machine the least
+disturbed figure), frames/s, the ratios shader / mujoco, and the 1-minute load average at the start and end
+(the machine is shared: compare ratios and CPU times, not absolute frame rates).
 """
 
 from __future__ import annotations
@@ -65,25 +67,56 @@ def _time(frame, sim, frames: int) -> dict:
     }
 
 
-def camera_case(renderer: str, frames: int) -> dict:
-    sim = _sim(renderer)
-    camera = sim.sensors["wamv/camera"]
+def _interleaved(cases: dict, frames: int) -> dict:
+    """`_time` for several (frame, sim) cases at once, alternating frame by frame (the order flips every round),
+    so that the machine's changing load falls on all of them alike."""
+    for frame, _ in cases.values():
+        frame()  # warm-up: shader compilation, first uploads
+    times = {name: ([], []) for name in cases}
+    load_start = os.getloadavg()[0]
+    for i in range(frames):
+        for name in list(cases)[:: 1 if i % 2 == 0 else -1]:
+            frame, sim = cases[name]
+            sim.step()  # the ocean moves: every frame uploads new wave tiles
+            t0, c0 = time.perf_counter(), time.process_time()
+            frame()
+            times[name][0].append(time.perf_counter() - t0)
+            times[name][1].append(time.process_time() - c0)
+    out = {}
+    for name, (wall, cpu) in times.items():
+        median = float(np.median(wall))
+        out[name] = {
+            "median_ms": 1000 * median,
+            "cpu_median_ms": 1000 * float(np.median(cpu)),  # all threads (llvmpipe's too): robust to other load
+            "best_ms": 1000 * min(wall),
+            "fps": 1 / median,
+            "load_1min_start": load_start,
+            "load_1min": os.getloadavg()[0],
+        }
+    return out
+
+
+def camera_case(frames: int) -> dict:
+    sims = {renderer: _sim(renderer) for renderer in ("shader", "mujoco")}
+    cameras = {renderer: sim.sensors["wamv/camera"] for renderer, sim in sims.items()}
     try:
-        return _time(lambda: camera.sample(sim, sim.clock_ns), sim, frames)
+        return _interleaved({r: (lambda c=cameras[r], s=sims[r]: c.sample(s, s.clock_ns), sims[r]) for r in sims}, frames)
     finally:
-        sim.close()
+        for sim in sims.values():
+            sim.close()
 
 
-def viewer_case(renderer: str, frames: int) -> dict:
+def viewer_case(frames: int) -> dict:
     from usvsim.viewer.offscreen import OffscreenViewer
 
-    sim = _sim(renderer)
-    viewer = OffscreenViewer(sim, 1280, 720)
+    sims = {renderer: _sim(renderer) for renderer in ("shader", "mujoco")}
+    viewers = {renderer: OffscreenViewer(sim, 1280, 720) for renderer, sim in sims.items()}
     try:
-        return _time(viewer.render, sim, frames)
+        return _interleaved({r: (viewers[r].render, sims[r]) for r in sims}, frames)
     finally:
-        viewer.close()
-        sim.close()
+        for renderer, sim in sims.items():
+            viewers[renderer].close()
+            sim.close()
 
 
 EFFECTS = {  # name: the look's changes from the shader baseline (each effect alone, measured in the same run)
@@ -122,7 +155,7 @@ def effects(frames: int) -> dict:
 
 def main() -> None:
     parser = argparse.ArgumentParser()
-    parser.add_argument("--frames", type=int, default=12)
+    parser.add_argument("--frames", type=int, default=24)
     parser.add_argument("--effects", action="store_true", help="only the optional effects' cost (camera case)")
     args = parser.parse_args()
     if args.effects:
@@ -139,11 +172,13 @@ def main() -> None:
         ("camera_640x480_rgb_depth_seg_ss4", camera_case),
         ("viewer_1280x720_ss4", viewer_case),
     ):
-        shader, plain = case("shader", args.frames), case("mujoco", args.frames)
+        both = case(args.frames)
+        shader, plain = both["shader"], both["mujoco"]
         out[name] = {
             "shader": shader,
             "mujoco": plain,
             "shader_over_mujoco_time": shader["median_ms"] / plain["median_ms"],
+            "shader_over_mujoco_cpu": shader["cpu_median_ms"] / plain["cpu_median_ms"],
         }
         print(name, json.dumps(out[name]))
     RESULTS.mkdir(exist_ok=True)
