@@ -42,7 +42,9 @@ class Simulation:
         rec = scenario.outputs.recording
         self.ground_truth = GroundTruth(world, rec.clock_rate_hz, rec.ground_truth_rate_hz)
         self.traffic = Traffic(world, self.controllers)  # other ships: tracks, pilots, awareness, AIS
-        self.wakes = WakeTracks(world)  # the vessels' recent tracks, for the drawn wakes (rendering/wakes.py)
+        # the vessels' recent tracks for the drawn wakes (rendering/wakes.py); the world carries them to the cameras
+        world.traffic = self.traffic  # the renderer evaluates the traffic ships' tracks (lamps, wakes)
+        self.wakes = world.wakes = WakeTracks(world)
         self.sensors = SensorSuite(world)
         for name, vessel in world.vessels.items():
             vessel.sensors = self.sensors.of_vessel(name)

@@ -82,3 +82,26 @@ def test_lights_change_rgb_only_and_are_reproducible():
     assert np.array_equal(lit["segmentation"], dark["segmentation"])
     assert np.array_equal(lit["depth"], dark["depth"], equal_nan=True)
     assert (lit["rgb"].astype(int) - dark["rgb"]).max() > 100  # the lamps
+
+
+def test_traffic_ships_carry_lights_and_leave_wakes():
+    """Imazu 1, head-on: the kinematic target shows its masthead light and both sidelights to the own ship."""
+    from importlib.resources import files
+
+    import yaml
+
+    from usvsim.rendering.frame import lamps
+    from usvsim.rendering.sky import daylight
+
+    raw = yaml.safe_load((files("usvsim.scenarios") / "imazu_01.yaml").read_text())
+    raw["rendering"] = {"renderer": "shader", "sun": {"elevation_deg": -5.0}}
+    sim = load(raw)
+    sim.run(2.0)
+    nav, pos, rot, t, intensity = lamps({}, sim, daylight(sim.look))
+    own = sim.vessels["own"].position
+    seen = nav.world(pos, rot, own + np.array([0.0, 0.0, 2.0]), t, intensity)
+    far = seen[np.linalg.norm(seen[:, :2] - own[:2], axis=1) > 500.0]  # the target, about 1 km ahead
+    assert {_key(c) for c in far[:, 3:]} == {_key(WHITE), _key(RED), _key(GREEN)}
+    track = np.stack(sim.wakes.samples)  # (samples, hulls, 5): the own ship's and the target's
+    assert track.shape[1] == 2 and np.all(track[:, 1, 3] > 1.5)  # the target makes 2 m/s
+    sim.close()

@@ -23,7 +23,7 @@ def _run(wake_s: float, thrust: float, seed: int = 0):
     for _ in range(600):
         boat.command(thrust, 0.0)
         sim.step()
-    images = sim.sensors["wamv/camera"].render(sim)
+    images = sim.sensors["wamv/camera"].render(sim.world)  # as the sensor suite samples it: with the World
     samples = len(sim.wakes.samples)
     ribbons = sim.wakes.ribbons(sim.time, wake_s)
     sim.close()

@@ -46,14 +46,24 @@ def lamps(cache: dict, sim, light: Daylight):
     elevation = float(np.degrees(np.arcsin(np.clip(light.sun_dir[2], -1.0, 1.0))))
     if not lights_on(sim.look, elevation):
         return None
+    from usvsim.rendering.lights import kinematic_ships, ship_boxes
+
+    ships = kinematic_ships(sim)
+    kinematic = [] if ships is None else ships[0]
     if cache.get("lamps_model") is not sim.model:
         vessels = list(sim.vessels)
         buoys = [name for name in sim.bodies if name not in sim.vessels]
-        cache["lamps_model"], cache["lamps"] = sim.model, NavigationLights(sim.model, vessels, buoys)
-    pos, rot = np.zeros((sim.model.nbody, 3)), np.tile(np.eye(3), (sim.model.nbody, 1, 1))
+        boxes = ship_boxes(sim.model, ships) if ships is not None else []
+        cache["lamps_model"], cache["lamps"] = sim.model, NavigationLights(sim.model, vessels, buoys, boxes)
+    n = sim.model.nbody + len(kinematic)
+    pos, rot = np.zeros((n, 3)), np.tile(np.eye(3), (n, 1, 1))
     for body in sim.bodies.values():  # the current state (MuJoCo's xpos lags a step)
         mj = sim.model.body(body.name).id
         pos[mj], rot[mj] = body.position, _rotation(body.quat)
+    if ships is not None:  # traffic ships: world-body geoms placed by the traffic
+        for j, (xy, yaw) in enumerate(zip(ships[1], ships[3])):
+            pos[sim.model.nbody + j, :2] = xy
+            rot[sim.model.nbody + j, :2, :2] = ((np.cos(yaw), -np.sin(yaw)), (np.sin(yaw), np.cos(yaw)))
     return cache["lamps"], pos, rot, sim.time, sim.look.lights.intensity
 
 

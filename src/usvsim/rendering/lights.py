@@ -100,15 +100,19 @@ ARCS = {  # body-frame arc (start, end) of relative bearing, counter-clockwise f
 class NavigationLights:
     """The lamps of a model's vessels and buoys (body-frame positions, colours, arcs), posed per frame."""
 
-    def __init__(self, model: mujoco.MjModel, vessels, buoys):
+    def __init__(self, model: mujoco.MjModel, vessels, buoys, ships=()):
+        """`ships`: the traffic's kinematic ships' boxes (lo, hi) in their own frames; their lamps' bodies are
+        numbered model.nbody + j (`world` takes their poses after the bodies')."""
         lamps = []  # (body, local position, colour, arc name or None, flash phase or None)
-        for name in vessels:
-            body = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_BODY, name)
-            lo, hi = _visual_box(model, body)
+        boxes = [(mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_BODY, name), None, None) for name in vessels]
+        boxes += [(model.nbody + j, lo, hi) for j, (lo, hi) in enumerate(ships)]
+        for body, lo, hi in boxes:
+            if lo is None:
+                lo, hi = _visual_box(model, body)
             if lo is None or hi is None:
                 continue
             length, beam = hi[0] - lo[0], hi[1] - lo[1]
-            deck = lo[2] + 0.6 * (hi[2] - lo[2])
+            deck = lo[2] + 0.8 * (hi[2] - lo[2])  # high on the hull: seen over its deck from above
             fore = lo[0] + 0.6 * length
             lamps += [
                 (body, (fore, 0.5 * (lo[1] + hi[1]), hi[2] + 0.1), WHITE, "masthead", None),
@@ -148,6 +152,47 @@ class NavigationLights:
                 seen[i] = float((t + phase) % FLASH_PERIOD_S < FLASH_ON_S)
         out = np.concatenate([pos, self.colors * (seen * intensity)[:, None]], axis=1)
         return out[seen > 0].astype(np.float32)
+
+
+def kinematic_ships(world):
+    """(names, positions (n, 2), velocities (n, 2), yaws (n,)) of the traffic's kinematic ships at the world's
+    time (ENU, m, m/s, rad; their tracks evaluated, nothing in the traffic changed), or None without any."""
+    traffic = getattr(world, "traffic", None)
+    fleet = getattr(traffic, "fleet", None)
+    if fleet is None or not len(fleet.kinematic):
+        return None
+    n = len(fleet.kinematic)
+    pos, vel, yaw = np.zeros((n, 2)), np.zeros((n, 2)), np.zeros(n)
+    fleet.table.evaluate(world.clock.now_ns / 1e9, pos, vel, yaw)
+    return [fleet.names[k] for k in fleet.kinematic], pos, vel, yaw
+
+
+def ship_boxes(model: mujoco.MjModel, ships) -> list:
+    """Per kinematic ship of `ships` (`kinematic_ships`, where the geoms are now): its geoms' bounds (lo, hi) in
+    its own frame (x forward, z up from the waterline)."""
+    from usvsim.world.builder import kinematic_geoms
+
+    names, geoms, owner = kinematic_geoms(model)
+    out = []
+    for name, p, yaw in zip(ships[0], ships[1], ships[3]):
+        j = names.index(name) if name in names else -1
+        pts = []
+        c, s = math.cos(yaw), math.sin(yaw)
+        for g in geoms[owner == j]:
+            mat = np.zeros(9)
+            mujoco.mju_quat2Mat(mat, model.geom_quat[g])
+            world = (model.geom_aabb[g, :3] + _SIGNS * model.geom_aabb[g, 3:]) @ mat.reshape(3, 3).T + model.geom_pos[g]
+            d = world[:, :2] - p
+            pts.append(np.c_[c * d[:, 0] + s * d[:, 1], -s * d[:, 0] + c * d[:, 1], world[:, 2]])
+        if pts:
+            allp = np.concatenate(pts)
+            out.append((allp.min(axis=0), allp.max(axis=0)))
+        else:
+            out.append((None, None))
+    return out
+
+
+_SIGNS = np.array([[sx, sy, sz] for sx in (-1, 1) for sy in (-1, 1) for sz in (-1, 1)], dtype=np.float64)
 
 
 def _visual_box(model: mujoco.MjModel, body: int):

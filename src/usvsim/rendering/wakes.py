@@ -1,8 +1,8 @@
 """Wakes: foam trails behind moving vessels, from each hull's past track.
 
-`WakeTracks` keeps every vessel's track (stern position, heading, speed over ground) every `SAMPLE_S` of
-simulated time, the last `KEEP_S` seconds; the simulation records it each step (a clock check; a sample every
-25 steps), so a picture shows the same wake however often frames were drawn before it (same seed, same bytes).
+`WakeTracks` keeps every vessel's and kinematic traffic ship's track (stern position, heading, speed over
+ground) every `SAMPLE_S` of simulated time, the last `KEEP_S` seconds; the simulation records it each step (a
+clock check; a sample every 25 steps), so a picture shows the same wake however often frames were drawn before it (same seed, same bytes).
 
 `WakePass` draws the tracks, once per frame, into a small top-down foam texture around them (512², square,
 at most `MAX_REGION_M` across) that the water shader reads by the surface point's label: a turbulent
@@ -28,7 +28,7 @@ class WakeTracks:
     """Past stern positions of a simulation's vessels (world ENU, m), sampled on simulated time."""
 
     def __init__(self, world):
-        from usvsim.rendering.lights import _visual_box
+        from usvsim.rendering.lights import _visual_box, kinematic_ships, ship_boxes
 
         self.every = max(int(round(SAMPLE_S / world.clock.dt)), 1)
         self.keep = int(KEEP_S / SAMPLE_S)
@@ -38,6 +38,11 @@ class WakeTracks:
             lo, hi = _visual_box(world.model, body)
             if lo is not None and hi is not None:
                 self.vessels.append((vessel, float(lo[0]), 0.5 * float(hi[1] - lo[1])))
+        ships = kinematic_ships(world)  # the traffic's kinematic ships: (stern x, half beam) in their frames
+        boxes = ship_boxes(world.model, ships) if ships is not None else []
+        self.ships = [(float(lo[0]), 0.5 * float(hi[1] - lo[1])) if lo is not None and hi is not None else (0.0, 1.0)
+                      for lo, hi in boxes]  # fmt: skip
+        self.half_beams = [v[2] for v in self.vessels] + [s[1] for s in self.ships]
         self.reset()
 
     def reset(self) -> None:
@@ -45,10 +50,10 @@ class WakeTracks:
 
     def record(self, world) -> None:
         """Called after every physics step; samples every `every` steps."""
-        if not self.vessels or world.clock.steps % self.every:
+        if not self.half_beams or world.clock.steps % self.every:
             return
         t = world.clock.seconds
-        row = np.empty((len(self.vessels), 5))
+        row = np.empty((len(self.half_beams), 5))
         for i, (vessel, stern, _) in enumerate(self.vessels):
             rot = world.state.rot[vessel.index]
             fwd = rot[:, 0]
@@ -56,6 +61,16 @@ class WakeTracks:
             pos = world.state.pos[vessel.index] + stern * fwd
             vel = world.origin_velocity(vessel.index)
             row[i] = pos[0], pos[1], heading, math.hypot(vel[0], vel[1]), t
+        if self.ships:
+            from usvsim.rendering.lights import kinematic_ships
+
+            ships = kinematic_ships(world)
+            if ships is not None:
+                _, pos, vel, yaw = ships
+                for j, (stern, _) in enumerate(self.ships):
+                    c, s = math.cos(yaw[j]), math.sin(yaw[j])
+                    row[len(self.vessels) + j] = (pos[j, 0] + stern * c, pos[j, 1] + stern * s, yaw[j],
+                                                  math.hypot(*vel[j]), t)  # fmt: skip
         self.samples.append(row)
         if len(self.samples) > self.keep:
             del self.samples[0]
@@ -70,7 +85,7 @@ class WakeTracks:
         track = track[age <= length_s]
         age = age[age <= length_s]
         tris = []
-        for v, (_, _, half_beam) in enumerate(self.vessels):
+        for v, half_beam in enumerate(self.half_beams):
             pts, speed = track[:, v, :2], track[:, v, 3]
             if len(pts) < 2 or speed.max() < 0.3:
                 continue

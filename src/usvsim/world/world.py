@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping
+from typing import Any
 
 import mujoco
 import numpy as np
@@ -73,6 +74,8 @@ class World:
         )
         self.clock = Clock(period_ns(world.physics_rate_hz))
         self.look = scenario.rendering  # the current look (config/rendering.py); cameras read it every frame
+        self.wakes: Any = None  # the vessels' recent tracks (rendering/wakes.WakeTracks), set by the Simulation
+        self.traffic: Any = None  # the Simulation's traffic (other ships' tracks for the renderer), set by it
         self.ocean = build_ocean(scenario.environment, self.rng.get("ocean"), dt_s=self.clock.dt)
         floating = self._floating_bodies()
         if not floating:
