@@ -10,7 +10,7 @@ from __future__ import annotations
 import numpy as np
 import trimesh
 
-from usvsim.hydro.flat import DRY, MIXED, WET
+from usvsim.hydro.flat import DRY, MIXED, WET, use_flat
 from usvsim.hydro.hydrostatics import HullSet
 from usvsim.vessels.library import vessel_model
 
@@ -47,7 +47,7 @@ def _pose(rng, coms, scale):
 def test_flat_equals_the_per_face_kernel_over_random_poses_and_state_changes():
     meshes, coms = _hulls()
     exact, flat = HullSet(meshes), HullSet(meshes)
-    flat.use_flat(coms)
+    use_flat(flat, coms)
     rng = np.random.default_rng(7)
     seen = set()
     for trial in range(300):
@@ -70,7 +70,7 @@ def test_flat_matches_trimesh_clipped_volume_and_centroid():
     """Independent reference: trimesh's plane slice of the sphere, its volume and centre of buoyancy."""
     meshes, coms = _hulls()
     hulls = HullSet(meshes)
-    hulls.use_flat(coms)
+    use_flat(hulls, coms)
     rng = np.random.default_rng(3)
     for _ in range(20):
         pos, rot, com = _pose(rng, coms, 0.5)

@@ -93,6 +93,17 @@ class FlatClusters:
         """Per-face outputs were written by someone else (the general kernel): rewrite them all next time."""
         self.state[:] = UNKNOWN
 
+    def compute(self, hulls, rot, com_world, level: float, rho: float, g: float, out) -> None:
+        """`flat_hydrostatics` of `hulls` (the HullSet these clusters were made for) into its output buffers `out`."""
+        flat_hydrostatics(self.vertices, self.vert_ptr, self.verts, hulls.faces, hulls.face_area, hulls.face_offsets,
+                          self.body_ptr, self.ptr, self.faces, self.coef, self.box, self.state, self.scratch, rot,
+                          com_world, level, rho, g, *out)  # fmt: skip
+
+
+def use_flat(hulls, com_body: np.ndarray) -> None:
+    """Prepare `hulls.compute_flat` (a HullSet) for bodies whose centres of mass are `com_body` (nb,3) m, body frame."""
+    hulls.use_flat(FlatClusters(hulls.vertices_body, hulls.faces, hulls.face_offsets, hulls.vert_body, com_body))
+
 
 @njit(cache=True)
 def _add_cluster(coef, c, u0, u1, u2, u3, acc):

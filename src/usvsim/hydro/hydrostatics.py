@@ -285,11 +285,9 @@ class HullSet:
         self._result = HydrostaticsResult(*self._out)
         self._flat = None  # FlatClusters (hydro/flat.py), made by `use_flat`
 
-    def use_flat(self, com_body: np.ndarray) -> None:
-        """Prepare `compute_flat` for bodies whose centres of mass are `com_body` (nb,3) m in the body frame."""
-        from usvsim.hydro.flat import FlatClusters
-
-        self._flat = FlatClusters(self.vertices_body, self.faces, self.face_offsets, self.vert_body, com_body)
+    def use_flat(self, clusters) -> None:
+        """Attach `hydro.flat.FlatClusters` made for this set (`flat.use_flat` does both): `compute_flat` uses them."""
+        self._flat = clusters
 
     @property
     def has_flat(self) -> bool:
@@ -301,13 +299,9 @@ class HullSet:
         """Hydrostatics of all bodies under flat water at height `level` (m): `compute` with eta = level at every
         vertex and no pressure heads, from rotations (nb,3,3) body → world and CoMs (nb,3) m (no world vertices
         needed). Equal to `compute` up to rounding (hydro/flat.py); needs `use_flat` first."""
-        from usvsim.hydro.flat import flat_hydrostatics
-
-        fl = self._flat
-        if fl is None:
-            raise RuntimeError("compute_flat() needs use_flat() first")
-        flat_hydrostatics(fl.vertices, fl.vert_ptr, fl.verts, self.faces, self.face_area, self.face_offsets, fl.body_ptr, fl.ptr, fl.faces,
-                          fl.coef, fl.box, fl.state, fl.scratch, rot, com_world, level, rho, g, *self._out)  # fmt: skip
+        if self._flat is None:
+            raise RuntimeError("compute_flat() needs use_flat() first (usvsim.hydro.flat.use_flat)")
+        self._flat.compute(self, rot, com_world, level, rho, g, self._out)
         return self._result
 
     def world_vertices(self, pos: np.ndarray, rot: np.ndarray) -> np.ndarray:

@@ -30,6 +30,7 @@ from usvsim.core.rng import RngStreams
 from usvsim.core.transforms import matrix_from_quat, quat_from_rpy
 from usvsim.geo.parts import GeoParts, geo_parts, set_clip_planes
 from usvsim.geo.resolve import load_place, resolve_geo, with_local_depth
+from usvsim.hydro.flat import use_flat
 from usvsim.hydro.hydrostatics import NO_HEAD, HullSet, HydrostaticsResult
 from usvsim.hydro.models import MarineModels
 from usvsim.hydro.thrusters import ThrusterBank
@@ -121,7 +122,7 @@ class World:
         self.hulls = HullSet([(fb.model.hull.vertices, fb.model.hull.faces) for fb in floating])
         self._com_body = np.array([fb.model.com for fb in floating], dtype=float).reshape(n, 3)
         if len(self.hulls.faces) <= FLAT_MAX_FACES:
-            self.hulls.use_flat(self._com_body)  # clustered still-water hydrostatics (hydro/flat.py)
+            use_flat(self.hulls, self._com_body)  # clustered still-water hydrostatics (hydro/flat.py)
         self._body_wrenches = np.zeros((2, n, 6))  # body-frame: marine (damping + wind), thrust
         self._xfrc = self.data.xfrc_applied[1 : n + 1]  # floating bodies are bodies 1..n (world frame, CoM)
         self._air = np.zeros((n, 3))
