@@ -82,3 +82,24 @@ def test_flat_matches_trimesh_clipped_volume_and_centroid():
         assert abs(res.volume[2] - part.volume) <= 1e-9 * max(part.volume, 1e-9)
         np.testing.assert_allclose(res.cob[2], part.center_mass, atol=1e-9)
         np.testing.assert_allclose(res.force[2], [0.0, 0.0, RHO * G * part.volume], atol=1e-6 * RHO * G)
+
+
+def test_reused_buffers_equal_a_fresh_hull_set():
+    """Rows of a face without waterline are left alone when already zero (no rewrite every step): after many
+    poses, both kernels' per-face outputs equal those of a fresh HullSet computing the last pose only."""
+    meshes, coms = _hulls()
+    used, flat_used = HullSet(meshes), HullSet(meshes)
+    use_flat(flat_used, coms)
+    rng = np.random.default_rng(21)
+    for _ in range(50):
+        pos, rot, com = _pose(rng, coms, 0.4)
+        world = used.world_vertices(pos, rot)
+        a = used.compute(world, np.zeros(len(world)), com, RHO, G)
+        b = flat_used.compute_flat(rot, com, 0.0, RHO, G)
+    fresh = HullSet(meshes)
+    c = fresh.compute(fresh.world_vertices(pos, rot), np.zeros(len(world)), com, RHO, G)
+    for name in ("face_submerged_area", "waterline_segments", "waterline_count"):
+        assert np.array_equal(getattr(a, name), getattr(c, name)), name
+        x, y = getattr(b, name), getattr(c, name)
+        assert np.abs(x - y).max() <= 1e-9 * max(float(np.abs(y).max()), 1e-3), name
+    assert not c.waterline_segments[c.waterline_count == 0].any()

@@ -199,12 +199,18 @@ def flat_hydrostatics(verts_rel, cl_vert_ptr, cl_verts, faces, face_area, face_o
                 n_below = (h0 <= 0.0) + (h1 <= 0.0) + (h2 <= 0.0)
                 if n_below == 0 or (n_below == 1 and min(h0, h1, h2) == 0.0):
                     face_area_sub[f] = 0.0
-                    _clear_segment(seg, seg_count, f)
+                    if seg_count[f] != 0:  # a zero row stays (written out: see hull_hydrostatics)
+                        for i in range(6):
+                            seg[f, i // 3, i % 3] = 0.0
+                        seg_count[f] = 0
                     continue
                 if n_below == 3:
                     w, qx, qy, qz, e = _depth_moments(r0, r1, r2, -h0, -h1, -h2)
                     frac = 1.0
-                    _clear_segment(seg, seg_count, f)
+                    if seg_count[f] != 0:
+                        for i in range(6):
+                            seg[f, i // 3, i % 3] = 0.0
+                        seg_count[f] = 0
                 else:
                     terms, p, q = _cut_face(r0, r1, r2, h0, h1, h2, -h0, -h1, -h2, n_below)
                     w, qx, qy, qz, e, frac = terms

@@ -190,7 +190,10 @@ def hull_hydrostatics(vertices, faces, face_area, face_offsets, eta, head, com, 
             n_below = (h0 <= 0.0) + (h1 <= 0.0) + (h2 <= 0.0)
             if n_below == 0 or (n_below == 1 and min(h0, h1, h2) == 0.0):  # dry, or touching at one vertex
                 face_area_sub[f] = 0.0
-                _clear_segment(seg, seg_count, f)
+                if seg_count[f] != 0:  # a row with count 0 is already zero: most dry faces write nothing there
+                    for i in range(6):  # (written out: a helper with this branch is not inlined, ~4x slower)
+                        seg[f, i // 3, i % 3] = 0.0
+                    seg_count[f] = 0
                 continue
             r0 = (vertices[i0, 0] - cx, vertices[i0, 1] - cy, vertices[i0, 2] - cz)
             r1 = (vertices[i1, 0] - cx, vertices[i1, 1] - cy, vertices[i1, 2] - cz)
@@ -198,7 +201,10 @@ def hull_hydrostatics(vertices, faces, face_area, face_offsets, eta, head, com, 
             if n_below == 3:
                 w, qx, qy, qz, e = _depth_moments(r0, r1, r2, -h0, -h1, -h2)
                 frac = 1.0
-                _clear_segment(seg, seg_count, f)
+                if seg_count[f] != 0:  # as for dry faces above
+                    for i in range(6):
+                        seg[f, i // 3, i % 3] = 0.0
+                    seg_count[f] = 0
                 if fk:
                     wp, qxp, qyp, qzp, _ = _depth_moments(r0, r1, r2, head[i0], head[i1], head[i2])
             else:
