@@ -268,8 +268,13 @@ def experiment(
 
     if name not in EXPERIMENTS:
         fail(UsvsimError(f"unknown experiment {name!r}; choose one of: {', '.join(EXPERIMENTS)}"))
+    from usvsim.cli.outputs import prepare_folder
+
+    try:
+        prepare_folder(out)
+    except UsvsimError as exc:
+        fail(exc)
     module = importlib.import_module(EXPERIMENTS[name][0])
-    out.mkdir(parents=True, exist_ok=True)
     result = module.run(out)
     passed = result.get("passed")
     typer.echo(json.dumps(result.get("summary", {}), indent=2, default=str))
@@ -288,8 +293,24 @@ app.command("schema")(schema_command)
 
 
 def main() -> None:
+    # typer >= 0.2x vendors click (typer._click): find its ClickException through a public class
+    click_exception = next(c for c in typer.BadParameter.__mro__ if c.__name__ == "ClickException")
     try:
-        app()
+        code = app(standalone_mode=False)
+    except click_exception as exc:  # a usage mistake (bad option value, unknown option...): one line
+        if type(exc).__name__ != "NoArgsIsHelpError":  # that one has printed the help already
+            ctx = getattr(exc, "ctx", None)
+            hint = f" (see {ctx.command_path} --help)" if ctx is not None else ""
+            message = " ".join(exc.format_message().split())
+            console.print(f"usvsim: error: {message}{hint}", highlight=False, soft_wrap=True, markup=False)
+        sys.exit(exc.exit_code)
+    except typer.Abort:
+        console.print("usvsim: aborted", highlight=False)
+        sys.exit(1)
+    except BrokenPipeError:  # `usvsim ... | head`: the reader went away; quietly, as click does
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        sys.exit(1)
     except UsvsimError as exc:  # errors raised outside a command's own handling
-        console.print(f"usvsim: error: {exc}")
+        console.print(f"usvsim: error: {exc}", highlight=False, soft_wrap=True, markup=False)
         sys.exit(2)
+    sys.exit(code if isinstance(code, int) else 0)

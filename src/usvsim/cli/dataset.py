@@ -31,6 +31,7 @@ def dataset_command(
     ] = 0.0,
 ) -> None:
     """Render a scenario's cameras with domain randomization and write images, labels and masks."""
+    from usvsim.cli.outputs import prepare_folder
     from usvsim.datasets.generate import DatasetSpec, generate
 
     console = Console(stderr=True)
@@ -49,6 +50,7 @@ def dataset_command(
     try:
         spec = DatasetSpec(scenario, frames, out, tuple(f.strip() for f in format.split(",")), seed, randomize,
                            size, fractions, min_visible_pixels, min_visible_fraction)  # fmt: skip
+        prepare_folder(out)
         columns = (TextColumn("dataset"), BarColumn(), MofNCompleteColumn(), TimeRemainingColumn())
         with Progress(*columns, console=console) as bar:
             task = bar.add_task("frames", total=frames)
@@ -56,4 +58,4 @@ def dataset_command(
     except UsvsimError as exc:
         console.print(f"[bold red]usvsim: error:[/] {exc}", highlight=False, soft_wrap=True)
         raise typer.Exit(2) from None
-    console.print(f"wrote {frames} frames to {out}")
+    typer.echo(f"wrote {frames} frames to {out}")  # the result on stdout, progress on stderr

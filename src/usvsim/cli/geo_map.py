@@ -17,12 +17,21 @@ def map_command(
     seed: Annotated[int, typer.Option(help="task layout seed (with --task)")] = 0,
 ) -> None:
     """Draw a plan view (land, depth contours, structures, objects, traffic routes, task goals) to a PNG."""
+    from matplotlib.backend_bases import FigureCanvasBase
+
     from usvsim.cli.errors import fail as _fail
+    from usvsim.cli.outputs import prepare_file
     from usvsim.core.errors import UsvsimError
     from usvsim.geo.plan import draw_plan
     from usvsim.simulation import Simulation
 
+    if not out.suffix:  # matplotlib would add ".png" itself; say so in the path printed
+        out = out.with_name(out.name + ".png")
+    formats = FigureCanvasBase.get_supported_filetypes()
+    if out.suffix[1:].lower() not in formats:
+        _fail(f"--out {out}: unknown image format {out.suffix!r}; use .png (or {', '.join(sorted(formats))})")
     try:
+        prepare_file(out)
         goals = []
         if task:
             sim, goals = _task_simulation(scenario, difficulty, seed)

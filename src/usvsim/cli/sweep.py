@@ -25,6 +25,7 @@ def sweep(
 
     from usvsim.batch import expand, run
     from usvsim.batch.spec import SweepSpec
+    from usvsim.cli.outputs import prepare_file
 
     try:
         try:
@@ -32,6 +33,7 @@ def sweep(
         except (OSError, yaml.YAMLError, ValidationError) as exc:
             raise UsvsimError(f"{spec}: {_first_error(exc)}") from None
         runs = expand(config)
+        prepare_file(out)  # a bad --out path fails now, not after every run
         columns = (TextColumn("sweep"), BarColumn(), MofNCompleteColumn(), TimeElapsedColumn())
         with Progress(*columns, console=console) as bar:
             job = bar.add_task("runs", total=len(runs))
@@ -39,8 +41,12 @@ def sweep(
                           progress=lambda done, total: bar.update(job, completed=done))  # fmt: skip
     except UsvsimError as exc:
         fail(exc)
-    out.parent.mkdir(parents=True, exist_ok=True)
-    out.write_text("".join(json.dumps(r, default=float) + "\n" for r in results))
+    lines = "".join(json.dumps(r, default=float) + "\n" for r in results)
+    try:
+        out.write_text(lines)
+    except OSError as exc:
+        typer.echo(lines, nl=False)  # nothing lost: the results go to stdout instead
+        fail(f"cannot write {out}: {exc.strerror or exc}; the results were printed to stdout instead")
     scores = [r["score"] for r in results]
     typer.echo(f"{len(results)} runs, mean score {sum(scores) / len(scores):.4g}; wrote {out}")
 

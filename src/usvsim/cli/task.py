@@ -20,7 +20,7 @@ def task(
     difficulty: Annotated[int, typer.Option(help="0 calm, 1 moderate, 2 rough (VRX 2023 practice levels)")] = 0,
     seed: Annotated[int, typer.Option(help="seed of the first trial (trial k uses seed + k)")] = 0,
     trials: Annotated[int, typer.Option(help="number of trials", min=1)] = 1,
-    time_limit: Annotated[float, typer.Option(help="running time limit, s (VRX: 300)", min=1.0)] = 300.0,
+    time_limit: Annotated[float, typer.Option(help="running time limit, s (VRX: 300)", min=1.0, max=1e6)] = 300.0,
     report: Annotated[Path, typer.Option(help="JSON report path")] = Path("out/task_report.json"),
     ros2: Annotated[bool, typer.Option("--ros2", help="publish the task's VRX topics and every sensor over DDS")] = False,
     external: Annotated[bool, typer.Option("--external", help="with --ros2: no built-in solution, the boat obeys "
@@ -29,11 +29,12 @@ def task(
     ros2_interface: Annotated[str, typer.Option(help="DDS network interface (lo: this machine only)")] = "lo",
     landmark_type: Annotated[str, typer.Option(help="/vrx/perception/landmark type: pose (geometry_msgs/"
                                                "PoseStamped, VRX on Gazebo Sim) or geopose (geographic_msgs/GeoPoseStamped)")] = "pose",
-    ready_s: Annotated[float, typer.Option(help="seconds before the task starts running (VRX: 20)", min=0.0)] = 0.0,
+    ready_s: Annotated[float, typer.Option(help="seconds before the task starts running (VRX: 20)", min=0.0, max=1e6)] = 0.0,
     record: Annotated[Path | None, typer.Option(help="MCAP recording of the (last) trial, task topics included")] = None,
 ) -> None:
     """Run a task with the reference solution (our station-keeping controller) or live over ROS 2; prints the
     score per trial."""
+    from usvsim.cli.outputs import prepare_file
     from usvsim.tasks import TASKS, TaskTiming
     from usvsim.tasks.solutions import run_trial
 
@@ -44,6 +45,7 @@ def task(
             raise UsvsimError("--external needs --ros2 (the boat's commands come over ROS 2)")
         if landmark_type not in ("pose", "geopose"):
             raise UsvsimError(f"--landmark-type must be pose or geopose, got {landmark_type!r}")
+        prepare_file(report)  # a bad --report path fails now, not after the trials
         timing, results = TaskTiming(ready_s=ready_s, running_s=time_limit), []
         for k in range(trials):
             with console.status(f"{name} difficulty {difficulty}, trial {k + 1}/{trials} (seed {seed + k})"):
@@ -62,8 +64,12 @@ def task(
     scores = [r["score"] for r in results]
     summary = {"task": name, "difficulty": difficulty, "trials": results, "mean_score": sum(scores) / len(scores),
                "higher_is_better": results[0]["higher_is_better"]}  # fmt: skip
-    report.parent.mkdir(parents=True, exist_ok=True)
-    report.write_text(json.dumps(summary, indent=2, default=float))
+    text = json.dumps(summary, indent=2, default=float)
+    try:
+        report.write_text(text)
+    except OSError as exc:
+        typer.echo(text)  # nothing lost: the report goes to stdout instead
+        fail(f"cannot write {report}: {exc.strerror or exc}; the report was printed to stdout instead")
     typer.echo(f"{name}: mean score {summary['mean_score']:.4g} over {trials} trial(s); wrote {report}")
 
 

@@ -11,18 +11,30 @@ import typer
 def imazu(
     case: Annotated[int, typer.Argument(help="Imazu encounter 1-22", min=1, max=22)],
     model: Annotated[str, typer.Option(help="own ship: a library vessel (wamv, otter)")] = "wamv",
-    speed: Annotated[float, typer.Option(help="own ship speed, m/s", min=0.1)] = 2.0,
-    encounter: Annotated[float, typer.Option(help="seconds until the encounter", min=10.0)] = 300.0,
+    speed: Annotated[float, typer.Option(help="own ship speed, m/s", min=0.1, max=50.0)] = 2.0,
+    encounter: Annotated[float, typer.Option(help="seconds until the encounter", min=10.0, max=1e6)] = 300.0,
     out: Annotated[Path | None, typer.Option(help="write the scenario here (default: print it)")] = None,
 ) -> None:
     """Write Imazu encounter CASE (own ship heading north, 1-3 targets) as a scenario YAML."""
+    from usvsim.cli.errors import fail
+    from usvsim.cli.outputs import prepare_file
+    from usvsim.core.errors import UsvsimError
     from usvsim.traffic.imazu import imazu_yaml
+    from usvsim.vessels.library import LIBRARY
 
+    if model not in LIBRARY:
+        fail(f"--model {model!r}: choose a library vessel ({', '.join(LIBRARY)})")
     text = imazu_yaml(case, model=model, speed_mps=speed, encounter_s=encounter)
     if out is None:
         typer.echo(text, nl=False)
     else:
-        out.write_text(text)
+        try:
+            prepare_file(out)
+            out.write_text(text)
+        except UsvsimError as exc:
+            fail(exc)
+        except OSError as exc:
+            fail(f"cannot write {out}: {exc.strerror or exc}")
         typer.echo(f"wrote Imazu case {case} to {out}; run it with: usvsim run {out} --duration {2 * encounter:g}")
 
 

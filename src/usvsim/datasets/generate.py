@@ -66,8 +66,17 @@ class DatasetSpec:
         bad = set(self.formats) - set(FORMATS)
         if bad or not self.formats:
             raise UsvsimError(f"--format: unknown {sorted(bad)}; choose from {', '.join(FORMATS)}")
-        if self.frames < 1 or abs(sum(self.splits) - 1.0) > 1e-9 or min(self.splits) < 0:
+        if (self.frames < 1 or not all(math.isfinite(f) and f >= 0 for f in self.splits)
+                or abs(sum(self.splits) - 1.0) > 1e-9):  # fmt: skip
             raise UsvsimError("frames must be >= 1 and the splits non-negative fractions summing to 1")
+        if self.resolution and not all(8 <= n <= 4096 for n in self.resolution):
+            raise UsvsimError(
+                f"--resolution {self.resolution[0]}x{self.resolution[1]}: width and height are 8-4096 px"
+            )
+        if not 0.0 <= self.min_visible_fraction <= 1.0:  # NaN fails too
+            raise UsvsimError(f"--min-visible-fraction must be in [0, 1], got {self.min_visible_fraction}")
+        if self.min_visible_pixels < 0:
+            raise UsvsimError(f"--min-visible-pixels must be >= 0, got {self.min_visible_pixels}")
 
 
 def _scenario(spec: DatasetSpec, environment: dict):

@@ -17,6 +17,8 @@ from mcap.stream_reader import StreamReader
 from usvsim.core.errors import UsvsimError
 from usvsim.io.mcap_recorder import McapRecorder, _Topic
 
+MCAP_MAGIC = b"\x89MCAP0\r\n"  # the first 8 bytes of every MCAP file (format version 0)
+
 
 @dataclass(frozen=True)
 class Recovered:
@@ -30,6 +32,12 @@ def recover(source: Path, target: Path) -> Recovered:
     """Copy the readable part of `source` into `target` (a new, complete file)."""
     if source.resolve() == target.resolve():
         raise UsvsimError(f"recover writes a new file; choose an output other than {source}")
+    with source.open("rb") as f:
+        head = f.read(len(MCAP_MAGIC))
+    if not head:
+        raise UsvsimError(f"{source} is empty: nothing to recover")
+    if not MCAP_MAGIC.startswith(head):  # a file cut inside its 8-byte magic is still a recording
+        raise UsvsimError(f"{source} is not an MCAP recording (it does not start with the MCAP magic bytes)")
     schemas: dict[int, Schema] = {}
     topics: dict[int, _Topic] = {}
     complete = False

@@ -1,0 +1,184 @@
+"""User mistakes found by an outside check of every command: each is one line on stderr with exit 2, found
+before any work is done (so nothing is lost), and results go to stdout. In-process where the command allows."""
+
+from __future__ import annotations
+
+import json
+import sys
+
+import pytest
+from typer.testing import CliRunner
+
+from usvsim.cli.app import app, main
+from usvsim.core.errors import UsvsimError
+
+TINY = "version: 1\nvessels: [{name: otter, model: otter}]\n"  # builds in well under a second
+
+
+def invoke(*args):
+    return CliRunner().invoke(app, [str(a) for a in args])
+
+
+def one_line_error(result, *words):
+    assert result.exit_code == 2, result.output
+    lines = [ln for ln in result.stderr.splitlines() if ln.strip()]
+    assert len(lines) == 1, result.stderr
+    assert "Traceback" not in result.stderr
+    for word in words:
+        assert word in lines[0], lines[0]
+
+
+def never(*_args, **_kw):
+    raise AssertionError("the work started although the output path is unusable")
+
+
+@pytest.mark.parametrize(
+    ("args", "words"),
+    [
+        (["run", "harbor", "--duration", "-1"], ["--duration", "greater than or equal to 0", "--help"]),
+        (["run", "harbor", "--duration", "nan"], ["--duration"]),
+        (["task", "station_keeping", "--trials", "0"], ["--trials"]),
+        (["task", "station_keeping", "--time-limit", "inf"], ["--time-limit"]),
+        (["imazu", "23"], ["case", "22"]),
+        (["imazu", "3", "--speed", "inf"], ["--speed"]),
+        (["dataset", "buoy_field", "--frames", "0"], ["--frames"]),
+        (["run", "--no-such-option"], ["--no-such-option"]),
+        (["no-such-command"], ["no-such-command"]),
+    ],
+)
+def test_usage_mistakes_are_one_line_from_the_entry_point(monkeypatch, capsys, args, words):
+    """`usvsim` (the console script) prints click's usage errors as one line, not a usage block and a panel."""
+    monkeypatch.setattr(sys, "argv", ["usvsim", *args])
+    with pytest.raises(SystemExit) as exit_info:
+        main()
+    captured = capsys.readouterr()
+    assert exit_info.value.code == 2
+    lines = [ln for ln in captured.err.splitlines() if ln.strip()]
+    assert len(lines) == 1 and captured.out == "", captured.err
+    assert lines[0].startswith("usvsim: error: ")
+    for word in words:
+        assert word in lines[0], lines[0]
+
+
+def test_entry_point_exit_codes_for_help_and_success(monkeypatch, capsys):
+    monkeypatch.setattr(sys, "argv", ["usvsim", "run", "--help"])
+    with pytest.raises(SystemExit) as exit_info:
+        main()
+    assert exit_info.value.code == 0 and "--duration" in capsys.readouterr().out
+    monkeypatch.setattr(sys, "argv", ["usvsim", "imazu", "3"])
+    with pytest.raises(SystemExit) as exit_info:
+        main()
+    assert exit_info.value.code == 0 and "name: imazu_03" in capsys.readouterr().out
+
+
+def test_task_report_path_is_checked_before_the_trials(tmp_path, monkeypatch):
+    import usvsim.tasks.solutions
+
+    monkeypatch.setattr(usvsim.tasks.solutions, "run_trial", never)
+    (tmp_path / "file").write_text("x")
+    one_line_error(
+        invoke("task", "station_keeping", "--report", tmp_path / "file" / "r.json"), "cannot create"
+    )
+    one_line_error(invoke("task", "station_keeping", "--report", tmp_path), "is a directory")
+
+
+def test_task_report_that_cannot_be_written_at_the_end_goes_to_stdout(tmp_path, monkeypatch):
+    import usvsim.tasks.solutions
+
+    def trial(name, difficulty, seed, timing):
+        return {"seed": seed, "score": 1.5, "num_collisions": 0, "sim_time_s": 1.0, "wall_time_s": 0.1,
+                "higher_is_better": False}  # fmt: skip
+
+    monkeypatch.setattr(usvsim.tasks.solutions, "run_trial", trial)
+    report = tmp_path / "r.json"
+    monkeypatch.setattr(type(report), "write_text", lambda self, text: (_ for _ in ()).throw(OSError(28, "No space left on device")))  # fmt: skip
+    result = invoke("task", "station_keeping", "--report", report)
+    one_line_error(result, "No space left", "stdout")
+    assert '"mean_score": 1.5' in result.stdout  # nothing lost
+
+
+def test_sweep_out_path_is_checked_before_the_runs(tmp_path, monkeypatch):
+    import usvsim.batch
+
+    monkeypatch.setattr(usvsim.batch, "run", never)
+    spec = tmp_path / "s.yaml"
+    spec.write_text("task: station_keeping\nseeds: [0]\ntime_limit_s: 1\n")
+    (tmp_path / "file").write_text("x")
+    one_line_error(invoke("sweep", spec, "--out", tmp_path / "file" / "s.jsonl"), "cannot create")
+
+
+def test_experiment_out_that_is_a_file_is_one_line(tmp_path):
+    (tmp_path / "file").write_text("x")
+    one_line_error(invoke("experiment", "sphere", "--out", tmp_path / "file"), "is a file")
+
+
+def test_imazu_rejects_unknown_models_and_bad_out(tmp_path):
+    one_line_error(invoke("imazu", "5", "--model", "nosuch"), "nosuch", "wamv")
+    one_line_error(invoke("imazu", "5", "--out", tmp_path), "is a directory")
+    (tmp_path / "file").write_text("x")
+    one_line_error(invoke("imazu", "5", "--out", tmp_path / "file" / "i.yaml"), "cannot create")
+    result = invoke("imazu", "5", "--model", "otter", "--out", tmp_path / "i.yaml")
+    assert result.exit_code == 0 and "model: otter" in (tmp_path / "i.yaml").read_text()
+
+
+def test_map_prints_the_file_it_writes_and_rejects_unknown_formats(tmp_path):
+    scenario = tmp_path / "tiny.yaml"
+    scenario.write_text(TINY)
+    one_line_error(invoke("map", scenario, "--out", tmp_path / "m.txt"), "unknown image format", ".txt")
+    result = invoke("map", scenario, "--out", tmp_path / "plan")  # matplotlib adds .png
+    assert result.exit_code == 0, result.output
+    assert (
+        result.stdout.strip() == str(tmp_path / "plan.png") and (tmp_path / "plan.png").stat().st_size > 1000
+    )
+
+
+def test_recover_refuses_a_file_that_is_not_mcap_and_writes_nothing(tmp_path):
+    junk, empty = tmp_path / "junk.mcap", tmp_path / "empty.mcap"
+    junk.write_text("this is not a recording\n")
+    empty.write_bytes(b"")
+    one_line_error(invoke("recover", junk), "not an MCAP recording")
+    one_line_error(invoke("recover", empty), "is empty")
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["empty.mcap", "junk.mcap"]
+
+
+def test_recover_still_takes_a_file_cut_inside_its_magic(tmp_path):
+    cut = tmp_path / "cut.mcap"
+    cut.write_bytes(b"\x89MCA")  # kill -9 after 4 bytes
+    result = invoke("recover", cut)
+    assert result.exit_code == 0 and "recovered 0 messages" in result.stdout
+
+
+@pytest.mark.parametrize(
+    ("args", "words"),
+    [
+        (["--resolution", "0x0"], ["--resolution", "8-4096"]),
+        (["--resolution", "-64x48"], ["--resolution"]),
+        (["--splits", "nan,0,0"], ["splits"]),
+        (["--min-visible-fraction", "nan"], ["--min-visible-fraction"]),
+    ],
+)
+def test_dataset_bad_numbers_are_one_line(tmp_path, args, words):
+    one_line_error(invoke("dataset", "buoy_field", "--frames", "1", "--out", tmp_path / "ds", *args), *words)
+    assert not (tmp_path / "ds").exists()
+
+
+def test_dataset_spec_rejects_nan_splits(tmp_path):
+    from usvsim.datasets.generate import DatasetSpec
+
+    with pytest.raises(UsvsimError, match="splits"):
+        DatasetSpec("buoy_field", 1, tmp_path, splits=(float("nan"), 0.0, 0.0))
+
+
+def test_dataset_out_under_a_file_is_one_line_and_the_result_line_is_on_stdout(tmp_path):
+    (tmp_path / "file").write_text("x")
+    one_line_error(
+        invoke("dataset", "buoy_field", "--frames", "1", "--out", tmp_path / "file" / "ds"), "cannot create"
+    )
+    out = tmp_path / "ds"
+    result = invoke(
+        "dataset", "buoy_field", "--frames", "1", "--resolution", "64x48", "--format", "coco", "--out", out
+    )
+    assert result.exit_code == 0, result.output
+    assert result.stdout.strip() == f"wrote 1 frames to {out}"
+    coco = json.loads(next((out / "annotations").glob("*.json")).read_text())
+    assert "images" in coco
