@@ -294,16 +294,16 @@ app.command("schema")(schema_command)
 
 def main() -> None:
     # typer >= 0.2x vendors click (typer._click): find its ClickException through a public class
-    click_exception = next(c for c in typer.BadParameter.__mro__ if c.__name__ == "ClickException")
+    click_exception: type[Exception] = next(c for c in typer.BadParameter.__mro__ if c.__name__ == "ClickException")
     try:
         code = app(standalone_mode=False)
     except click_exception as exc:  # a usage mistake (bad option value, unknown option...): one line
         if type(exc).__name__ != "NoArgsIsHelpError":  # that one has printed the help already
             ctx = getattr(exc, "ctx", None)
             hint = f" (see {ctx.command_path} --help)" if ctx is not None else ""
-            message = " ".join(exc.format_message().split())
+            message = " ".join(exc.format_message().split())  # pyright: ignore[reportAttributeAccessIssue]
             console.print(f"usvsim: error: {message}{hint}", highlight=False, soft_wrap=True, markup=False)
-        sys.exit(exc.exit_code)
+        sys.exit(getattr(exc, "exit_code", 2))
     except typer.Abort:
         console.print("usvsim: aborted", highlight=False)
         sys.exit(1)
