@@ -127,6 +127,45 @@ def _cut_face(r0, r1, r2, h0, h1, h2, d0, d1, d2, n_below):
 
 
 @njit(cache=True)
+def _combine_one_above(m1, m2, f1, f2):
+    """`_one_above`'s weighted sum of its two sub-triangles' moments (the same expressions)."""
+    w1, qx1, qy1, qz1, e1 = m1
+    w2, qx2, qy2, qz2, e2 = m2
+    w, e = f1 * w1 + f2 * w2, f1 * e1 + f2 * e2
+    qx, qy, qz = f1 * qx1 + f2 * qx2, f1 * qy1 + f2 * qy2, f1 * qz1 + f2 * qz2
+    return (w, qx, qy, qz, e, f1 + f2)
+
+
+@njit(cache=True)
+def _cut_face_and_heads(r0, r1, r2, h0, h1, h2, p0, p1, p2, n_below):
+    """`_cut_face` twice in one: with the hydrostatic depths -h_k and with the pressure heads p_k (Froude–Krylov),
+    the cut points computed once. Returns (terms with -h, segment p, q, terms with p_k); each set bit for bit
+    what `_cut_face` returns for it."""
+    apex_below = n_below == 1
+    if (h0 <= 0.0) == apex_below:
+        ra, rb, rc, ha, hb, hc, pa, pb, pc = r0, r1, r2, h0, h1, h2, p0, p1, p2
+    elif (h1 <= 0.0) == apex_below:
+        ra, rb, rc, ha, hb, hc, pa, pb, pc = r1, r2, r0, h1, h2, h0, p1, p2, p0
+    else:
+        ra, rb, rc, ha, hb, hc, pa, pb, pc = r2, r0, r1, h2, h0, h1, p2, p0, p1
+    if apex_below:  # `_two_above`
+        jb, tb, _ = _cut(ra, rb, ha, hb)
+        jc, tc, _ = _cut(ra, rc, ha, hc)
+        f = tb * tc
+        w, qx, qy, qz, e = _depth_moments(ra, jb, jc, -ha, 0.0, 0.0)
+        wp, qxp, qyp, qzp, ep = _depth_moments(ra, jb, jc, pa, 0.0, 0.0)
+        return (f * w, f * qx, f * qy, f * qz, f * e, f), jb, jc, (f * wp, f * qxp, f * qyp, f * qzp, f * ep, f)
+    ib, _, ub = _cut(ra, rb, ha, hb)  # `_one_above`
+    ic, sc, uc = _cut(ra, rc, ha, hc)
+    f1, f2 = uc, sc * ub
+    geo = _combine_one_above(_depth_moments(rb, rc, ic, -hb, -hc, 0.0), _depth_moments(rb, ic, ib, -hb, 0.0, 0.0),
+                             f1, f2)  # fmt: skip
+    heads = _combine_one_above(_depth_moments(rb, rc, ic, pb, pc, 0.0), _depth_moments(rb, ic, ib, pb, 0.0, 0.0),
+                               f1, f2)  # fmt: skip
+    return geo, ic, ib, heads
+
+
+@njit(cache=True)
 def _store_segment(seg, seg_count, f, p, q, cx, cy, cz):
     """Write the waterline segment (p, q) (CoM-relative, m) of face f in world coordinates."""
     seg[f, 0, 0], seg[f, 0, 1], seg[f, 0, 2] = p[0] + cx, p[1] + cy, p[2] + cz
@@ -208,12 +247,14 @@ def hull_hydrostatics(vertices, faces, face_area, face_offsets, eta, head, com, 
                 if fk:
                     wp, qxp, qyp, qzp, _ = _depth_moments(r0, r1, r2, head[i0], head[i1], head[i2])
             else:
-                terms, p, q = _cut_face(r0, r1, r2, h0, h1, h2, -h0, -h1, -h2, n_below)
+                if fk:
+                    terms, p, q, hterms = _cut_face_and_heads(r0, r1, r2, h0, h1, h2, head[i0], head[i1], head[i2],
+                                                              n_below)  # fmt: skip
+                    wp, qxp, qyp, qzp = hterms[0], hterms[1], hterms[2], hterms[3]
+                else:
+                    terms, p, q = _cut_face(r0, r1, r2, h0, h1, h2, -h0, -h1, -h2, n_below)
                 w, qx, qy, qz, e, frac = terms
                 _store_segment(seg, seg_count, f, p, q, cx, cy, cz)
-                if fk:
-                    terms, _, _ = _cut_face(r0, r1, r2, h0, h1, h2, head[i0], head[i1], head[i2], n_below)
-                    wp, qxp, qyp, qzp = terms[0], terms[1], terms[2], terms[3]
             if not fk:
                 wp, qxp, qyp, qzp = w, qx, qy, qz
             # C = 2 A n, twice the parent's area vector; sub-triangles share its normal
