@@ -44,6 +44,7 @@ def never(*_args, **_kw):
         (["dataset", "buoy_field", "--frames", "0"], ["--frames"]),
         (["run", "--no-such-option"], ["--no-such-option"]),
         (["no-such-command"], ["no-such-command"]),
+        (["demo", "navigate", "--max-time", "-5"], ["--max-time"]),  # was an IndexError from the metrics
     ],
 )
 def test_usage_mistakes_are_one_line_from_the_entry_point(monkeypatch, capsys, args, words):
@@ -182,3 +183,19 @@ def test_dataset_out_under_a_file_is_one_line_and_the_result_line_is_on_stdout(t
     assert result.stdout.strip() == f"wrote 1 frames to {out}"
     coco = json.loads(next((out / "annotations").glob("*.json")).read_text())
     assert "images" in coco
+
+
+@pytest.mark.parametrize(
+    ("args", "words"),
+    [
+        (["--goals", "nan,0"], ["--goals"]),  # was accepted and drove nowhere
+    ],
+)
+def test_navigate_bad_numbers_are_one_line(tmp_path, args, words):
+    one_line_error(invoke("demo", "navigate", "--out", tmp_path / "nav", *args), *words)
+    assert not (tmp_path / "nav").exists()
+
+
+def test_navigate_out_under_a_file_is_one_line(tmp_path):
+    (tmp_path / "file").write_text("x")
+    one_line_error(invoke("demo", "navigate", "--out", tmp_path / "file" / "nav"), "cannot create")

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 import time
 from pathlib import Path
 
@@ -25,7 +26,7 @@ def parse_goals(text: str) -> list[tuple[float, float]]:
         goals = [tuple(float(v) for v in item.split(",")) for item in text.split(";") if item.strip()]
     except ValueError:
         goals = []
-    if not goals or any(len(g) != 2 for g in goals):
+    if not goals or any(len(g) != 2 or not all(math.isfinite(v) for v in g) for g in goals):
         raise UsvsimError(
             f"--goals {text!r}: give 'x,y;x,y;...' in metres (map = world ENU), e.g. '10,0;20,5'"
         )

@@ -20,7 +20,9 @@ def navigate_command(
     out: Annotated[
         Path, typer.Option(help="output folder: map.png/.yaml, map_truth.png, trajectory.png, metrics.json")
     ] = Path("navigate_out"),
-    max_time: Annotated[float, typer.Option(help="simulation seconds before giving up")] = 400.0,
+    max_time: Annotated[
+        float, typer.Option(help="simulation seconds before giving up", min=1.0, max=1e6)
+    ] = 400.0,
     seed: Annotated[int, typer.Option(help="random seed")] = 0,
     odometry: Annotated[
         str, typer.Option(help="auto | kiss_icp | sensor (the odometry sensor's pose)")
@@ -33,6 +35,7 @@ def navigate_command(
     """Map as it goes (LiDAR odometry + occupancy grid), plan, drive to each goal; write pictures and metrics."""
     from usvsim.autonomy.demo import acceptance, parse_goals, run_demo
     from usvsim.cli.errors import fail as _fail
+    from usvsim.cli.outputs import prepare_folder
     from usvsim.core.errors import UsvsimError
 
     try:
@@ -40,9 +43,9 @@ def navigate_command(
             raise UsvsimError(f"--odometry {odometry!r}: choose auto, kiss_icp or sensor")
         if planner not in ("astar", "hybrid"):
             raise UsvsimError(f"--planner {planner!r}: choose astar or hybrid")
-        summary = run_demo(
-            scenario, parse_goals(goals) if goals else None, out, max_time, seed, odometry, planner
-        )
+        parsed = parse_goals(goals) if goals else None
+        prepare_folder(out)
+        summary = run_demo(scenario, parsed, out, max_time, seed, odometry, planner)
     except UsvsimError as exc:
         _fail(exc)
     checks = acceptance(summary)
