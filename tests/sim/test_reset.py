@@ -60,6 +60,7 @@ HOLD = {"version": 1, "name": "hold", "environment": ROUGH,
     ("harbor", {"environment": ROUGH}, 5.0),
     ("harbor", {"environment": FFT_ROUGH}, 5.0),
     ("harbor_sensors", {"environment": ROUGH}, 5.0),
+    ("harbor_sensors", {"environment": FFT_ROUGH}, 5.0),
     ("hold", HOLD, 5.0),
 ])  # fmt: skip
 def test_reset_equals_a_fresh_simulation(name, changes, seconds):
