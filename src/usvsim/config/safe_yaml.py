@@ -8,6 +8,7 @@ aliases expands to 387 M values and is refused here, before anything walks it).
 
 from __future__ import annotations
 
+import re
 from pathlib import Path
 
 import yaml
@@ -19,7 +20,21 @@ MAX_DEPTH = 64
 MAX_ALIASES = 256
 MAX_VALUES = 200_000
 EXCERPT_CHARS = 60
-_Loader = getattr(yaml, "CSafeLoader", yaml.SafeLoader)
+
+
+_Base: type[yaml.SafeLoader] = getattr(yaml, "CSafeLoader", yaml.SafeLoader)
+
+
+class _Loader(_Base):
+    """The safe loader, reading numbers as YAML 1.2 does: PyYAML (YAML 1.1) takes `1e9` or `5e-2` (an exponent
+    without a decimal point) for the text '1e9', which the schema then refuses as "not a valid number"."""
+
+
+_Loader.add_implicit_resolver(
+    "tag:yaml.org,2002:float",
+    re.compile(r"^[-+]?[0-9][0-9_]*(?:\.[0-9_]*)?[eE][-+]?[0-9]+$"),
+    list("-+0123456789"),
+)
 
 
 def excerpt(value, limit: int = EXCERPT_CHARS) -> str:
@@ -52,7 +67,9 @@ def decode(data: bytes, source: str) -> str:
     try:
         return data.decode("utf-8-sig")
     except UnicodeDecodeError as exc:
-        raise ScenarioError(source, "", f"not UTF-8 text (invalid byte at offset {exc.start}); save it as UTF-8") from None
+        raise ScenarioError(
+            source, "", f"not UTF-8 text (invalid byte at offset {exc.start}); save it as UTF-8"
+        ) from None
 
 
 def parse(text: str, source: str):

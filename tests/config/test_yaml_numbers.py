@@ -1,0 +1,42 @@
+"""Numbers with an exponent and no decimal point (`1e9`, `5e-2`) are numbers in a scenario, as in YAML 1.2 and
+JSON; PyYAML's YAML 1.1 reads them as text, and the schema then said "Input should be a valid number (got '5e-2')"."""
+
+from __future__ import annotations
+
+import pytest
+import yaml
+
+from usvsim.config.loader import parse_scenario
+from usvsim.config.safe_yaml import parse
+
+
+@pytest.mark.parametrize(
+    ("text", "value"),
+    [
+        ("1e9", 1e9),
+        ("5e-2", 0.05),
+        ("-1.5E+3", -1500.0),
+        ("+2e0", 2.0),
+        ("1_0e1", 100.0),
+        ("12", 12),
+        ("0.5", 0.5),
+    ],
+)
+def test_exponent_numbers_are_numbers(text, value):
+    out = parse(f"v: {text}\n", "t.yaml")["v"]
+    assert out == value and type(out) is type(value)
+
+
+@pytest.mark.parametrize("text", ["1e", "e5", "3e0x", "'1e9'", "1e9 m"])
+def test_other_text_stays_text(text):
+    assert isinstance(parse(f"v: {text}\n", "t.yaml")["v"], str)
+
+
+def test_the_global_pyyaml_loader_is_left_alone():
+    assert yaml.safe_load("v: 1e9") == {"v": "1e9"}
+
+
+def test_a_scenario_value_written_with_an_exponent_is_accepted():
+    text = "version: 1\nvessels: [{name: w, model: otter, buoyancy: {type: voxels, voxel_size_m: 5e-2}}]\n"
+    scenario = parse_scenario(parse(text, "t.yaml"), "t.yaml", None)
+    assert scenario.vessels[0].buoyancy.voxel_size_m == 0.05
