@@ -199,3 +199,36 @@ def test_navigate_bad_numbers_are_one_line(tmp_path, args, words):
 def test_navigate_out_under_a_file_is_one_line(tmp_path):
     (tmp_path / "file").write_text("x")
     one_line_error(invoke("demo", "navigate", "--out", tmp_path / "file" / "nav"), "cannot create")
+
+
+@pytest.mark.parametrize(
+    "args",
+    [
+        ["run", "harbor", "--duration", "0.1", "--seed", "-1"],
+        ["task", "station_keeping", "--seed", "-1"],
+        ["dataset", "buoy_field", "--seed", "-1"],
+        ["map", "wayfinding", "--task", "--seed", "-1"],
+        ["demo", "navigate", "--seed", "-1"],
+    ],
+)
+def test_negative_seeds_are_one_line_from_the_entry_point(monkeypatch, capsys, args):
+    """numpy's SeedSequence refuses them with a ValueError; was a traceback from every command."""
+    monkeypatch.setattr(sys, "argv", ["usvsim", *args])
+    with pytest.raises(SystemExit) as exit_info:
+        main()
+    lines = [ln for ln in capsys.readouterr().err.splitlines() if ln.strip()]
+    assert exit_info.value.code == 2 and len(lines) == 1 and "--seed" in lines[0], lines
+
+
+def test_a_negative_seed_in_python_is_a_usvsim_error_and_changes_nothing():
+    from usvsim.simulation import Simulation
+
+    with pytest.raises(UsvsimError, match="non-negative"):
+        Simulation.from_scenario("harbor", seed=-1)
+    sim = Simulation.from_scenario("harbor", seed=5)
+    with pytest.raises(UsvsimError, match="non-negative"):
+        sim.reset(seed=-3)
+    assert sim.world.seed == 5
+    sim.reset()  # the seed kept is still usable
+    assert sim.world.seed == 5
+    sim.close()

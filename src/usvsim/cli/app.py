@@ -63,7 +63,7 @@ def run(
     duration: Annotated[float, typer.Option(help="simulated seconds", min=0.0)] = 60.0,
     realtime: Annotated[bool, typer.Option(help="pace to the wall clock")] = False,
     record: Annotated[Path | None, typer.Option(help="write an MCAP file (rosbag2 layout)")] = None,
-    seed: Annotated[int, typer.Option(help="random seed")] = 0,
+    seed: Annotated[int, typer.Option(help="random seed", min=0)] = 0,
     view: Annotated[
         bool, typer.Option(help="open the interactive viewer (W/S/A/D drive, R reset, Space pause)")
     ] = False,

@@ -19,7 +19,7 @@ def dataset_command(
     format: Annotated[
         str, typer.Option("--format", help="comma-separated: yolo, coco, masks")
     ] = "yolo,coco,masks",
-    seed: Annotated[int, typer.Option(help="random seed: the same seed writes the same bytes")] = 0,
+    seed: Annotated[int, typer.Option(help="random seed: the same seed writes the same bytes", min=0)] = 0,
     randomize: Annotated[
         str | None, typer.Option(help="randomization YAML file or preset (clear_calm, foggy_wavy)")
     ] = None,

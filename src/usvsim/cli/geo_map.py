@@ -14,7 +14,7 @@ def map_command(
     out: Annotated[Path, typer.Option(help="PNG file to write")] = Path("map.png"),
     task: Annotated[bool, typer.Option("--task", help="SCENARIO names a task (usvsim task): draw its goals")] = False,
     difficulty: Annotated[int, typer.Option(help="task difficulty 0-2 (with --task)", min=0, max=2)] = 0,
-    seed: Annotated[int, typer.Option(help="task layout seed (with --task)")] = 0,
+    seed: Annotated[int, typer.Option(help="task layout seed (with --task)", min=0)] = 0,
 ) -> None:
     """Draw a plan view (land, depth contours, structures, objects, traffic routes, task goals) to a PNG."""
     from matplotlib.backend_bases import FigureCanvasBase

@@ -23,7 +23,7 @@ def navigate_command(
     max_time: Annotated[
         float, typer.Option(help="simulation seconds before giving up", min=1.0, max=1e6)
     ] = 400.0,
-    seed: Annotated[int, typer.Option(help="random seed")] = 0,
+    seed: Annotated[int, typer.Option(help="random seed", min=0)] = 0,
     odometry: Annotated[
         str, typer.Option(help="auto | kiss_icp | sensor (the odometry sensor's pose)")
     ] = "auto",

@@ -18,7 +18,7 @@ from usvsim.core.errors import UsvsimError
 def task(
     name: Annotated[str, typer.Argument(help="station_keeping, wayfinding, perception, follow_path, wildlife, gymkhana")],
     difficulty: Annotated[int, typer.Option(help="0 calm, 1 moderate, 2 rough (VRX 2023 practice levels)")] = 0,
-    seed: Annotated[int, typer.Option(help="seed of the first trial (trial k uses seed + k)")] = 0,
+    seed: Annotated[int, typer.Option(help="seed of the first trial (trial k uses seed + k)", min=0)] = 0,
     trials: Annotated[int, typer.Option(help="number of trials", min=1)] = 1,
     time_limit: Annotated[float, typer.Option(help="running time limit, s (VRX: 300)", min=1.0, max=1e6)] = 300.0,
     report: Annotated[Path, typer.Option(help="JSON report path")] = Path("out/task_report.json"),

@@ -10,10 +10,12 @@ import hashlib
 
 import numpy as np
 
+from usvsim.core.errors import UsvsimError
+
 
 class RngStreams:
     def __init__(self, seed: int):
-        self.seed = int(seed)
+        self.seed = _checked(seed)
         self._streams: dict[str, np.random.Generator] = {}
 
     def get(self, name: str) -> np.random.Generator:
@@ -26,7 +28,7 @@ class RngStreams:
         """Every stream back to its first number under `seed`, in place: holders of a generator keep it and
         draw what a fresh `RngStreams(seed)` would give. (`get` after this also returns fresh generators,
         whose `spawn` children match a fresh run's.)"""
-        self.seed = int(seed)
+        self.seed = _checked(seed)
         for name, gen in self._streams.items():
             fresh = self._fresh(name)
             gen.bit_generator.state = fresh.bit_generator.state
@@ -36,3 +38,10 @@ class RngStreams:
         digest = hashlib.sha256(name.encode()).digest()
         key = [int.from_bytes(digest[i : i + 4], "little") for i in range(0, 16, 4)]
         return np.random.Generator(np.random.PCG64(np.random.SeedSequence([self.seed, *key])))
+
+
+def _checked(seed: int) -> int:
+    """numpy's SeedSequence takes non-negative integers only; say so in one line rather than in its ValueError."""
+    if isinstance(seed, bool) or int(seed) != seed or seed < 0:
+        raise UsvsimError(f"a seed is a non-negative integer, got {seed!r}")
+    return int(seed)

@@ -193,8 +193,9 @@ class World:
         if unknown:
             raise KeyError(f"no body named {unknown}; bodies: {sorted(self.bodies)}")
         placed = {self.bodies[name].index: pose_arrays(pose) for name, pose in (poses or {}).items()}  # checked first
-        self.seed = self.seed if seed is None else int(seed)
-        self.rng.reseed(self.seed)
+        seed = self.seed if seed is None else seed
+        self.rng.reseed(seed)  # checks the seed before anything changes
+        self.seed = self.rng.seed
         self.ocean = build_ocean(self.scenario.environment, self.rng.get("ocean"), dt_s=self.clock.dt)
         self._patches = self._water_patches()
         mujoco.mj_resetData(self.model, self.data)
