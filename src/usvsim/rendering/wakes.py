@@ -98,13 +98,14 @@ class WakeTracks:
             side = np.stack([-d[:, 1], d[:, 0]], axis=1)
             half = half_beam + speed * age * KELVIN_TAN + 1.0
             left, right = pts + side * half[:, None], pts - side * half[:, None]
-            for a in range(len(pts) - 1):
-                b = a + 1
-                quad = [(left[a], 1.0, a), (right[a], -1.0, a), (left[b], 1.0, b),
-                        (left[b], 1.0, b), (right[a], -1.0, a), (right[b], -1.0, b)]  # fmt: skip
-                for p, u, i in quad:
-                    tris.append((p[0], p[1], u, age[i], speed[i], half[i]))
-        return np.array(tris, np.float32).reshape(-1, 6)
+            edge = np.stack([np.c_[left, np.ones(len(pts))], np.c_[right, -np.ones(len(pts))]])  # (2, n, 3)
+            attrs = np.c_[age, speed, half]  # per sample
+            a = np.arange(len(pts) - 1)
+            # per segment two triangles: left a, right a, left b; left b, right a, right b
+            sides, samples = np.array([0, 1, 0, 0, 1, 1]), np.stack([a, a, a + 1, a + 1, a, a + 1], axis=1)
+            corners = edge[sides[None, :], samples]  # (segments, 6, 3)
+            tris.append(np.concatenate([corners, attrs[samples]], axis=2).reshape(-1, 6))
+        return np.concatenate(tris).astype(np.float32) if tris else np.zeros((0, 6), np.float32)
 
 
 VS = """
