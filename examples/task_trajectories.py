@@ -21,17 +21,17 @@ def main(out: str = "docs/images/tasks_reference.png") -> None:
     for ax, name in zip(axes, ("follow_path", "wildlife")):
         trace: list = []
         report = run_trial(name, 0, 0, TaskTiming(running_s=300.0), trace=trace)
-        ax.plot([p[1] for p in trace], [p[2] for p in trace], "b-", lw=1.2, label="WAM-V base_link")
+        ax.plot([p[1] for p in trace], [p[2] for p in trace], "b-", lw=1.2)  # the WAM-V's base_link
         for obj in TASKS[name](0, 0).objects():
             x, y, _ = obj["position"]
             ax.plot(x, y, "o", color=COLOURS[obj["color"]], ms=8)
             ax.annotate(obj["name"], (x, y), textcoords="offset points", xytext=(4, 4), fontsize=7)
-        ax.set_title(f"{name}: score {report['score']:.1f}, {report['num_collisions']} collisions")
+        ax.set_title(f"{name}: score {report['score']:.1f}, {report['num_collisions']} collisions (WAM-V path blue)")
         ax.set_xlabel("x east (m)")
         ax.set_ylabel("y north (m)")
         ax.set_aspect("equal")
         ax.grid(alpha=0.3)
-        ax.legend(loc="lower right", fontsize=8)
+        ax.margins(0.08, 0.25)  # room for the objects' labels
     fig.tight_layout()
     fig.savefig(out, dpi=90)
     print(f"wrote {out}")
