@@ -68,3 +68,30 @@ def test_mip_slope_ratio_matches_block_means_of_the_slope_tile(sea4):
         measured = np.sqrt(np.mean(np.sum(blocks**2, axis=-1))) / rms0
         assert measured == pytest.approx(ratio[level], rel=0.08)
     assert ratio[0] == pytest.approx(1.0) and np.all(np.diff(ratio) <= 0)
+
+
+def _near_water_texture(sea_state: int, short_waves: float) -> float:
+    """Mean |high-pass| of the luminance over the near water of the onboard camera (the gallery's SS4 look)."""
+    pytest.importorskip("moderngl")
+    from usvsim.rendering.frame import water_label
+    from usvsim.rendering.gallery import LOOKS
+
+    raw = scenario_dict(sea_state, {**LOOKS["onboard_sea_state_4"][1], "water": {"short_waves": short_waves}}, 320, 240)
+    raw["objects"] = []
+    sim = load(raw, seed=0)
+    sim.run(4.0)
+    images = sim.sensors["wamv/camera"].render(sim)
+    label = water_label(sim.model)
+    sim.close()
+    y = images["rgb"].astype(float) @ np.array([0.3, 0.6, 0.1])
+    high = y - 0.25 * (np.roll(y, 1, 0) + np.roll(y, -1, 0) + np.roll(y, 1, 1) + np.roll(y, -1, 1))
+    near = images["segmentation"] == label
+    near[:150] = False  # the lower part of the image: water within ~10 m
+    return float(np.mean(np.abs(high[near])))
+
+
+def test_onboard_camera_in_sea_state_4_does_not_read_calm():
+    flat, resolved_only, with_short = (_near_water_texture(0, 1.0), _near_water_texture(4, 0.0),
+                                       _near_water_texture(4, 1.0))  # fmt: skip
+    assert resolved_only < 2.0 * flat  # the physics' resolved sea alone: about as smooth as a flat sea
+    assert with_short > 3.0 * max(flat, resolved_only)  # with the short waves: individual waves, shading, glint
