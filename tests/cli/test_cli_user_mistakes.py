@@ -232,3 +232,13 @@ def test_a_negative_seed_in_python_is_a_usvsim_error_and_changes_nothing():
     sim.reset()  # the seed kept is still usable
     assert sim.world.seed == 5
     sim.close()
+
+
+def test_the_traffic_report_of_a_run_is_on_stdout(tmp_path):
+    """Results on stdout, progress on stderr: the CPA table was printed to stderr."""
+    scenario = tmp_path / "imazu.yaml"
+    assert invoke("imazu", "2", "--out", scenario).exit_code == 0
+    result = invoke("run", scenario, "--duration", "1")
+    assert result.exit_code == 0, result.output
+    assert "min predicted CPA" in result.stdout and "target_1" in result.stdout
+    assert "CPA" not in result.stderr

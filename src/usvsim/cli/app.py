@@ -121,7 +121,7 @@ def run(
     rtf = sim.time / wall if wall > 0 else float("inf")
     status = "stopped (Ctrl-C)" if interrupted else "done"
     typer.echo(f"{status}: simulated {sim.time:.2f} s in {wall:.2f} s wall ({rtf:.1f}x real time)")
-    print_traffic_report(sim, console)
+    print_traffic_report(sim, Console(soft_wrap=True))  # a result: stdout, beside "done: ..."
     if recorder:
         typer.echo(f"recorded {recorder.message_count} messages to {recorder.path}")
     for bridge in bridges:
