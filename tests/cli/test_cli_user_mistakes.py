@@ -242,3 +242,13 @@ def test_the_traffic_report_of_a_run_is_on_stdout(tmp_path):
     assert result.exit_code == 0, result.output
     assert "min predicted CPA" in result.stdout and "target_1" in result.stdout
     assert "CPA" not in result.stderr
+
+
+def test_errors_found_under_a_progress_bar_are_still_one_line(tmp_path):
+    """The bar of `dataset` and `sweep` left a '0/1' line above the error."""
+    one_line_error(
+        invoke("dataset", "no_such_scenario", "--frames", "1", "--out", tmp_path / "ds"), "no_such_scenario"
+    )
+    spec = tmp_path / "s.yaml"
+    spec.write_text("task: station_keeping\nseeds: [0]\ntime_limit_s: 1\n")
+    one_line_error(invoke("sweep", spec, "--backend", "nosuch", "--out", tmp_path / "s.jsonl"), "backend")

@@ -52,7 +52,7 @@ def dataset_command(
                            size, fractions, min_visible_pixels, min_visible_fraction)  # fmt: skip
         prepare_folder(out)
         columns = (TextColumn("dataset"), BarColumn(), MofNCompleteColumn(), TimeRemainingColumn())
-        with Progress(*columns, console=console) as bar:
+        with Progress(*columns, console=console, transient=True) as bar:  # gone when done: an error stays one line
             task = bar.add_task("frames", total=frames)
             generate(spec, progress=lambda n: bar.update(task, completed=n))
     except UsvsimError as exc:

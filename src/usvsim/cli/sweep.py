@@ -35,7 +35,7 @@ def sweep(
         runs = expand(config)
         prepare_file(out)  # a bad --out path fails now, not after every run
         columns = (TextColumn("sweep"), BarColumn(), MofNCompleteColumn(), TimeElapsedColumn())
-        with Progress(*columns, console=console) as bar:
+        with Progress(*columns, console=console, transient=True) as bar:  # gone when done: an error stays one line
             job = bar.add_task("runs", total=len(runs))
             results = run(runs, backend or config.backend, workers or config.workers, config.address,
                           progress=lambda done, total: bar.update(job, completed=done))  # fmt: skip
