@@ -252,3 +252,34 @@ def test_errors_found_under_a_progress_bar_are_still_one_line(tmp_path):
     spec = tmp_path / "s.yaml"
     spec.write_text("task: station_keeping\nseeds: [0]\ntime_limit_s: 1\n")
     one_line_error(invoke("sweep", spec, "--backend", "nosuch", "--out", tmp_path / "s.jsonl"), "backend")
+
+
+@pytest.mark.parametrize(
+    ("text", "words"),
+    [
+        (
+            "task: station_keepin\n",
+            ["task", "station_keepin", "station_keeping"],
+        ),  # was a KeyError in a worker
+        ("seeds: [-1]\n", ["seeds", "non-negative"]),  # was numpy's ValueError
+        ("seeds: {start: -5, count: 2}\n", ["seeds"]),
+        ("difficulty: [0, 7]\n", ["difficulty", "7"]),
+        (
+            "grid: {hold: {position_gain: [0.3]}}\n",
+            ["grid.hold", "position_gain_1ps"],
+        ),  # was a ValidationError
+        ("taks: station_keeping\n", ["taks", "did you mean 'task'"]),
+        ("grid: {mass: [200]}\n", ["grid.mass", "did you mean 'mass_kg'"]),
+        ("time_limit_s: 1.0e9\n", ["time_limit_s"]),
+        ("- 1\n", ["valid dictionary"]),
+    ],
+)
+def test_sweep_spec_mistakes_are_one_line_before_any_run(tmp_path, monkeypatch, text, words):
+    import usvsim.batch
+
+    monkeypatch.setattr(usvsim.batch, "run", never)
+    spec = tmp_path / "s.yaml"
+    spec.write_text(text)
+    result = invoke("sweep", spec, "--out", tmp_path / "s.jsonl")
+    one_line_error(result, *words)
+    assert ": :" not in result.stderr

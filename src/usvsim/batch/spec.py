@@ -18,7 +18,7 @@ from __future__ import annotations
 
 from typing import Annotated, Literal
 
-from pydantic import Field
+from pydantic import Field, model_validator
 
 from usvsim.config.base import PositiveFloat, Section
 
@@ -41,11 +41,33 @@ class SweepSpec(Section):
     task: str | list[str] = "station_keeping"
     difficulty: int | list[int] = 0
     seeds: list[int] | SeedRange = [0]
-    time_limit_s: PositiveFloat = 60.0
+    time_limit_s: Annotated[float, Field(gt=0, le=1e6)] = 60.0  # at most ~11.6 days a run
     grid: Grid = Grid()
     backend: Literal["process", "ray"] = "process"
     workers: Annotated[int, Field(ge=1)] | None = None
     address: str | None = Field(default=None, description="Ray cluster address; default a local instance")
+
+    @model_validator(mode="after")
+    def _runnable(self):
+        """Every run of the grid can start: checked here, before the first run, not in a worker's traceback."""
+        from usvsim.config.control import Hold
+        from usvsim.tasks.levels import LEVELS
+        from usvsim.tasks.library import TASKS
+
+        for name in [self.task] if isinstance(self.task, str) else self.task:
+            if name not in TASKS:
+                raise ValueError(f"task: unknown task {name!r}; choose from {', '.join(TASKS)}")
+        for level in [self.difficulty] if isinstance(self.difficulty, int) else self.difficulty:
+            if level not in LEVELS:
+                raise ValueError(f"difficulty: {level} is not one of {sorted(LEVELS)}")
+        if any(seed < 0 for seed in self.seed_list()):
+            raise ValueError("seeds: a seed is a non-negative integer")
+        unknown = sorted(set(self.grid.hold) - set(Hold.model_fields))
+        if unknown:
+            raise ValueError(
+                f"grid.hold: unknown key(s) {unknown}; Hold keys: {', '.join(Hold.model_fields)}"
+            )
+        return self
 
     def seed_list(self) -> list[int]:
         s = self.seeds

@@ -56,5 +56,15 @@ def _first_error(exc: Exception) -> str:
 
     if isinstance(exc, ValidationError):
         e = exc.errors()[0]
-        return f"{'.'.join(str(p) for p in e['loc'])}: {e['msg']}"
+        where = ".".join(str(p) for p in e["loc"])
+        message = e["msg"].removeprefix("Value error, ")
+        if e["type"] == "extra_forbidden":
+            from difflib import get_close_matches
+
+            from usvsim.batch.spec import Grid, SweepSpec
+
+            fields = Grid.model_fields if e["loc"][:1] == ("grid",) else SweepSpec.model_fields
+            close = get_close_matches(str(e["loc"][-1]), list(fields), n=1)
+            message = "unknown key" + (f" (did you mean {close[0]!r}?)" if close else f"; keys: {', '.join(fields)}")
+        return f"{where}: {message}" if where else message
     return str(exc)
