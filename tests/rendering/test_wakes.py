@@ -46,3 +46,34 @@ def test_wake_behind_a_moving_hull_changes_rgb_only():
 def test_no_wake_at_rest():
     _, samples, ribbons = _run(30.0, 0.0)
     assert samples == 24 and len(ribbons) == 0
+
+
+def test_track_samples_are_each_hulls_stern_heading_and_speed():
+    """A sample row per hull: the stern point, heading and speed over ground of the body frame's origin
+    (World.origin_velocity), for vessels and kinematic traffic ships alike."""
+    import math
+
+    from usvsim.rendering.lights import kinematic_ships
+    from usvsim.simulation import Simulation
+
+    sim = Simulation.from_scenario("imazu_05")
+    boat = next(iter(sim.vessels.values()))
+    for _ in range(3 * sim.wakes.every):
+        boat.command(0.8, 0.3)
+        sim.step()
+    row, world = sim.wakes.samples[-1], sim.world
+    assert len(sim.wakes.samples) == 3 and row.shape == (len(sim.wakes.half_beams), 5)
+    for k, (vessel, stern, _) in enumerate(sim.wakes.vessels):
+        fwd = world.state.rot[vessel.index][:, 0]
+        vel = world.origin_velocity(vessel.index)
+        expected = [*(world.state.pos[vessel.index] + stern * fwd)[:2], math.atan2(fwd[1], fwd[0]),
+                    math.hypot(vel[0], vel[1]), sim.time]  # fmt: skip
+        assert row[k] == pytest.approx(expected, rel=1e-12, abs=1e-12)
+    _, pos, vel, yaw = kinematic_ships(world)
+    assert sim.wakes.ships, "imazu_05 has kinematic targets"
+    for j, (stern, _) in enumerate(sim.wakes.ships):
+        k = len(sim.wakes.vessels) + j
+        expected = [pos[j, 0] + stern * math.cos(yaw[j]), pos[j, 1] + stern * math.sin(yaw[j]), yaw[j],
+                    math.hypot(*vel[j]), sim.time]  # fmt: skip
+        assert row[k] == pytest.approx(expected, rel=1e-12, abs=1e-12)
+    sim.close()

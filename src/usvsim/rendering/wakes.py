@@ -43,6 +43,8 @@ class WakeTracks:
         self.ships = [(float(lo[0]), 0.5 * float(hi[1] - lo[1])) if lo is not None and hi is not None else (0.0, 1.0)
                       for lo, hi in boxes]  # fmt: skip
         self.half_beams = [v[2] for v in self.vessels] + [s[1] for s in self.ships]
+        self._index = np.array([v.index for v, _, _ in self.vessels], dtype=np.intp)
+        self._stern = np.array([st for _, st, _ in self.vessels], dtype=float)
         self.reset()
 
     def reset(self) -> None:
@@ -53,24 +55,31 @@ class WakeTracks:
         if not self.half_beams or world.clock.steps % self.every:
             return
         t = world.clock.seconds
-        row = np.empty((len(self.half_beams), 5))
-        for i, (vessel, stern, _) in enumerate(self.vessels):
-            rot = world.state.rot[vessel.index]
-            fwd = rot[:, 0]
-            heading = math.atan2(fwd[1], fwd[0])
-            pos = world.state.pos[vessel.index] + stern * fwd
-            vel = world.origin_velocity(vessel.index)
-            row[i] = pos[0], pos[1], heading, math.hypot(vel[0], vel[1]), t
+        row = np.zeros((len(self.half_beams), 5))
+        n, st = len(self.vessels), world.state
+        if n:  # all vessels at once: stern point, heading, speed of the body frame's origin over ground
+            i = self._index
+            rot, origin = st.rot[i], st.pos[i]
+            fwd = rot[:, :, 0]
+            omega = np.einsum("nij,nj->ni", rot, st.omega_body[i])
+            vel = st.vcom_world[i] - np.cross(omega, st.com_world[i] - origin)  # World.origin_velocity
+            row[:n, 0:2] = origin[:, :2] + self._stern[:, None] * fwd[:, :2]
+            row[:n, 2] = np.arctan2(fwd[:, 1], fwd[:, 0])
+            row[:n, 3] = np.hypot(vel[:, 0], vel[:, 1])
+            row[:n, 4] = t
         if self.ships:
             from usvsim.rendering.lights import kinematic_ships
 
             ships = kinematic_ships(world)
             if ships is not None:
                 _, pos, vel, yaw = ships
-                for j, (stern, _) in enumerate(self.ships):
-                    c, s = math.cos(yaw[j]), math.sin(yaw[j])
-                    row[len(self.vessels) + j] = (pos[j, 0] + stern * c, pos[j, 1] + stern * s, yaw[j],
-                                                  math.hypot(*vel[j]), t)  # fmt: skip
+                m = len(self.ships)
+                stern = np.array([st for st, _ in self.ships])
+                row[n:, 0] = pos[:m, 0] + stern * np.cos(yaw[:m])
+                row[n:, 1] = pos[:m, 1] + stern * np.sin(yaw[:m])
+                row[n:, 2] = yaw[:m]
+                row[n:, 3] = np.hypot(vel[:m, 0], vel[:m, 1])
+                row[n:, 4] = t
         self.samples.append(row)
         if len(self.samples) > self.keep:
             del self.samples[0]
