@@ -15,9 +15,9 @@ def test_deep_json_frame_is_a_protocol_error_and_the_bridge_reconnects():
         assert wait_for(lambda: bridge.connected.is_set(), 10.0)
         endpoint.send(frame("__log", b'{"text": ' + b"[" * 200_000 + b"]" * 200_000 + b"}"))
         assert wait_for(lambda: bridge.stats["protocol_errors"] == 1, 30.0), bridge.stats
-        assert wait_for(lambda: endpoint.connections == 2 and bridge.connected.is_set(), 10.0)  # ~0.1 s unloaded
+        assert wait_for(lambda: endpoint.connections == 2 and bridge.connected.is_set(), 30.0)  # ~0.1 s unloaded
         sim.run(0.05)
-        assert wait_for(lambda: "/clock" in endpoint.topics_received(), 5.0)
+        assert wait_for(lambda: "/clock" in endpoint.topics_received(), 30.0)
     finally:
         bridge.close()
         endpoint.stop()
@@ -34,7 +34,7 @@ def test_refused_topic_is_no_longer_sent_and_the_last_step_is_drained_at_close()
         assert wait_for(lambda: "/tf" in bridge._refused, 10.0)
         refused_frames = endpoint.unregistered.count("/tf")
         sim.run(1.0)
-        assert wait_for(lambda: bridge.stats["dropped_refused"] >= 40)  # /tf at 50 Hz, no longer sent
+        assert wait_for(lambda: bridge.stats["dropped_refused"] >= 40, 30.0)  # /tf at 50 Hz, no longer sent
         assert endpoint.unregistered.count("/tf") == refused_frames
     finally:
         bridge.close()  # sends what is queued, half-closes and waits for the endpoint's EOF
