@@ -283,3 +283,18 @@ def test_sweep_spec_mistakes_are_one_line_before_any_run(tmp_path, monkeypatch, 
     result = invoke("sweep", spec, "--out", tmp_path / "s.jsonl")
     one_line_error(result, *words)
     assert ": :" not in result.stderr
+
+
+@pytest.mark.parametrize("option", ["--screenshot", "--video"])
+def test_viewer_outputs_without_the_viewer_are_one_line(tmp_path, option):
+    """They were ignored silently: the run finished with exit 0 and no file."""
+    one_line_error(invoke("run", "harbor", "--duration", "0.1", option, tmp_path / "a.png"), option, "--view")
+
+
+def test_viewer_outputs_are_checked_before_the_window_opens(tmp_path):
+    """An unwritable --screenshot failed only when the viewer closed, after the whole run."""
+    (tmp_path / "file").write_text("x")
+    result = invoke(
+        "run", "harbor", "--view", "--duration", "0.1", "--screenshot", tmp_path / "file" / "a.png"
+    )
+    one_line_error(result, "cannot create")

@@ -96,11 +96,20 @@ def run(
 ) -> None:
     """Run a scenario headless or in the viewer, optionally recording it and bridging it to ROS 2 / Foxglove."""
     from usvsim.cli.bridges import BridgeOptions
+    from usvsim.cli.outputs import prepare_file
 
     options = BridgeOptions(ros2, domain_id, ros2_interface, ros_tcp, ros_tcp_profile, ros_tcp_vessel, foxglove,
                             foxglove_host, foxglove_port, foxglove_max_clients)  # fmt: skip
     if not 0 <= duration <= 1e7:
         fail(UsvsimError(f"--duration must be a finite number of seconds in [0, 1e7], got {duration}"))
+    if (screenshot or video) and not view:
+        fail(UsvsimError("--screenshot and --video record the viewer's window: add --view"))
+    for target in (screenshot, video):  # checked before the run, not when the window closes
+        if target is not None:
+            try:
+                prepare_file(target)
+            except UsvsimError as exc:
+                fail(exc)
     if view:  # camera sensors then render in hidden GLFW windows beside the viewer's (an EGL context beside
         os.environ["MUJOCO_GL"] = "glfw"  # a GLX window fails with X BadAccess in glXMakeCurrent)
     with ExitStack() as stack:  # closes bridges, then the recorder, then the simulation, on every path
