@@ -44,3 +44,26 @@ def test_materials_change_rgb_only():
     assert np.array_equal(glossy["segmentation"], matte["segmentation"])
     assert np.array_equal(glossy["depth"], matte["depth"], equal_nan=True)
     assert not np.array_equal(glossy["rgb"], matte["rgb"])
+
+
+def test_shadows_on_the_water_are_cast_along_the_sun_and_change_rgb_only():
+    from usvsim.rendering.shadows import shadow_triangles
+
+    def frame(shadows: bool):
+        raw = scenario_dict(1, {"shadows": shadows, "sun": {"elevation_deg": 30.0, "azimuth_deg": 270.0}}, 160, 120)
+        sim = load(raw, seed=0)
+        sim.run(0.5)
+        images = sim.sensors["wamv/camera"].render(sim)
+        west = shadow_triangles(sim.model, sim.data, np.array([-0.866, 0.0, 0.5]), 0.0, (0.0, 0.0))
+        east = shadow_triangles(sim.model, sim.data, np.array([0.866, 0.0, 0.5]), 0.0, (0.0, 0.0))
+        sim.close()
+        return images, west, east
+
+    lit, west, east = frame(True)
+    plain, _, _ = frame(False)
+    assert len(west) and len(west) % 3 == 0 and len(west) == len(east)
+    # the same boxes: with the sun in the west their shadows lie further east than with the sun in the east
+    shift = west.reshape(-1, 36, 2)[:, :, 0].mean(axis=1) - east.reshape(-1, 36, 2)[:, :, 0].mean(axis=1)
+    assert np.all(shift >= -1e-4) and shift.max() > 1.0
+    assert np.array_equal(lit["segmentation"], plain["segmentation"])
+    assert np.array_equal(lit["depth"], plain["depth"], equal_nan=True)

@@ -120,7 +120,7 @@ class Rendering(Section):
     camera: CameraLook = CameraLook()
     lights: Lights = Lights()
     rain: Rain = Rain()
-    shadows: bool = False  # the sun's shadows of geoms on geoms (MuJoCo's shadow map; not on the water)
+    shadows: bool = False  # the sun's shadows of geoms on geoms (MuJoCo's shadow map) and on the water (boxes)
     materials: bool = True  # gloss by material class: painted hull, metal, rubber, buoy plastic, wood, concrete
 
     def updated(self, changes: dict[str, Any]) -> Rendering:

@@ -36,6 +36,11 @@ def prepare(marine, sim, center_xy) -> Daylight:
         marine.materials = marine.sea_cache["materials"]
     tracks = getattr(sim, "wakes", None)
     marine.wake = tracks.ribbons(sim.time, sim.look.water.wake_s) if tracks is not None else None
+    marine.shadows = None
+    if sim.look.shadows:
+        from usvsim.rendering.shadows import shadow_triangles
+
+        marine.shadows = shadow_triangles(sim.model, sim.data, light.sun_dir, sim.ocean.level_m, center_xy)
     return light
 
 

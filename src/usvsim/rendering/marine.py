@@ -84,6 +84,7 @@ class MarinePass:
         self.mip_ratio = None  # rms slope of the shortest band per mip level / level 0 (detail.mip_slope_ratio)
         self._lights = None
         self.wake = None  # the wakes' ribbons of this frame (frame.prepare), drawn by `self._wakes`
+        self.shadows = None  # the geoms' shadow triangles on the water (rendering/shadows.py), drawn by it too
         self._wakes = None
         self._whitecap_slope, self._short_waves = 1e6, 0.0
 
@@ -257,10 +258,12 @@ class MarinePass:
         from usvsim.rendering.wakes import WakePass
 
         region = (0.0, 0.0, 1.0, 0.0)
-        if self.wake is not None and len(self.wake):
+        wake = self.wake if self.wake is not None else np.zeros((0, 6), np.float32)
+        shadows = self.shadows if self.shadows is not None else np.zeros((0, 2), np.float32)
+        if len(wake) or len(shadows):
             if self._wakes is None:
                 self._wakes = WakePass(self.ctx)
-            if self._wakes.draw(self.wake):
+            if self._wakes.draw(wake, shadows):
                 region = (*self._wakes.region, 1.0)
                 self._wakes.texture.use(TEXTURE_UNITS["u_wake"])
         _set(self.water, u_wake_region=region)

@@ -222,11 +222,13 @@ void main() {
     int bands = u_bands - u_detail;
     vec2 zr = zs;  // whitecaps: where the shortest resolved waves are steepest
     float filtered = 1.0;  // their rms slope at the mip level sampled, over the unfiltered one
+    float resolved = 1.0;  // whitecaps per pixel while a pixel spans few texels; beyond, too small to show
     if (bands > 1) {  // the shortest band per pixel, filtered by the footprint across the ray: distant glitter
         int b = bands - 1;
         float lod_s = log2(max(footprint * u_surface.w / u_tile[b], 1.0));
         int level = min(int(lod_s + 0.5), 7);  // LINEAR_MIPMAP_NEAREST: the nearest level
-        filtered = u_mip_ratio[level];
+        filtered = max(u_mip_ratio[level], 0.05);
+        resolved = 1.0 - smoothstep(3.0, 5.0, lod_s);
         vec4 s = textureLod(u_slope, vec3(tile_uv(v_label, b), b), lod_s);
         zs += s.xy;
         jac += vec3(s.zw, 0.0);
@@ -260,27 +262,30 @@ void main() {
     float nh2 = max(nh * nh, 1e-4), nh4 = max(nh2 * nh2, 1e-8);
     float t2 = (1.0 - nh2) / nh2;
     float lobe = exp(-t2 / (rough * rough)) / (3.1416 * rough * rough * nh4);
-    vec3 glint = u_sun_color * u_look.y * fresnel * lobe * 0.25 * step(0.0, u_sun_dir.z);
+    vec2 marks = vec2(0.0);  // wake foam, shadow of geoms (the top-down texture of rendering/wakes.py)
+    if (u_wake_region.w > 0.0) {
+        vec2 uv = (v_label - u_wake_region.xy) / u_wake_region.z;
+        if (all(greaterThan(uv, vec2(0.0))) && all(lessThan(uv, vec2(1.0)))) marks = texture(u_wake, uv).rg;
+    }
+    float lit = 1.0 - 0.92 * marks.y;  // in a geom's shadow: no direct sun
+    vec3 glint = u_sun_color * u_look.y * fresnel * lobe * 0.25 * step(0.0, u_sun_dir.z) * lit;
     // body colour: sky and sun light scattered back from inside, brighter through thin crests toward the sun
     float scatter = 0.5 + 0.5 * max(dot(-v.xy, u_sun_dir.xy), 0.0) * clamp(1.0 - cos_v, 0.0, 1.0);
-    vec3 body = u_water * (u_ambient * 1.2 + u_sun_color * max(u_sun_dir.z, 0.0) * scatter * 0.6);
+    vec3 body = u_water * (u_ambient * 1.2 + u_sun_color * max(u_sun_dir.z, 0.0) * scatter * 0.6 * lit);
     vec3 c = mix(body, reflected, fresnel) + glint;
     // foam: whitecaps where the choppy surface folds, broken up by noise; and along hulls at the waterline
     float grain = noise(v_label * 1.7 + u_look.w * 0.3);
     float gust = 0.7 + 0.6 * noise(v_label * 0.23 - u_look.w * 0.05);  // breaking is patchy: crests break here and there
-    float steep = smoothstep(0.8, 1.0, gust * u_surface.x * length(zr) / (u_sea.y * filtered));  // the steepest faces: Monahan's share
+    float steep = resolved * smoothstep(0.8, 1.0, gust * u_surface.x * length(zr) / (u_sea.y * filtered));  // the steepest faces: Monahan's share
     float whitecap = max(smoothstep(0.6, 0.1, det), steep) * (0.55 + 0.45 * grain);
     float raw = texelFetch(u_depth, ivec2(gl_FragCoord.xy - u_viewport), 0).r;
     float n0 = u_near_far.x, f0 = u_near_far.y;
     float behind = raw > 0.0 ? n0 / (raw + (1.0 - raw) * n0 / f0) - n0 / (gl_FragCoord.z + (1.0 - gl_FragCoord.z) * n0 / f0) : 1e9;
     float contact = (1.0 - smoothstep(0.0, 0.35 + 0.002 * dist, behind)) * (0.6 + 0.4 * grain);
-    if (u_wake_region.w > 0.0) {
-        vec2 uv = (v_label - u_wake_region.xy) / u_wake_region.z;
-        if (all(greaterThan(uv, vec2(0.0))) && all(lessThan(uv, vec2(1.0))))
-            contact = max(contact, texture(u_wake, uv).r * smoothstep(0.15, 0.65, 0.5 * noise(v_label * 0.9) + 0.5 * grain));
-    }
+    if (marks.x > 0.0)
+        contact = max(contact, marks.x * smoothstep(0.15, 0.65, 0.5 * noise(v_label * 0.9) + 0.5 * grain));
     float foam = clamp(u_look.x * max(whitecap, contact), 0.0, 1.0);
-    vec3 foam_light = vec3(0.85) * (u_ambient * 2.5 + u_sun_color * max(u_sun_dir.z, 0.0));
+    vec3 foam_light = vec3(0.85) * (u_ambient * 2.5 + u_sun_color * max(u_sun_dir.z, 0.0) * lit);
     foam *= 1.0 - smoothstep(1000.0, 6000.0, dist);
     c = mix(c, foam_light, foam);
     // clear shallow water: the geom behind the surface (seabed, a hull's underwater part) shows through what
