@@ -298,3 +298,7 @@ def test_viewer_outputs_are_checked_before_the_window_opens(tmp_path):
         "run", "harbor", "--view", "--duration", "0.1", "--screenshot", tmp_path / "file" / "a.png"
     )
     one_line_error(result, "cannot create")
+
+
+def test_a_directory_given_as_scenario_says_so(tmp_path):
+    one_line_error(invoke("validate", tmp_path), "a directory")

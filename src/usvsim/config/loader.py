@@ -31,7 +31,8 @@ def resolve(name_or_path: str | Path) -> tuple[str, Path | None]:
     path = Path(name_or_path)
     if path.suffix in (".yaml", ".yml") or path.exists():
         if not path.is_file():
-            raise ScenarioError(str(path), "", "no such scenario file")
+            what = "a directory, not a scenario file" if path.is_dir() else "no such scenario file"
+            raise ScenarioError(str(path), "", what)
         return safe_yaml.read_text(path, str(path)), path.parent.resolve()
     entry = resources.files(BUILTIN_PACKAGE) / f"{name_or_path}.yaml"
     if len(str(name_or_path)) > 100 or not entry.is_file():
