@@ -302,3 +302,19 @@ def test_viewer_outputs_are_checked_before_the_window_opens(tmp_path):
 
 def test_a_directory_given_as_scenario_says_so(tmp_path):
     one_line_error(invoke("validate", tmp_path), "a directory")
+
+
+def test_task_record_is_never_overwritten_without_force_and_is_checked_first(tmp_path, monkeypatch):
+    """`usvsim task --record` replaced an existing recording silently, and an unwritable one was a traceback."""
+    import usvsim.tasks.live
+
+    monkeypatch.setattr(usvsim.tasks.live, "run_live", never)
+    taken = tmp_path / "taken.mcap"
+    taken.write_bytes(b"precious")
+    report = tmp_path / "r.json"
+    one_line_error(
+        invoke("task", "station_keeping", "--record", taken, "--report", report), "exists", "--force"
+    )
+    assert taken.read_bytes() == b"precious"
+    one_line_error(invoke("task", "station_keeping", "--record", tmp_path / "no" / "r.mcap", "--report", report),
+                   "does not exist")  # fmt: skip

@@ -31,10 +31,11 @@ def task(
                                                "PoseStamped, VRX on Gazebo Sim) or geopose (geographic_msgs/GeoPoseStamped)")] = "pose",
     ready_s: Annotated[float, typer.Option(help="seconds before the task starts running (VRX: 20)", min=0.0, max=1e6)] = 0.0,
     record: Annotated[Path | None, typer.Option(help="MCAP recording of the (last) trial, task topics included")] = None,
+    force: Annotated[bool, typer.Option("--force", help="overwrite an existing --record file")] = False,
 ) -> None:
     """Run a task with the reference solution (our station-keeping controller) or live over ROS 2; prints the
     score per trial."""
-    from usvsim.cli.outputs import prepare_file
+    from usvsim.cli.outputs import check_output, prepare_file
     from usvsim.tasks import TASKS, TaskTiming
     from usvsim.tasks.solutions import run_trial
 
@@ -46,6 +47,8 @@ def task(
         if landmark_type not in ("pose", "geopose"):
             raise UsvsimError(f"--landmark-type must be pose or geopose, got {landmark_type!r}")
         prepare_file(report)  # a bad --report path fails now, not after the trials
+        if record is not None:
+            check_output(record, force)  # never overwritten without --force, as `usvsim run --record`
         timing, results = TaskTiming(ready_s=ready_s, running_s=time_limit), []
         for k in range(trials):
             with console.status(f"{name} difficulty {difficulty}, trial {k + 1}/{trials} (seed {seed + k})"):
