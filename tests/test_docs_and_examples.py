@@ -27,8 +27,14 @@ def test_readme_scenario_example_is_shipped_and_runs():
     path = ROOT / "examples/my_harbour.yaml"
     assert path.read_text() == yaml_text
     sim = Simulation(load_scenario(path))
+    from usvsim.world.checks import setup_warnings
+
+    assert setup_warnings(sim.world) == []  # my_boat sat on the WAM-V (both at the default pose)
     sim.run(5.0)
     assert set(sim.vessels) == {"wamv", "my_boat"}
+    points = sim.sensors["wamv/lidar"].latest.arrays["points"]
+    ranges = np.sqrt(points["x"].astype(float) ** 2 + points["y"] ** 2 + points["z"] ** 2)
+    assert ranges.max() > 15.0  # it sees the harbour, not only a hull around it (it was mounted in the deck)
 
 
 def test_readme_python_example_runs(capsys):
