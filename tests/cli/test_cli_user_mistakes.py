@@ -318,3 +318,13 @@ def test_task_record_is_never_overwritten_without_force_and_is_checked_first(tmp
     assert taken.read_bytes() == b"precious"
     one_line_error(invoke("task", "station_keeping", "--record", tmp_path / "no" / "r.mcap", "--report", report),
                    "does not exist")  # fmt: skip
+
+
+def test_python_dash_m_usvsim_is_the_command():
+    """`python -m usvsim` said "'usvsim' is a package and cannot be directly executed"."""
+    import subprocess
+
+    result = subprocess.run(
+        [sys.executable, "-m", "usvsim", "imazu", "1"], capture_output=True, text=True, timeout=120
+    )
+    assert result.returncode == 0 and "name: imazu_01" in result.stdout, result.stderr
