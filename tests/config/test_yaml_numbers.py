@@ -40,3 +40,13 @@ def test_a_scenario_value_written_with_an_exponent_is_accepted():
     text = "version: 1\nvessels: [{name: w, model: otter, buoyancy: {type: voxels, voxel_size_m: 5e-2}}]\n"
     scenario = parse_scenario(parse(text, "t.yaml"), "t.yaml", None)
     assert scenario.vessels[0].buoyancy.voxel_size_m == 0.05
+
+
+def test_a_validator_message_has_no_pydantic_prefix():
+    """Errors of usvsim's own validators read "names of ... must be unique", not "Value error, names ..."."""
+    from usvsim.core.errors import ScenarioError
+
+    text = "version: 1\nvessels: [{name: w, model: wamv}, {name: w, model: otter}]\n"
+    with pytest.raises(ScenarioError) as info:
+        parse_scenario(parse(text, "t.yaml"), "t.yaml", None)
+    assert "unique" in str(info.value) and "Value error" not in str(info.value)

@@ -77,7 +77,7 @@ def source_of(scenario: Scenario) -> str:
 def _first_error(exc: ValidationError, source: str, data) -> ScenarioError:
     err = exc.errors()[0]
     loc = _readable_path(err["loc"], data)
-    msg = err["msg"]
+    msg = err["msg"].removeprefix("Value error, ")  # our own validators' messages stand alone
     if err["type"] == "extra_forbidden":
         from usvsim.config.schema import allowed_keys, did_you_mean
 
