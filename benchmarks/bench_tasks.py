@@ -8,8 +8,9 @@ Per sea (median of --repeats timings of --steps env steps, one core: numba 1 thr
 - sim loop:   the same 10 `Simulation.step()` calls per env step without the env (the env's own overhead = ratio);
 - bare MuJoCo: 10 `mujoco.mj_step` on the same model (a copy of its data) per env step, with the last applied
                 wrenches held: MuJoCo's own share of the cost, an upper bound on speed.
-Batch: 8 station-keeping runs (300 s each) by `usvsim.batch.run` on 1 and 2 workers, each a fresh process timed
-from outside; medians of --batch-repeats turns (`--batch-only` for just this part).
+Batch: a sweep (station keeping, 300 s, difficulty 0-2 x 4 seeds) and a small batch (8 calm runs) by
+`usvsim.batch.run` on 1 and 2 workers, each a fresh process timed from outside; medians of --batch-repeats
+turns (`--batch-only` for just this part).
 The load average is recorded beside every figure (the machine is shared). Writes benchmarks/results/tasks.json.
 """
 
@@ -74,20 +75,28 @@ def bench_sea(sea_state: int | None, steps: int, repeats: int) -> dict:
             "env_vs_bare_mujoco": r["env"] / r["bare"], "load_avg_1min": [load_before, os.getloadavg()[0]]}  # fmt: skip
 
 
-BATCH_SPEC = {"task": "station_keeping", "seeds": {"start": 0, "count": 8}, "time_limit_s": 300.0}
+# the sweep: station keeping at VRX's three difficulty levels (calm, then sea states with wind and current) x 4
+# seeds; the small batch: 8 calm runs, where the ~2 s a process needs to start (interpreter, imports, warm-up)
+# is a third of the work and caps the speed-up (Amdahl)
+BATCH_SPECS = {
+    "sweep_difficulty_0_2": {"task": "station_keeping", "difficulty": [0, 1, 2], "seeds": {"start": 0, "count": 4},
+                             "time_limit_s": 300.0},
+    "small_calm_8": {"task": "station_keeping", "seeds": {"start": 0, "count": 8}, "time_limit_s": 300.0},
+}
 
 
-def batch_child(workers: int) -> None:
-    """One `usvsim.batch.run` of BATCH_SPEC in this fresh process (what `usvsim sweep` does); prints the scores."""
+def batch_child(workers: int, name: str) -> None:
+    """One `usvsim.batch.run` of BATCH_SPECS[name] in this fresh process (what `usvsim sweep` does); prints the
+    scores."""
     from usvsim.batch import expand, run
 
     start = time.perf_counter()
-    scores = [r["score"] for r in run(expand(BATCH_SPEC), workers=workers)]
+    scores = [r["score"] for r in run(expand(BATCH_SPECS[name]), workers=workers)]
     print(json.dumps({"scores": scores, "run_s": time.perf_counter() - start}))
 
 
-def bench_batch(repeats: int) -> dict:
-    """8 runs of 300 s by `usvsim.batch.run` on 1 and on 2 workers, each in a fresh process timed from outside
+def bench_batch(repeats: int, name: str) -> dict:
+    """The runs of BATCH_SPECS[name] by `usvsim.batch.run` on 1 and on 2 workers, each in a fresh process timed from outside
     (interpreter start, imports and warm-up included, as a user sees it); 1 and 2 take turns `repeats` times.
     Also the CPU seconds of the whole process tree: equal totals mean parallel work costs nothing extra."""
     import resource
@@ -103,7 +112,7 @@ def bench_batch(repeats: int) -> dict:
             loads.append(os.getloadavg()[0])
             before = resource.getrusage(resource.RUSAGE_CHILDREN)
             start = time.perf_counter()
-            done = subprocess.run([sys.executable, __file__, "--batch-child", str(workers)], capture_output=True,
+            done = subprocess.run([sys.executable, __file__, "--batch-child", str(workers), "--batch-spec", name], capture_output=True,
                                   text=True, check=True)  # fmt: skip
             walls[workers].append(time.perf_counter() - start)
             after = resource.getrusage(resource.RUSAGE_CHILDREN)
@@ -117,7 +126,7 @@ def bench_batch(repeats: int) -> dict:
             "run_call_s": calls, "run_call_speedup_1_to_2": c1 / c2,
             "walls_s": walls, "cpu_s": cpus, "cpu_s_median": {k: statistics.median(v) for k, v in cpus.items()},
             "load_avg_1min": loads, "load_avg_median": statistics.median(loads),
-            "identical": scores[1] == scores[2], "scores": scores[1]}  # fmt: skip
+            "identical": scores[1] == scores[2], "scores": scores[1], "spec": BATCH_SPECS[name]}  # fmt: skip
 
 
 def main() -> None:
@@ -128,9 +137,10 @@ def main() -> None:
     parser.add_argument("--batch-only", action="store_true")
     parser.add_argument("--batch-repeats", type=int, default=3)
     parser.add_argument("--batch-child", type=int, help=argparse.SUPPRESS)
+    parser.add_argument("--batch-spec", choices=sorted(BATCH_SPECS), help=argparse.SUPPRESS)
     args = parser.parse_args()
     if args.batch_child:
-        return batch_child(args.batch_child)
+        return batch_child(args.batch_child, args.batch_spec)
     numba.set_num_threads(1)
     result = {"machine": platform.processor() or platform.machine(), "cpus": os.cpu_count(),
               "load_avg_start": os.getloadavg(), "steps": args.steps, "repeats": args.repeats}  # fmt: skip
@@ -138,7 +148,7 @@ def main() -> None:
         result[label] = bench_sea(sea_state, args.steps, args.repeats)
         print(label, json.dumps(result[label], indent=1))
     if not args.no_batch:
-        result["batch"] = bench_batch(args.batch_repeats)
+        result["batch"] = {name: bench_batch(args.batch_repeats, name) for name in BATCH_SPECS}
         print("batch", json.dumps(result["batch"], indent=1))
     RESULTS.parent.mkdir(parents=True, exist_ok=True)
     if args.batch_only and RESULTS.is_file():  # keep the env figures of the last full run
