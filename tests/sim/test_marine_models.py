@@ -123,3 +123,23 @@ def test_voxel_cut_setting_reaches_the_kernel_and_volume_is_the_voxels(scenario_
         assert volumes[cut] == pytest.approx(float(voxels._out[2][0]), rel=1e-12)
         assert volumes[cut] != pytest.approx(float(sim.hydrostatics.volume[0]), rel=1e-6)
     assert volumes[True] != pytest.approx(volumes[False], rel=1e-3)
+
+
+def test_hydrostatics_split_over_two_cores_gives_identical_motion(scenario_of, monkeypatch):
+    """A fleet's per-face hydrostatics split over two threads (HullSet.compute_split) changes timing, not results:
+    every body's sums are its own loop, whichever thread runs it."""
+    import usvsim.world.world as world_module
+
+    def trajectory() -> np.ndarray:
+        vessels = [{"name": f"b{i}", "model": "otter" if i % 2 else "wamv",
+                    "pose": {"position": [12.0 * i, 0.0, 0.1], "roll_deg": 3.0 * i}} for i in range(5)]  # fmt: skip
+        sim = Simulation(scenario_of({"environment": SEA, "vessels": vessels}))
+        for i, boat in enumerate(sim.vessels.values()):
+            boat.command(0.2 * i, 0.1)
+        sim.run(1.0)
+        sim.close()
+        return sim.data.qpos.copy()
+
+    serial = trajectory()
+    monkeypatch.setattr(world_module, "SPLIT_MIN_FACES", 0)
+    assert np.array_equal(trajectory(), serial)

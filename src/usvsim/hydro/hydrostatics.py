@@ -369,6 +369,31 @@ class HullSet:
             self._flat.invalidate()
         return self._result
 
+    def compute_split(self, overlap, world_vertices: np.ndarray, eta: np.ndarray, com_world: np.ndarray, rho: float,
+                      g: float, head: np.ndarray = NO_HEAD) -> HydrostaticsResult:  # fmt: skip
+        """`compute` on two cores: the bodies split where the faces halve, the first part on `overlap`'s worker
+        thread (core/overlap.py), the rest here. Each body's sums are the same loop over its own faces, so the
+        result is bit-identical to `compute`."""
+        nb = self.n_bodies
+        cut = int(np.searchsorted(self.face_offsets, self.face_offsets[-1] // 2))
+        cut = min(max(cut, 1), nb - 1)
+        force, torque, volume, cob, wet, awp, sub, seg, count = self._out
+        parts = [(self.face_offsets[a : b + 1], com_world[a:b], force[a:b], torque[a:b], volume[a:b], cob[a:b],
+                  wet[a:b], awp[a:b]) for a, b in ((0, cut), (cut, nb))]  # fmt: skip
+
+        def run(offsets, com, f, t, v, c, w, a):
+            hull_hydrostatics(world_vertices, self.faces, self.face_area, offsets, eta, head, com, rho, g,
+                              f, t, v, c, w, a, sub, seg, count)  # fmt: skip
+
+        wait = overlap.submit(run, *parts[0])
+        try:
+            run(*parts[1])
+        finally:
+            wait()
+        if self._flat is not None:
+            self._flat.invalidate()
+        return self._result
+
     def waterline(self, body_index: int) -> np.ndarray:
         """Waterline segments (k,2,3) m ENU of one body from the last compute() (a copy)."""
         f0, f1 = int(self.face_offsets[body_index]), int(self.face_offsets[body_index + 1])

@@ -52,6 +52,7 @@ FLAT_MAX_FACES = 30_000  # still water: clustered hydrostatics up to this many h
 # harbor 41.0 vs 44.0, 10: 110 vs 119, 20 (22,400 faces): 198 vs 214, 40 (44,800): 486 vs 443, 100: 1,014-1,098
 # vs 934-967 (the per-face kernel streams a mesh that outgrows the caches better)
 OVERLAP_MIN_FACES = 8000  # below this the thread hand-off costs more than overlapping the two kernels saves
+SPLIT_MIN_FACES = 8000  # per-face hydrostatics of this many faces or more: half the bodies on the second core
 BAD_QPOS, BAD_QVEL, BAD_QACC = (int(mujoco.mjtWarning.mjWARN_BADQPOS), int(mujoco.mjtWarning.mjWARN_BADQVEL),
                                 int(mujoco.mjtWarning.mjWARN_BADQACC))  # fmt: skip
 
@@ -323,6 +324,8 @@ class World:
             elif self.marine.has_kerner and len(self.hulls.faces) >= OVERLAP_MIN_FACES:  # both kernels, two cores
                 hydrostatics = self._overlap.submit(self.hulls.compute, verts, eta, s.com_world, self.rho, self.g,
                                                     head)  # fmt: skip
+            elif len(self.hulls.faces) >= SPLIT_MIN_FACES and self.hulls.n_bodies > 1:  # bodies over two cores
+                hydrostatics = self.hulls.compute_split(self._overlap, verts, eta, s.com_world, self.rho, self.g, head)
             else:
                 hydrostatics = self.hulls.compute(verts, eta, s.com_world, self.rho, self.g, head)
         if simple:  # the rest of the step in one compiled call (marine.tail)
