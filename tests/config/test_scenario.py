@@ -30,6 +30,10 @@ def test_builtin_harbor_loads_with_description():
         ({"outputs": {"recording": {"ground_truth_rate_hz": 30}}}, "outputs.recording.ground_truth_rate_hz",
          "multiple of the physics step"),
         ({"world": {"physics_rate_hz": 300}}, "world.physics_rate_hz", "nanosecond"),
+        ({"environment": {"sea": {"type": "jonswap", "hs_m": 1e9, "tp_s": 8.0}}}, "environment.sea.hs_m",
+         "less than or equal to 30"),
+        ({"environment": {"sea": {"type": "pierson_moskowitz", "wind_speed_mps": 80.0}}},
+         "environment.sea.wind_speed_mps", "less than or equal to 35"),
     ],
 )
 def test_errors_name_the_key_path(scenario_of, data, path, words):

@@ -89,10 +89,17 @@ class FlatSeaConfig(Section):
     type: Literal["flat"] = "flat"
 
 
+# Physical bounds of a wind sea: sea-state code 9 starts at Hs 14 m and the largest measured Hs is about 20 m;
+# peak periods beyond 40 s and fully developed seas of winds beyond 35 m/s (PM: Hs = 0.21 U² / g ≈ 26 m) are not
+# seas the spectra describe.
+SigWaveHeight = Annotated[float, Field(gt=0, le=30, description="significant wave height (m), at most 30")]
+PeakPeriod = Annotated[float, Field(gt=0, le=40, description="spectral peak period (s), at most 40")]
+
+
 class JonswapSea(SpectralSea):
     type: Literal["jonswap"]
-    hs_m: PositiveFloat
-    tp_s: PositiveFloat
+    hs_m: SigWaveHeight
+    tp_s: PeakPeriod
     gamma: Annotated[float, Field(ge=1, le=10)] | None = None  # None: DNV rule from Hs and Tp
 
 
@@ -100,9 +107,9 @@ class PiersonMoskowitzSea(SpectralSea):
     """From Hs and Tp, or fully developed from a wind speed (19.5 m), or `from_wind` (the scenario's wind)."""
 
     type: Literal["pierson_moskowitz"]
-    hs_m: PositiveFloat | None = None
-    tp_s: PositiveFloat | None = None
-    wind_speed_mps: PositiveFloat | None = None
+    hs_m: SigWaveHeight | None = None
+    tp_s: PeakPeriod | None = None
+    wind_speed_mps: Annotated[float, Field(gt=0, le=35, description="wind speed at 19.5 m (m/s), at most 35")] | None = None
     from_wind: bool = False
 
     @model_validator(mode="after")
