@@ -33,6 +33,10 @@ LOOKS = {  # name: (sea state, look, view: "viewer" or "camera")
          "fog": {"visibility_m": 1500.0}, "rain": {"rate_mm_h": 8.0}, "camera": {"droplets": 0.5}},
         "camera",
     ),  # fmt: skip
+    "shallow_clear": (0, {"sun": {"azimuth_deg": 110.0, "elevation_deg": 55.0}, "water": {"clarity_m": 6.0}}, "shore"),
+}
+SHORE = {  # "shore" views: harbor_geo's origin moved onto its western shore (m east), kept extent (m), viewer pose
+    "shallow_clear": (-1150.0, 400.0, ((-20.0, -2.0, 0.0), 40.0, 190.0, -45.0)),
 }
 UNDER_WAY = {  # looks drawn with the WAM-V under way: thrust, seconds, start pose (open water west of the buoys)
     "wake": (1.0, 12.0, {"position": [8.0, -30.0, 0.0], "yaw_deg": 180.0}),
@@ -44,6 +48,26 @@ def scenario_dict(sea_state: int, look: dict, width: int = 640, height: int = 48
     raw = yaml.safe_load((files("usvsim.scenarios") / "harbor_sensors.yaml").read_text())
     raw["environment"] = {"sea": {"type": "sea_state", "code": sea_state}}
     raw["vessels"][0]["sensors"] = [{**CAMERA, "width": width, "height": height}]
+    raw["rendering"] = {"renderer": "shader", **look}
+    return raw
+
+
+def shore_dict(name: str, look: dict) -> dict:
+    """harbor_geo with its origin `SHORE[name][0]` m east of the scenario's (its water shoals from ~4 m to the
+    shore ~40 m west of it), a smaller kept extent (finer seabed cells: 6 m instead of 47) and a calm sea."""
+    import math
+
+    east_m, extent_m, _ = SHORE[name]
+    src = files("usvsim.scenarios") / "harbor_geo.yaml"
+    raw = yaml.safe_load(src.read_text())
+    origin = raw["world"]["origin"]
+    origin["longitude_deg"] += math.degrees(east_m / (6378137.0 * math.cos(math.radians(origin["latitude_deg"]))))
+    geo = raw["geo"]
+    geo["extent_m"], geo["marks"] = extent_m, []  # the fairway's marks lie farther out
+    for part in [geo["land"], geo["bathymetry"], *geo["structures"]]:
+        part["file"] = str(Path(str(src)).parent / part["file"])
+    raw["environment"] = {"sea": {"type": "jonswap", "hs_m": 0.15, "tp_s": 3.0, "direction_deg": 200}}
+    raw["vessels"][0]["pose"] = {"position": [-5.0, -6.0, 0.0], "heading_deg": 20.0}
     raw["rendering"] = {"renderer": "shader", **look}
     return raw
 
@@ -62,7 +86,7 @@ def render_look(name: str, out_dir: Path, width: int = 960, height: int = 540, s
     from usvsim.viewer.offscreen import OffscreenViewer, save_png
 
     sea_state, look, view = LOOKS[name]
-    raw = scenario_dict(sea_state, look, width, height)
+    raw = shore_dict(name, look) if view == "shore" else scenario_dict(sea_state, look, width, height)
     if name in UNDER_WAY:
         raw["vessels"][0]["pose"] = UNDER_WAY[name][2]
     sim = load(raw)
@@ -80,6 +104,14 @@ def render_look(name: str, out_dir: Path, width: int = 960, height: int = 540, s
             return save_png(camera.render(sim.world)["rgb"], Path(out_dir) / f"{name}.png")
         viewer = OffscreenViewer(sim, width, height)
         viewer.view.show_hud = False
+        if view == "shore":
+            import numpy as np
+
+            from usvsim.viewer.camera import CameraPose
+
+            lookat, distance, azimuth, elevation = SHORE[name][2]
+            pose = CameraPose(np.array(lookat), distance, azimuth, elevation)
+            viewer.view.camera_pose = lambda dt=0.0, pose=pose: pose
         try:
             return save_png(viewer.render(), Path(out_dir) / f"{name}.png")
         finally:
@@ -90,6 +122,29 @@ def render_look(name: str, out_dir: Path, width: int = 960, height: int = 540, s
 
 def render_gallery(out_dir: Path, width: int = 960, height: int = 540, names=None) -> list[Path]:
     return [render_look(name, out_dir, width, height) for name in (names or LOOKS)]
+
+
+HUD_S = 2.0  # simulated seconds the README's viewer runs as the interactive viewer would before its screenshot
+
+
+def run_in_real_time(viewer, until_s: float) -> None:
+    """Draw frames as the interactive viewer does (each frame steps the simulation by the wall time the last one
+    took, at most 0.25 s) until `until_s`, so that the HUD's frame rate and real-time factor are measured ones."""
+    import time
+
+    sim = viewer.sim
+    dt = sim.clock.dt
+    last = time.perf_counter()
+    viewer.render()
+    while sim.time < until_s - 1e-9:
+        now = time.perf_counter()
+        wall_dt, t0 = now - last, sim.time
+        last = now
+        steps = max(1, min(round(min(wall_dt, 0.25) / dt), round((until_s - sim.time) / dt)))
+        for _ in range(steps):
+            sim.step()
+        viewer.view.rates.update(wall_dt, sim.time - t0)
+        viewer.render(wall_dt)
 
 
 README_LOOK = {"sun": {"azimuth_deg": 290.0, "elevation_deg": 24.0}, "shadows": True}
@@ -110,13 +165,15 @@ def render_readme(out_dir: Path, width: int = 1280, height: int = 720) -> list[P
         sim = load(raw)
         try:
             sim.vessels["wamv"].command(0.8, 0.0)
-            sim.run(seconds)
+            sim.run(seconds - (HUD_S if name == "viewer" else 0.0))
             viewer = OffscreenViewer(sim, width, height)
             try:
                 if name == "harbor":
                     viewer.view.show_hud = False
                     pose = CameraPose(np.array([-8.0, -17.0, 0.0]), 58.0, 128.0, -17.0)
                     viewer.view.camera_pose = lambda dt=0.0, pose=pose: pose
+                else:
+                    run_in_real_time(viewer, sim.time + HUD_S)
                 out.append(save_png(viewer.render(), Path(out_dir) / f"{name}.png"))
             finally:
                 viewer.close()

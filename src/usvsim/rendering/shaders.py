@@ -277,11 +277,26 @@ void main() {
     float grain = noise(v_label * 1.7 + u_look.w * 0.3);
     float gust = 0.7 + 0.6 * noise(v_label * 0.23 - u_look.w * 0.05);  // breaking is patchy: crests break here and there
     float steep = resolved * smoothstep(0.8, 1.0, gust * u_surface.x * length(zr) / (u_sea.y * filtered));  // the steepest faces: Monahan's share
+    // a crest breaks in streaks, not as a sheet: without this breakup a gust blob (the noise's bilinear texel, ~4 m)
+    // over a steep patch near the camera saturated into one flat white polygon
+    steep *= smoothstep(0.35, 0.8, noise(v_label * 3.1 + vec2(0.37, 0.61)) * 0.6 + grain * 0.4);
     float whitecap = max(smoothstep(0.6, 0.1, det), steep) * (0.55 + 0.45 * grain);
     float raw = texelFetch(u_depth, ivec2(gl_FragCoord.xy - u_viewport), 0).r;
     float n0 = u_near_far.x, f0 = u_near_far.y;
     float behind = raw > 0.0 ? n0 / (raw + (1.0 - raw) * n0 / f0) - n0 / (gl_FragCoord.z + (1.0 - gl_FragCoord.z) * n0 / f0) : 1e9;
     float contact = (1.0 - smoothstep(0.0, 0.35 + 0.002 * dist, behind)) * (0.6 + 0.4 * grain);
+    float z_here = n0 / (gl_FragCoord.z + (1.0 - gl_FragCoord.z) * n0 / f0);
+    vec2 dz = vec2(dFdx(z_here), dFdy(z_here));  // the water's depth at a neighbour: the surface's plane here
+    if (contact > 0.0) {  // only where the geom pierces the surface nearby (a waterline), not over a submerged top
+        float r = clamp(0.8 / max(dist * u_pixel, 1e-6), 2.0, 32.0);  // 0.8 m on screen, in pixels
+        float pierce = 0.0;
+        for (int i = 0; i < 8; i++) {
+            vec2 d = (i < 4 ? 1.0 : 0.5) * r * vec2(i % 2 == 0 ? 1.0 - float(i & 2) : 0.0, i % 2 == 1 ? 1.0 - float(i & 2) : 0.0);
+            float rn = texelFetch(u_depth, clamp(ivec2(gl_FragCoord.xy - u_viewport + d), ivec2(0), textureSize(u_depth, 0) - 1), 0).r;
+            if (rn > 0.0 && n0 / (rn + (1.0 - rn) * n0 / f0) < z_here + dot(dz, d)) pierce = 1.0;
+        }
+        contact *= pierce;
+    }
     if (marks.x > 0.0)
         contact = max(contact, marks.x * smoothstep(0.15, 0.65, 0.5 * noise(v_label * 0.9) + 0.5 * grain));
     float foam = clamp(u_look.x * max(whitecap, contact), 0.0, 1.0);
