@@ -303,3 +303,29 @@ def test_situation_own_state_is_the_vessels(crossing):
     np.testing.assert_allclose(s["own_vel"], sim.world.origin_velocity(wamv.index)[:2], atol=1e-12)
     assert s["own_yaw"] == pytest.approx(wamv.rpy[2], abs=1e-12)
     sim.close()
+
+
+def test_packed_placement_equals_the_plain_kernel_call(crossing):
+    """The per-step call (the kernel's arguments packed once, called through the compiled entry point for exactly
+    their type) writes the same ship poses, geom poses and pairing as `evaluate_and_place` given the arrays, into
+    the model's own arrays."""
+    from usvsim.traffic.kernels import evaluate_and_place, place_fleet
+
+    sim = Simulation(crossing)
+    sim.run(1.0)
+    geoms, m = sim.traffic.fleet._geoms, sim.world.model
+    arrays = geoms.arrays
+    assert arrays[8] is m.geom_pos and arrays[9] is m.geom_quat and arrays[12] is m.geom_conaffinity
+    assert geoms._place is not place_fleet  # the compiled entry point (numba exposes it in the pinned version)
+    written = (3, 4, 5, 8, 9, 12)  # pos, vel, yaw, geom_pos, geom_quat, conaffinity
+    nears = []
+    for t_s in (0.0, 3.3, 38.0, 40.01, 95.0):  # the ferry passes the own ship (near) at ~40 s
+        plain = [a.copy() for a in arrays[:-1]] + [arrays[-1]]  # the state before, for the plain call
+        before = m.geom_pos.copy()
+        nears.append(geoms._place(t_s, geoms._args))
+        assert evaluate_and_place(t_s, *plain) == nears[-1]
+        for k in written:
+            np.testing.assert_array_equal(arrays[k], plain[k])
+        assert not np.array_equal(before, m.geom_pos)  # the ships moved
+    assert nears[0] == nears[-1] == 0 and max(nears) == 1
+    sim.close()

@@ -21,7 +21,7 @@ from usvsim.config.loader import base_dir, source_of
 from usvsim.config.traffic import Route
 from usvsim.core.errors import ScenarioError
 from usvsim.traffic import kernels as K
-from usvsim.traffic.kernels import TrackTable, evaluate_and_place
+from usvsim.traffic.kernels import TrackTable, fleet_placer
 from usvsim.traffic.motion import make_track
 from usvsim.traffic.pilot import LosPilot, TrackPilot
 from usvsim.traffic.ships import ship_parts
@@ -115,17 +115,19 @@ class _ShipGeoms:
         self.opt, self.midphase_off = m.opt, None
 
     def bind(self, world: World, table: TrackTable, pos: np.ndarray, vel: np.ndarray, yaw: np.ndarray) -> None:
-        """Fix the kernel's arguments once (all arrays written in place): a step then costs one numba dispatch."""
+        """Fix the kernel's arguments once, packed into one numba object (all arrays written in place): a step then
+        costs one call of the compiled kernel with two arguments (see `kernels.fleet_placer`)."""
         ship_i, ship_f = table.ship_i.copy(), table.ship_f.copy()
         ship_i[:, K.BOX], ship_i[:, K.GEOM_FIRST], ship_i[:, K.GEOM_END] = self.box, self.geom_first[:-1], self.geom_first[1:]
         ship_f[:, K.RADIUS] = self.radius
-        self._args = (ship_i, ship_f, table.seg, pos, vel, yaw, self.geoms, self.local, self.geom_pos, self.geom_quat,
-                      world.state.pos, self.body_radius, self.conaffinity, self.affinity)  # fmt: skip
+        self.arrays = (ship_i, ship_f, table.seg, pos, vel, yaw, self.geoms, self.local, self.geom_pos, self.geom_quat,
+                       world.state.pos, self.body_radius, self.conaffinity, self.affinity)  # `evaluate_and_place`'s, after t_s
+        self._args, self._place = fleet_placer(self.arrays)
 
     def place(self, t_s: float) -> None:
         """Evaluate every track at t_s into the bound pos, vel, yaw and put the ships' geoms there (`Fleet.before_step`
         does the same inline: one Python call less per step)."""
-        near = evaluate_and_place(t_s, *self._args) > 0
+        near = self._place(t_s, self._args) > 0
         if near is not self.midphase_off:
             self.midphase(near)
 
@@ -177,7 +179,7 @@ class Fleet:
         if self._has_kinematic:
             clock, geoms = world.clock, self._geoms
             self._eval_ns = t_ns = clock.now_ns + clock.step_ns  # the clock after the step
-            near = evaluate_and_place(t_ns / 1e9, *geoms._args) > 0  # `_ShipGeoms.place`, inline
+            near = geoms._place(t_ns / 1e9, geoms._args) > 0  # `_ShipGeoms.place`, inline
             if near is not geoms.midphase_off:
                 geoms.midphase(near)
         for name, pilot in self.pilots.values():

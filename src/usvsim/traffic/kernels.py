@@ -6,8 +6,10 @@ import functools
 import math
 from dataclasses import dataclass
 
+import numba
 import numpy as np
-from numba import njit
+from numba import njit, types
+from numba.experimental import structref
 
 from usvsim.traffic.motion import Track
 
@@ -142,3 +144,48 @@ def evaluate_and_place(t_s, ship_i, ship_f, seg, pos, vel, yaw, geoms, local, ge
             geom_quat[g, 0], geom_quat[g, 1] = w * qw - z * qz, w * qx - z * qy
             geom_quat[g, 2], geom_quat[g, 3] = w * qy + z * qx, w * qz + z * qw
     return near
+
+
+@structref.register
+class _FleetArgsType(types.StructRef):
+    def preprocess_fields(self, fields):
+        return tuple((name, types.unliteral(t)) for name, t in fields)
+
+
+class FleetArgs(structref.StructRefProxy):
+    """`evaluate_and_place`'s arguments after t_s, bound once into one numba object (fields named as its
+    parameters; the arrays are the caller's, written in place): `place_fleet` then costs one cheap argument to
+    unbox per step instead of 13 arrays (~0.5 µs of numba's dispatch at 50 ships)."""
+
+
+_FIELDS = ("ship_i", "ship_f", "seg", "pos", "vel", "yaw", "geoms", "local", "geom_pos", "geom_quat", "body_pos",
+           "body_radius", "conaffinity", "affinity")  # fmt: skip
+structref.define_proxy(FleetArgs, _FleetArgsType, list(_FIELDS))
+
+
+@njit(cache=True)
+def _pack(ship_i, ship_f, seg, pos, vel, yaw, geoms, local, geom_pos, geom_quat, body_pos, body_radius, conaffinity,
+          affinity):  # fmt: skip
+    return FleetArgs(ship_i, ship_f, seg, pos, vel, yaw, geoms, local, geom_pos, geom_quat, body_pos, body_radius,
+                     conaffinity, affinity)  # fmt: skip
+
+
+@njit(cache=True)
+def place_fleet(t_s, a):
+    """`evaluate_and_place(t_s, ...)` with the arguments bound in `a` (a `FleetArgs`); returns the ships near."""
+    return evaluate_and_place(t_s, a.ship_i, a.ship_f, a.seg, a.pos, a.vel, a.yaw, a.geoms, a.local, a.geom_pos,
+                              a.geom_quat, a.body_pos, a.body_radius, a.conaffinity, a.affinity)  # fmt: skip
+
+
+def fleet_placer(args: tuple):
+    """(`FleetArgs` of `args`, a function f(t_s, packed) -> ships near): `place_fleet`'s compiled entry point
+    for exactly the packed argument's type where numba exposes it (skipping the dispatcher's type lookup saves
+    ~0.4 µs a call), else `place_fleet` itself."""
+    packed = _pack(*args[:-1], int(args[-1]))
+    key = (types.float64, numba.typeof(packed))
+    try:
+        place_fleet.compile(key)  # compiled or loaded from the cache once per type; nothing is called
+        entry = place_fleet.overloads[key].entry_point
+    except (AttributeError, KeyError, TypeError):  # numba's internals changed: the dispatcher (type checked)
+        entry = None
+    return packed, entry if callable(entry) else place_fleet
