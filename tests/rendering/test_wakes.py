@@ -77,3 +77,31 @@ def test_track_samples_are_each_hulls_stern_heading_and_speed():
                     math.hypot(*vel[j]), sim.time]  # fmt: skip
         assert row[k] == pytest.approx(expected, rel=1e-12, abs=1e-12)
     sim.close()
+
+
+def test_water_without_the_wake_texture_outside_its_region_gives_the_same_bytes(monkeypatch):
+    """The water's quads that cannot reach the wakes' texture region are drawn with the program compiled without
+    it (MarinePass._marks_runs): the image is byte for byte the one drawn with the full program everywhere, and
+    the split leaves part of the grid (here, a camera looking astern along the wake: the far water) to the cheaper
+    program."""
+    from usvsim.rendering.marine import MarinePass
+
+    runs_seen = []
+    split = MarinePass._marks_runs
+
+    def recorded(self, *args):
+        runs = split(self, *args)
+        runs_seen.append((runs, self._rows, self._columns[args[0]]))
+        return runs
+
+    monkeypatch.setattr(MarinePass, "_marks_runs", recorded)
+    wake, _, _ = _run(30.0, 1.0)
+    runs, (first, count), columns = runs_seen[-1]
+    start, stop = first * (columns - 1), (first + count - 1) * (columns - 1)  # the quads drawn
+    marked = int(np.diff(np.clip(runs, start, stop), axis=1).sum())
+    assert 0 < marked < stop - start
+    monkeypatch.setattr(MarinePass, "_marks_runs", lambda self, *args: np.array([[0, 10**9]]))
+    whole, _, _ = _run(30.0, 1.0)
+    assert np.array_equal(wake["rgb"], whole["rgb"])
+    none, _, _ = _run(0.0, 1.0)
+    assert not np.array_equal(wake["rgb"], none["rgb"])  # the wake is in the picture the split drew

@@ -56,9 +56,13 @@ class MarinePass:
             ctx.program(vertex_shader=shaders.FULLSCREEN_VS, fragment_shader=shaders.FOG_FS)
         )
         self.surface = _bind_samplers(ctx.program(vertex_shader=shaders.WATER_VS, varyings=FEEDBACK))
-        self.water = _bind_samplers(
+        self.water = _bind_samplers(  # with the wakes' and shadows' texture; `plain` without: see _water
+            ctx.program(vertex_shader=shaders.WATER_DRAW_VS, fragment_shader=shaders.WATER_MARKS_FS)
+        )
+        self.plain = _bind_samplers(
             ctx.program(vertex_shader=shaders.WATER_DRAW_VS, fragment_shader=shaders.WATER_FS)
         )
+        self._waters = (self.water, self.plain)
         self.label = ctx.program(vertex_shader=shaders.LABEL_VS, fragment_shader=shaders.LABEL_FS)
         self.fullscreen = {p: ctx.vertex_array(p, []) for p in (self.sky, self.fog)}
         self._grids: dict[
@@ -67,6 +71,11 @@ class MarinePass:
         self._surface_key = None  # what the displaced grid in the feedback buffer was computed for
         self._cell_px = CELL_PX if cell_px is None else cell_px
         self._grid_rows: dict[tuple[int, int], np.ndarray] = {}  # viewport size → NDC of each row's end vertices
+        self._grid_ndc: dict[tuple[int, int], np.ndarray] = {}  # viewport size → NDC of the vertices (rows, cols, 2)
+        self._plain_vaos: dict[tuple[int, int], moderngl.VertexArray] = {}  # viewport size → water without marks
+        self._region = (0.0, 0.0, 1.0, 0.0)  # the wakes' texture region this frame (w = 0: none)
+        self._extent = (0.0, 0.0, 0.0, 0.0)  # x0, y0, x1, y1 (m) of its texels that are not clear
+        self._marks = np.zeros((0, 2), np.int64)  # runs of quads whose labels can fall in that region
         self._columns: dict[tuple[int, int], int] = {}  # viewport size → vertices per grid row
         self._rows = (0, 0)  # the grid's vertex rows displaced and drawn this frame (first, count)
         self._geo: moderngl.TextureArray | None = None
@@ -96,13 +105,15 @@ class MarinePass:
             vbo, ibo = ctx.buffer(vertices.tobytes()), ctx.buffer(indices.tobytes())
             out = ctx.buffer(reserve=len(vertices) * FEEDBACK_BYTES)  # the displaced vertices, once per frame
             feedback = ctx.vertex_array(self.surface, [(vbo, "2f", "in_ndc")])
-            water = ctx.vertex_array(self.water, [(out, "3f 2f 1f 4f 2f 3f", *(f"in_{v[2:]}" for v in FEEDBACK))],
-                                     index_buffer=ibo, index_element_size=4)  # fmt: skip
+            water, plain = (ctx.vertex_array(prog, [(out, "3f 2f 1f 4f 2f 3f", *(f"in_{v[2:]}" for v in FEEDBACK))],
+                                             index_buffer=ibo, index_element_size=4) for prog in self._waters)  # fmt: skip
+            self._plain_vaos[(width, height)] = plain
             label = ctx.vertex_array(self.label, [(out, f"3f {FEEDBACK_BYTES - 12}x", "in_world")],
                                      index_buffer=ibo, index_element_size=4)  # fmt: skip
             self._grids[(width, height)] = (water, label, cell, feedback, out, vbo, ibo)
             self._columns[(width, height)] = columns = int(np.count_nonzero(vertices[:, 1] == vertices[0, 1]))
-            self._grid_rows[(width, height)] = vertices.reshape(-1, columns, 2)[:, [0, -1]].astype(np.float64)
+            self._grid_ndc[(width, height)] = vertices.reshape(-1, columns, 2).astype(np.float64)
+            self._grid_rows[(width, height)] = self._grid_ndc[(width, height)][:, [0, -1]]
         return self._grids[(width, height)]
 
     def _visible_rows(self, size: tuple[int, int], view_proj: np.ndarray, eye: np.ndarray) -> tuple[int, int]:
@@ -119,6 +130,35 @@ class MarinePass:
         leading = int(np.argmin(sky)) if not sky.all() else len(sky)
         first = max(leading - 1, 0)
         return first, len(sky) - first
+
+    def _marks_runs(self, size: tuple[int, int], view_proj: np.ndarray, eye: np.ndarray) -> np.ndarray:
+        """Runs [start, stop) of quads (their index in the grid's storage: row by row, top first) that may hold a
+        pixel where the wakes' texture is not clear (WakePass.extent), from the labels of their corners as WATER_VS computes them (the
+        still-water point of the vertex's ray, capped at FAR_M): a fragment's label interpolates its triangle's, so
+        it lies in their bounding box. One run per quad row at most, (n, 2) int; empty without wakes or shadows."""
+        if self._region[3] <= 0.0:
+            return np.zeros((0, 2), np.int64)
+        ndc = self._grid_ndc[size]
+        inv = np.linalg.inv(view_proj)
+        p = ndc[..., :1] * inv[:, 0] + ndc[..., 1:] * inv[:, 1] + 0.5 * inv[:, 2] + inv[:, 3]
+        d = p[..., :3] / p[..., 3:] - eye
+        d /= np.linalg.norm(d, axis=-1, keepdims=True)
+        h = max(eye[2] - self._level_m, 0.05)
+        horiz = np.maximum(np.hypot(d[..., 0], d[..., 1]), 1e-6)
+        reach = np.where(d[..., 2] < -1e-6, np.minimum(h / np.maximum(-d[..., 2], 1e-6) * horiz, FAR_M), FAR_M)
+        label = eye[:2] + d[..., :2] / horiz[..., None] * reach[..., None]  # (rows, cols, 2)
+        corners = (label[:-1, :-1], label[1:, :-1], label[:-1, 1:], label[1:, 1:])
+        lo, hi = np.minimum.reduce(corners), np.maximum.reduce(corners)  # per quad (rows - 1, cols - 1, 2)
+        margin = 1.0  # m: float32 on the GPU, and more than enough
+        x0, y0, x1, y1 = self._extent
+        hit = np.all((hi > np.array([x0, y0]) - margin) & (lo < np.array([x1, y1]) + margin), axis=-1)
+        rows = np.flatnonzero(hit.any(axis=1))
+        if len(rows) == 0:
+            return np.zeros((0, 2), np.int64)
+        per_row = hit.shape[1]
+        first = np.argmax(hit[rows], axis=1)
+        last = per_row - np.argmax(hit[rows, ::-1], axis=1)
+        return np.stack([rows * per_row + first, rows * per_row + last], axis=1)
 
     def upload(self, data: SurfaceData) -> None:
         """Send the ocean's textures (skipped when the same data is already there)."""
@@ -143,7 +183,7 @@ class MarinePass:
         self._key, self._data = data.key, data
         surface = (data.height_scale, data.displacement_scale, data.level_m, float(n))
         self._surface_key = None
-        for prog in (self.surface, self.water):
+        for prog in (self.surface, *self._waters):
             _set(prog, u_tile=tuple(data.tiles_m) + (1.0,) * (5 - len(data.tiles_m)), u_bands=bands,
                  u_detail=data.detail, u_surface=surface, u_patch=(*data.patch, 0.0))  # fmt: skip
         self._whitecap_slope = min(data.whitecap_slope, 1e6)
@@ -159,7 +199,7 @@ class MarinePass:
                   "u_ambient": tuple(light.ambient), "u_haze_color": tuple(light.horizon),
                   "u_fog_color": tuple(np.array(look.fog.color) * brightness), "u_level": level_m,
                   "u_fog": (fog_sigma, look.fog.height_falloff_m, 3.912 / look.haze.visibility_m, HAZE_HEIGHT_M)}  # fmt: skip
-        for prog in (self.sky, self.fog, self.water, self.surface):
+        for prog in (self.sky, self.fog, *self._waters, self.surface):
             _set(prog, **common)
         sky_key = (
             tuple(light.sun_dir),
@@ -175,7 +215,8 @@ class MarinePass:
         self._surface_key = None
         self._look = (look.water.foam, look.water.glint, FOAM_CHOPPINESS)
         self._level_m, self._fog_height_m = level_m, look.fog.height_falloff_m
-        _set(self.water, u_water=tuple(look.water.color), u_clarity=float(look.water.clarity_m or 0.0))
+        for prog in self._waters:
+            _set(prog, u_water=tuple(look.water.color), u_clarity=float(look.water.clarity_m or 0.0))
         self._short_waves = look.water.short_waves
 
     def draw(
@@ -220,14 +261,17 @@ class MarinePass:
             self._copy_depth(fbo, viewport)
             for prog in (self.sky, self.fog):
                 _set(prog, u_cam=tuple(eye), u_inv_view_proj=inv, u_forward=_forward(camera))
-            for prog in (self.fog, self.water):
+            for prog in (self.fog, *self._waters):
                 _set(prog, u_near_far=(near, far), u_viewport=viewport[:2])
-            _set(self.water, u_look=(*self._look, time_s), u_pixel=pixel_tan,
-                 u_sea=(self._short_waves, self._whitecap_slope), u_mip_ratio=self.mip_ratio or (1.0,) * 8,
-                 **grid)  # fmt: skip
+            for prog in self._waters:
+                _set(prog, u_look=(*self._look, time_s), u_pixel=pixel_tan,
+                     u_sea=(self._short_waves, self._whitecap_slope), u_mip_ratio=self.mip_ratio or (1.0,) * 8,
+                     **grid)  # fmt: skip
+            self._marks = self._marks_runs((rect.width, rect.height), view_proj, eye)
             self._fullscreen(self.fog, "<", blend=True)  # only where a geom was drawn (depth > 0)
             GL.glClear(GL.GL_STENCIL_BUFFER_BIT)
-            self._water(water_vao, stencil=True, blend=True, columns=self._columns[(rect.width, rect.height)])
+            self._water(water_vao, stencil=True, blend=True, columns=self._columns[(rect.width, rect.height)],
+                        plain=self._plain_vaos[(rect.width, rect.height)])  # fmt: skip
             GL.glStencilFunc(GL.GL_EQUAL, 0, 0xFF)  # the sky where neither geoms nor water were drawn
             GL.glStencilOp(GL.GL_KEEP, GL.GL_KEEP, GL.GL_KEEP)
             low, high = _sky_rows(view_proj, eye, rect.height)  # only rows that can see the sky: llvmpipe pays
@@ -265,8 +309,10 @@ class MarinePass:
                 self._wakes = WakePass(self.ctx)
             if self._wakes.draw(wake, shadows):
                 region = (*self._wakes.region, 1.0)
+                self._extent = self._wakes.extent
                 self._wakes.texture.use(TEXTURE_UNITS["u_wake"])
         _set(self.water, u_wake_region=region)
+        self._region = region
 
     def _draw_lamps(self, camera, rect, view_proj, eye) -> None:
         from usvsim.rendering.lights import LightPass
@@ -282,7 +328,9 @@ class MarinePass:
         self._lights.prog["u_view_proj"].write(_mat(view_proj))
         self._lights.draw(nav.world(pos, rot, eye, t, intensity), uniforms)
 
-    def _water(self, vao, stencil: bool, blend: bool, columns: int = 0) -> None:
+    def _water(self, vao, stencil: bool, blend: bool, columns: int = 0, plain=None) -> None:
+        """Draw the visible rows of the grid with `vao`; with `plain`, the quads that cannot reach the wakes'
+        region with it instead (outside the region both programs compute the same bytes), in the stored order."""
         from OpenGL import GL
 
         ctx = self.ctx
@@ -299,7 +347,17 @@ class MarinePass:
         ctx.enable_direct(GL_DEPTH_CLAMP)
         first, count = self._rows  # vertex rows; the quads between them, 6 indices each, are stored row by row
         if count > 1:
-            vao.render(vertices=(count - 1) * (columns - 1) * 6, first=first * (columns - 1) * 6)
+            start, stop = first * (columns - 1), (first + count - 1) * (columns - 1)  # quads [start, stop)
+            runs = [(vao, start, stop)]
+            if plain is not None:  # alternate: plain up to a run of quads that may show marks, that run, ...
+                runs, at = [], start
+                for lo, hi in np.clip(self._marks, start, stop):
+                    runs += [(plain, at, lo), (vao, lo, hi)]
+                    at = hi
+                runs.append((plain, at, stop))
+            for v, lo, hi in runs:
+                if hi > lo:
+                    v.render(vertices=(hi - lo) * 6, first=lo * 6)
         ctx.disable_direct(GL_DEPTH_CLAMP)
         ctx.disable(ctx.BLEND)
 
@@ -377,6 +435,7 @@ class MarinePass:
             if extra is not None:
                 extra.release()
         grids = [obj for entry in self._grids.values() for obj in (entry[:2] + entry[3:])]
+        grids += list(self._plain_vaos.values())
         self._release_depth()
         for obj in (
             self._geo,
@@ -386,6 +445,7 @@ class MarinePass:
             self.sky,
             self.fog,
             self.water,
+            self.plain,
             self.label,
             self.surface,
         ):

@@ -263,10 +263,12 @@ void main() {
     float t2 = (1.0 - nh2) / nh2;
     float lobe = exp(-t2 / (rough * rough)) / (3.1416 * rough * rough * nh4);
     vec2 marks = vec2(0.0);  // wake foam, shadow of geoms (the top-down texture of rendering/wakes.py)
+#ifdef MARKS
     if (u_wake_region.w > 0.0) {
         vec2 uv = (v_label - u_wake_region.xy) / u_wake_region.z;
         if (all(greaterThan(uv, vec2(0.0))) && all(lessThan(uv, vec2(1.0)))) marks = texture(u_wake, uv).rg;
     }
+#endif
     float lit = 1.0 - 0.92 * marks.y;  // in a geom's shadow: no direct sun
     vec3 glint = u_sun_color * u_look.y * fresnel * lobe * 0.25 * step(0.0, u_sun_dir.z) * lit;
     // body colour: sky and sun light scattered back from inside, brighter through thin crests toward the sun
@@ -297,8 +299,10 @@ void main() {
         }
         contact *= pierce;
     }
+#ifdef MARKS
     if (marks.x > 0.0)
         contact = max(contact, marks.x * smoothstep(0.15, 0.65, 0.5 * noise(v_label * 0.9) + 0.5 * grain));
+#endif
     float foam = clamp(u_look.x * max(whitecap, contact), 0.0, 1.0);
     vec3 foam_light = vec3(0.85) * (u_ambient * 2.5 + u_sun_color * max(u_sun_dir.z, 0.0) * lit);
     foam *= 1.0 - smoothstep(1000.0, 6000.0, dist);
@@ -310,6 +314,11 @@ void main() {
 }
 """
 )
+
+# The water with the wakes' and shadows' texture (u_wake) compiled in, for the triangles whose labels can fall in its
+# region; WATER_FS (no MARKS) for the others. llvmpipe runs an `if` body for every pixel whatever the condition
+# (its shaders are SIMD over a 4 x 4 block, with no branch on a uniform), so code left out is the only code skipped.
+WATER_MARKS_FS = WATER_FS.replace("#version 330\n", "#version 330\n#define MARKS\n", 1)
 
 LABEL_FS = """
 #version 330

@@ -178,6 +178,7 @@ class WakePass:
         self.shadow_buffer = ctx.buffer(reserve=2 * 4 * 1024)
         self.shadow_vao = ctx.vertex_array(self.shadow_prog, [(self.shadow_buffer, "2f", "in_xy")])
         self.region = (0.0, 0.0, 1.0)
+        self.extent = (0.0, 0.0, 0.0, 0.0)  # x0, y0, x1, y1 (m): where the texture is not zero (the rest is clear)
 
     def draw(self, tris: np.ndarray, shadows: np.ndarray | None = None) -> bool:
         """Render the ribbons (R) and the shadow triangles (G, `shadows` (n, 2)); False (and nothing drawn)
@@ -190,6 +191,8 @@ class WakePass:
         side = float(min(max(hi[0] - lo[0], hi[1] - lo[1], 32.0) + 4.0, MAX_REGION_M))
         centre = 0.5 * (lo + hi)
         self.region = (float(centre[0] - 0.5 * side), float(centre[1] - 0.5 * side), side)
+        pad = 2.0 * side / TEXELS  # the texels the triangles touch, and their bilinear neighbours
+        self.extent = (float(lo[0] - pad), float(lo[1] - pad), float(hi[0] + pad), float(hi[1] + pad))
         data = np.ascontiguousarray(tris, np.float32).tobytes()
         if len(data) > self.buffer.size:
             self.buffer.orphan(len(data))
