@@ -105,3 +105,22 @@ def test_water_without_the_wake_texture_outside_its_region_gives_the_same_bytes(
     assert np.array_equal(wake["rgb"], whole["rgb"])
     none, _, _ = _run(0.0, 1.0)
     assert not np.array_equal(wake["rgb"], none["rgb"])  # the wake is in the picture the split drew
+
+
+def test_waterline_taps_from_a_uniform_give_the_same_bytes_as_a_fixed_count(monkeypatch):
+    """WATER_FS loops over its waterline depth taps up to a uniform (u_pierce_taps), which llvmpipe does not unroll
+    and so can leave early: the picture is the one the fixed count of 8 draws, and the taps do show in it."""
+    from usvsim.rendering import marine, shaders
+
+    uniform, _, _ = _run(30.0, 1.0)
+    for name in ("WATER_FS", "WATER_MARKS_FS"):
+        source = getattr(shaders, name)
+        assert "i < u_pierce_taps;" in source
+        monkeypatch.setattr(shaders, name, source.replace("i < u_pierce_taps;", f"i < {marine.PIERCE_TAPS};"))
+    fixed, _, _ = _run(30.0, 1.0)
+    assert np.array_equal(uniform["rgb"], fixed["rgb"])
+    monkeypatch.setattr(marine, "PIERCE_TAPS", 0)  # no taps: no geom pierces, no waterline foam
+    for name in ("WATER_FS", "WATER_MARKS_FS"):
+        monkeypatch.setattr(shaders, name, getattr(shaders, name).replace(" i < 8;", " i < u_pierce_taps;"))
+    none, _, _ = _run(30.0, 1.0)
+    assert not np.array_equal(uniform["rgb"], none["rgb"])

@@ -35,6 +35,7 @@ SKY_TEXELS = 256  # the sky table with the horizon haze baked in: the haze band 
 FEEDBACK = ("v_world", "v_label", "v_spacing", "v_atm", "v_slope", "v_jac")  # per vertex: 3+2+1+4+2+3 floats
 FEEDBACK_BYTES = 60
 POINTS = 0x0000
+PIERCE_TAPS = 8  # depth samples around a waterline pixel (WATER_FS: does the geom pierce the surface nearby?)
 
 
 class MarinePass:
@@ -63,6 +64,8 @@ class MarinePass:
             ctx.program(vertex_shader=shaders.WATER_DRAW_VS, fragment_shader=shaders.WATER_FS)
         )
         self._waters = (self.water, self.plain)
+        for prog in self._waters:
+            _set(prog, u_pierce_taps=PIERCE_TAPS)
         self.label = ctx.program(vertex_shader=shaders.LABEL_VS, fragment_shader=shaders.LABEL_FS)
         self.fullscreen = {p: ctx.vertex_array(p, []) for p in (self.sky, self.fog)}
         self._grids: dict[

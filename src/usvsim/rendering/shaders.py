@@ -207,6 +207,8 @@ uniform float u_pixel;   // view width of one pixel at unit distance
 uniform float u_clarity; // distance (m) in the water over which a geom behind the surface fades by e (0: opaque)
 uniform vec2 u_near_far;
 uniform vec2 u_viewport;
+uniform int u_pierce_taps;  // 8 (marine.PIERCE_TAPS). A constant count would be unrolled, and llvmpipe runs every
+                            // statement for every pixel; a loop it leaves once no pixel of the block is in it
 in vec2 v_label;
 in vec3 v_world;
 in float v_spacing;
@@ -292,7 +294,7 @@ void main() {
     if (contact > 0.0) {  // only where the geom pierces the surface nearby (a waterline), not over a submerged top
         float r = clamp(0.8 / max(dist * u_pixel, 1e-6), 2.0, 32.0);  // 0.8 m on screen, in pixels
         float pierce = 0.0;
-        for (int i = 0; i < 8; i++) {
+        for (int i = 0; i < u_pierce_taps; i++) {  // 8; a uniform: see u_pierce_taps
             vec2 d = (i < 4 ? 1.0 : 0.5) * r * vec2(i % 2 == 0 ? 1.0 - float(i & 2) : 0.0, i % 2 == 1 ? 1.0 - float(i & 2) : 0.0);
             float rn = texelFetch(u_depth, clamp(ivec2(gl_FragCoord.xy - u_viewport + d), ivec2(0), textureSize(u_depth, 0) - 1), 0).r;
             if (rn > 0.0 && n0 / (rn + (1.0 - rn) * n0 / f0) < z_here + dot(dz, d)) pierce = 1.0;
