@@ -46,6 +46,7 @@ class Simulation:
         world.traffic = self.traffic  # the renderer evaluates the traffic ships' tracks (lamps, wakes)
         self.wakes = world.wakes = WakeTracks(world)
         self.sensors = SensorSuite(world)
+        self.traffic.fleet.watch(self.sensors.sensors)  # kinematic ships are placed before steps they are seen after
         for name, vessel in world.vessels.items():
             vessel.sensors = self.sensors.of_vessel(name)
         self.commands = CommandInbox(world, self.controllers, lambda: self._new_episode(None, None, False))
@@ -153,14 +154,19 @@ class Simulation:
         clock = self.world.clock
         steps = round(seconds * 1e9 / clock.step_ns)
         start_wall, start_ns = time.perf_counter(), clock.now_ns
-        for _ in range(steps):
-            self.step()
-            if on_step is not None:
-                on_step(self)
-            if realtime:
-                ahead = (clock.now_ns - start_ns) / 1e9 - (time.perf_counter() - start_wall)
-                if ahead > 0:
-                    time.sleep(ahead)
+        unwatched = on_step is None and not realtime  # nobody looks between steps (subscribers: see below)
+        try:
+            for k in range(steps):
+                self.world.unwatched = unwatched and k < steps - 1 and not self._subscribers
+                self.step()
+                if on_step is not None:
+                    on_step(self)
+                if realtime:
+                    ahead = (clock.now_ns - start_ns) / 1e9 - (time.perf_counter() - start_wall)
+                    if ahead > 0:
+                        time.sleep(ahead)
+        finally:
+            self.world.unwatched = False
 
     # -- outputs ------------------------------------------------------------------------------
     def observe(self) -> dict[str, Reading | None]:

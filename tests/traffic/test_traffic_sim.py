@@ -317,10 +317,10 @@ def test_packed_placement_equals_the_plain_kernel_call(crossing):
     arrays = geoms.arrays
     assert arrays[8] is m.geom_pos and arrays[9] is m.geom_quat and arrays[12] is m.geom_conaffinity
     assert geoms._place is not place_fleet  # the compiled entry point (numba exposes it in the pinned version)
-    written = (3, 4, 5, 8, 9, 12)  # pos, vel, yaw, geom_pos, geom_quat, conaffinity
+    written = (3, 4, 5, 8, 9, 12, 14)  # pos, vel, yaw, geom_pos, geom_quat, conaffinity, clearance
     nears = []
     for t_s in (0.0, 3.3, 38.0, 40.01, 95.0):  # the ferry passes the own ship (near) at ~40 s
-        plain = [a.copy() for a in arrays[:-1]] + [arrays[-1]]  # the state before, for the plain call
+        plain = [a.copy() if isinstance(a, np.ndarray) else a for a in arrays]  # the state before, for the plain call
         before = m.geom_pos.copy()
         nears.append(geoms._place(t_s, geoms._args))
         assert evaluate_and_place(t_s, *plain) == nears[-1]
@@ -329,3 +329,89 @@ def test_packed_placement_equals_the_plain_kernel_call(crossing):
         assert not np.array_equal(before, m.geom_pos)  # the ships moved
     assert nears[0] == nears[-1] == 0 and max(nears) == 1
     sim.close()
+
+
+def test_skipped_placements_change_nothing_anyone_sees(scenario_of):
+    """Inside `run` the ships are placed only before steps someone looks after (a camera's, LiDAR's or radar's
+    sample, the run's last step) or when one may be near a floating body; a run whose every step is watched (a
+    step callback: every step placed) gives bit for bit the same body states, contacts, camera images with
+    detections, LiDAR points and radar echoes, also across a ship passing the own ship, a ship running into
+    it, and a teleport next to a far ship."""
+    cam = {"type": "camera", "name": "cam", "width": 160, "height": 120, "horizontal_fov_deg": 90.0, "rate_hz": 4,
+           "streams": ["rgb", "segmentation"], "detections": {}, "mount": {"position": [0.7, 0.0, 1.5]}}  # fmt: skip
+    lidar = {"type": "lidar", "name": "scan", "preset": "seed_2d", "rate_hz": 6.25, "mount": {"position": [0.7, 0, 1.0]}}
+    radar = {"type": "radar", "name": "radar", "rpm": 60, "spokes": 256, "range_bins": 128, "range_max_m": 400.0,
+             "mount": {"position": [0.0, 0.0, 2.5]}}  # fmt: skip
+    ships = [ship("ferry", 257000001, {"type": "constant", "position": [12, 60], "course_deg": 180, "speed_mps": 6},
+                  length_m=20, beam_m=6),
+             ship("rammer", 257000002, {"type": "constant", "position": [-45, 0], "course_deg": 90, "speed_mps": 5},
+                  length_m=12, beam_m=4),
+             ship("far", 257000003, {"type": "route", "loop": True, "waypoints": [
+                 {"position": [300, 300], "speed_mps": 3}, {"position": [380, 300], "speed_mps": 3},
+                 {"position": [380, 380], "speed_mps": 3}]})]  # fmt: skip
+    sc = scenario_of({"vessels": [{**OWN, "sensors": [cam, lidar, radar]}], "traffic": {"ships": ships,
+                      "ais": {"enabled": False}}})  # fmt: skip
+    sims = [Simulation(sc), Simulation(sc)]
+    placed = []
+    for sim in sims:
+        geoms, count = sim.traffic.fleet._geoms, [0]
+        place = geoms._place
+
+        def counted(t_s, a, place=place, count=count):
+            count[0] += 1
+            return place(t_s, a)
+
+        geoms._place = counted
+        placed.append(count)
+    lazy, eager = sims
+    touched = set()
+    for k, seconds in enumerate([0.37, 1.1, 2.9, 4.13, 3.3, 5.0, 1.01, 2.0]):
+        if k == 5:  # the own ship next to the far ship: it must be placed (and collide) from the next step on
+            for sim in sims:  # 4 m ahead of its bow, on its course (east, on its route's first leg)
+                x, y = sim.traffic.fleet.pos_enu[2] + [0.5 * sim.traffic.fleet.ships[2].length_m + 4.0, 0.0]
+                sim.vessels["wamv"].teleport({"position": [float(x), float(y), 0], "yaw_deg": 0})
+        lazy.run(seconds)
+        eager.run(seconds, on_step=lambda s: touched.update(s.contacts()))
+        np.testing.assert_array_equal(lazy.data.qpos, eager.data.qpos)
+        np.testing.assert_array_equal(lazy.data.qvel, eager.data.qvel)
+        np.testing.assert_array_equal(lazy.model.geom_pos, eager.model.geom_pos)
+        np.testing.assert_array_equal(lazy.data.geom_xmat, eager.data.geom_xmat)
+        assert lazy.contacts() == eager.contacts()
+        seen, expected = lazy.observe(), eager.observe()
+        assert seen.keys() == expected.keys()
+        for name, r in expected.items():
+            assert r is not None and seen[name] is not None, name
+            assert set(r) == set(seen[name])
+            for key in r:
+                np.testing.assert_array_equal(seen[name][key], r[key], err_msg=f"{name} {key}")
+    names = {n for c in touched for n in c[:2]}
+    assert {"rammer", "far"} <= names  # collisions with ships happened (and came out the same)
+    assert placed[0][0] < 0.85 * placed[1][0]  # the skipping is real (most steps here are watched or near)
+    for sim in sims:
+        sim.close()
+
+
+def test_skipped_placements_without_sensors_teleport_and_reset(scenario_of):
+    """Without sensors the ships are placed only near floating bodies and at each run's last step; a teleport
+    just ahead of a far ship's bow, and a reset, must still give the same collision and states as placing every step."""
+    ships = [ship("far", 257000003, {"type": "constant", "position": [400, 0], "course_deg": 90, "speed_mps": 4},
+                  length_m=20, beam_m=6)]  # fmt: skip
+    sc = scenario_of({"vessels": [OWN], "traffic": {"ships": ships, "ais": {"enabled": False}}})
+    lazy, eager = Simulation(sc), Simulation(sc)
+    touched = set()
+    for episode in range(2):
+        for sim in (lazy, eager):
+            sim.run(3.0, on_step=None if sim is lazy else lambda s: None)
+            x, y = sim.traffic.fleet.pos_enu[0] + [10.0 + 1.5, 0.0]  # 1.5 m ahead of the bow, on its course
+            sim.vessels["wamv"].teleport({"position": [float(x), float(y), 0], "yaw_deg": 90})
+        assert lazy.traffic.fleet._quiet_until_ns > lazy.clock_ns + 10**9  # was far: would skip a second
+        lazy.run(4.0)
+        eager.run(4.0, on_step=lambda s: touched.update(s.contacts()))
+        np.testing.assert_array_equal(lazy.data.qpos, eager.data.qpos)
+        np.testing.assert_array_equal(lazy.data.qvel, eager.data.qvel)
+        assert lazy.contacts() == eager.contacts()
+        for sim in (lazy, eager):
+            sim.reset()
+    assert any("far" in c[:2] for c in touched)
+    lazy.close()
+    eager.close()

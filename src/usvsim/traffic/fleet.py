@@ -120,8 +120,9 @@ class _ShipGeoms:
         ship_i, ship_f = table.ship_i.copy(), table.ship_f.copy()
         ship_i[:, K.BOX], ship_i[:, K.GEOM_FIRST], ship_i[:, K.GEOM_END] = self.box, self.geom_first[:-1], self.geom_first[1:]
         ship_f[:, K.RADIUS] = self.radius
+        self.clearance = np.zeros(1)  # m, written by each placement (see `evaluate_and_place`)
         self.arrays = (ship_i, ship_f, table.seg, pos, vel, yaw, self.geoms, self.local, self.geom_pos, self.geom_quat,
-                       world.state.pos, self.body_radius, self.conaffinity, self.affinity)  # `evaluate_and_place`'s, after t_s
+                       world.state.pos, self.body_radius, self.conaffinity, self.affinity, self.clearance)  # after t_s
         self._args, self._place = fleet_placer(self.arrays)
 
     def place(self, t_s: float) -> None:
@@ -136,6 +137,25 @@ class _ShipGeoms:
         self.midphase_off = near
         bit = int(mujoco.mjtDisableBit.mjDSBL_MIDPHASE)
         self.opt.disableflags = (self.opt.disableflags | bit) if near else (self.opt.disableflags & ~bit)
+
+
+def _max_speed(table: TrackTable) -> float:
+    """An upper bound (m/s) of every kinematic ship's speed (a cubic segment's: 1.5 |p1 - p0| / h + |v0| + |v1|);
+    inf where a track jumps (segments that do not join, a loop that does not close)."""
+    seg, out = table.seg, 0.0
+    if not len(seg):
+        return 0.0
+    v0, v1 = np.hypot(seg[:, K.V0], seg[:, K.V0 + 1]), np.hypot(seg[:, K.V1], seg[:, K.V1 + 1])
+    h = np.maximum(seg[:, K.T1] - seg[:, K.T0], 1e-12)
+    chord = np.hypot(seg[:, K.P1] - seg[:, K.P0], seg[:, K.P1 + 1] - seg[:, K.P0 + 1])
+    out = float(np.max(np.where(seg[:, K.LINEAR] != 0.0, v0, 1.5 * chord / h + v0 + v1)))
+    for a, n, period in zip(table.ship_i[:, K.FIRST], table.ship_i[:, K.COUNT], table.ship_f[:, K.PERIOD]):
+        rows = seg[a : a + n]
+        ends = rows[:, K.P1 : K.P1 + 2]
+        starts = np.r_[rows[1:, K.P0 : K.P0 + 2], rows[:1, K.P0 : K.P0 + 2]] if period > 0 else rows[1:, K.P0 : K.P0 + 2]
+        if np.any(np.hypot(*(ends[: len(starts)] - starts).T) > 1e-6):
+            return math.inf
+    return out
 
 
 def _reach(m: mujoco.MjModel, body: int) -> float:
@@ -167,6 +187,12 @@ class Fleet:
         self._geoms.bind(world, self.table, self._kpos, self._kvel, self._kyaw)
         self._eval_ns = -1  # the clock time (ns) the kinematic ships' arrays hold
         self._has_kinematic = nk > 0
+        self._every: tuple[int, ...] = (1,)  # steps at which sensors look (`watch`); until then: every step
+        self._quiet_until_ns, self._teleports = -1, 0  # placements may be skipped for steps ending by then
+        limits = world.scenario.world.divergence  # floating bodies' reach spheres move no faster than this
+        body_mps = limits.max_speed_mps + limits.max_angular_speed_radps * float(np.max(np.linalg.norm(
+            world.model.body_ipos[1:], axis=1), initial=0.0))  # fmt: skip
+        self._closing_mps = body_mps + _max_speed(self.table)
         if nk:  # hulls paired (or not) for the start, as after a reset
             self._place(world.clock.now_ns)
         self.update(world)
@@ -174,14 +200,44 @@ class Fleet:
     def __len__(self) -> int:
         return len(self.ships)
 
+    def watch(self, sensors) -> None:
+        """Which sensors may see the ships (all but the IMU and the navigation sensors), at which steps: the ships
+        are placed before every step after which one of them samples (see `before_step`)."""
+        from usvsim.sensors.imu import Imu
+        from usvsim.sensors.navigation import Gnss, GroundTruthPose, Odometry
+
+        seeing = [s for s in sensors.values() if not isinstance(s, (Imu, Odometry, Gnss, GroundTruthPose))]
+        self._every = tuple(sorted({int(s.every) for s in seeing}))
+        if any(s.observes_every_step for s in seeing):
+            self._every = (1,)
+
     def before_step(self, world: World) -> None:
-        """Kinematic ships to their poses at the end of the coming step; pilots set their vessels' references."""
+        """Kinematic ships to their poses at the end of the coming step; pilots set their vessels' references.
+        Inside `Simulation.run` (no step callback, no subscribers: `world.unwatched`) a step after which no sensor
+        that sees ships samples, and before which no ship can have come within reach of a floating body since
+        the last placement (bounded by the fastest ship and the divergence limits' speeds), skips the placement:
+        nothing reads the ships' geoms then, and the floating bodies' motion is the same bit for bit."""
         if self._has_kinematic:
             clock, geoms = world.clock, self._geoms
-            self._eval_ns = t_ns = clock.now_ns + clock.step_ns  # the clock after the step
+            t_ns = clock.now_ns + clock.step_ns  # the clock after the step
+            if t_ns <= self._quiet_until_ns and world.unwatched and world.teleports == self._teleports:
+                return self._pilots(world) if self.pilots else None
+            self._eval_ns = t_ns
             near = geoms._place(t_ns / 1e9, geoms._args) > 0  # `_ShipGeoms.place`, inline
             if near is not geoms.midphase_off:
                 geoms.midphase(near)
+            self._quiet(world, clock.steps + 1, t_ns)
+        if self.pilots:
+            self._pilots(world)
+
+    def _quiet(self, world: World, step: int, t_ns: int) -> None:
+        """After a placement for the end of step `step` (at t_ns): until when the next ones may be skipped."""
+        until = t_ns + int(max(self._geoms.clearance[0], 0.0) / self._closing_mps * 1e9)  # far ships stay far
+        for every in self._every:  # the next step after which a sensor that sees ships samples
+            until = min(until, t_ns + ((step // every + 1) * every - step - 1) * world.clock.step_ns)
+        self._quiet_until_ns, self._teleports = until, world.teleports
+
+    def _pilots(self, world: World) -> None:
         for name, pilot in self.pilots.values():
             loop = self.controllers[name]
             if world.clock.steps % loop.every == 0:  # at the controller's rate
@@ -191,6 +247,7 @@ class Fleet:
     def _place(self, t_ns: int) -> None:
         self._geoms.place(t_ns / 1e9)
         self._eval_ns = t_ns
+        self._quiet_until_ns = -1  # the next step places again
 
     def update(self, world: World) -> None:
         """Refresh pos_enu / vel_enu / yaw_rad for the current time (after the step)."""

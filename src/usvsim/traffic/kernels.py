@@ -58,7 +58,7 @@ class TrackTable:
     def _no_geoms(self) -> tuple:
         """`evaluate_and_place`'s geom and body arguments for no geoms and no bodies (same types: one compilation)."""
         return (np.zeros(0, np.int64), np.zeros((0, 7)), np.zeros((0, 3)), np.zeros((0, 4)), np.zeros((0, 3)),
-                np.zeros(0), np.zeros(0, np.int32), 0)  # fmt: skip
+                np.zeros(0), np.zeros(0, np.int32), 0, np.zeros(1))  # fmt: skip
 
     def evaluate(self, t_s: float, pos: np.ndarray, vel: np.ndarray, yaw: np.ndarray) -> None:
         """Fill pos (N, 2), vel (N, 2), yaw (N,) of every ship at time t_s."""
@@ -79,15 +79,18 @@ def _segment(t, seg, count, first):
 
 @njit(cache=True)
 def evaluate_and_place(t_s, ship_i, ship_f, seg, pos, vel, yaw, geoms, local, geom_pos, geom_quat, body_pos,
-                       body_radius, conaffinity, affinity):  # fmt: skip
+                       body_radius, conaffinity, affinity, clearance):  # fmt: skip
     """Every track at t_s (into pos, vel, yaw), then the kinematic ships' geoms put where the ships are, a
     ship's colliding geom (its hull) pairing with floating bodies only while it is near one; one call per physics step
     (few arguments: numba's dispatch costs ~50 ns per array). Ship k (tables above): pos (N, 2) ENU m, yaw (N,)
     rad, colliding geom ship_i[k, BOX] (-1: none) with bounding radius ship_f[k, RADIUS] m, geoms
     geoms[ship_i[k, GEOM_FIRST] : ship_i[k, GEOM_END]] with their poses in the ship's frame local[j] = (x, y, z m,
     w, x, y, z quaternion). Floating bodies: body_pos (B, 3) m, body_radius (B,) m, margin included. Writes
-    MuJoCo's geom_pos, geom_quat and conaffinity (`affinity` near, 0 far); returns the number of ships near."""
+    MuJoCo's geom_pos, geom_quat and conaffinity (`affinity` near, 0 far); returns the number of ships near, and
+    writes into clearance[0] a lower bound (m) of the least distance between a ship's colliding reach and a
+    floating body's (< 0 where some ship is near; inf without either)."""
     near = 0
+    least = math.inf
     lo_x = lo_y = math.inf  # the box around every floating body's reach: most ships are far from all of them
     hi_x = hi_y = -math.inf
     for b in range(len(body_radius)):
@@ -128,12 +131,17 @@ def evaluate_and_place(t_s, ship_i, ship_f, seg, pos, vel, yaw, geoms, local, ge
         if box >= 0:
             hit = False
             r = ship_f[k, RADIUS]
-            for b in range(len(body_radius) if lo_x - r < x < hi_x + r and lo_y - r < y < hi_y + r else 0):
+            inside = lo_x - r < x < hi_x + r and lo_y - r < y < hi_y + r
+            if not inside:  # outside the box of every body's reach: its distance to the box bounds the clearance
+                least = min(least, max(lo_x - r - x, x - hi_x - r, lo_y - r - y, y - hi_y - r))
+            for b in range(len(body_radius) if inside else 0):
                 dx, dy = body_pos[b, 0] - x, body_pos[b, 1] - y
                 reach = r + body_radius[b]
                 if dx * dx + dy * dy < reach * reach:
                     hit = True
+                    least = -1.0
                     break
+                least = min(least, math.sqrt(dx * dx + dy * dy) - reach)
             conaffinity[box] = affinity if hit else 0
             near += hit
         for j in range(ship_i[k, GEOM_FIRST], ship_i[k, GEOM_END]):
@@ -144,6 +152,7 @@ def evaluate_and_place(t_s, ship_i, ship_f, seg, pos, vel, yaw, geoms, local, ge
             qw, qx, qy, qz = local[j, 3], local[j, 4], local[j, 5], local[j, 6]  # (w, 0, 0, z) * local quaternion
             geom_quat[g, 0], geom_quat[g, 1] = w * qw - z * qz, w * qx - z * qy
             geom_quat[g, 2], geom_quat[g, 3] = w * qy + z * qx, w * qz + z * qw
+    clearance[0] = least
     return near
 
 
@@ -160,29 +169,29 @@ class FleetArgs(structref.StructRefProxy):
 
 
 _FIELDS = ("ship_i", "ship_f", "seg", "pos", "vel", "yaw", "geoms", "local", "geom_pos", "geom_quat", "body_pos",
-           "body_radius", "conaffinity", "affinity")  # fmt: skip
+           "body_radius", "conaffinity", "affinity", "clearance")  # fmt: skip
 structref.define_proxy(FleetArgs, _FleetArgsType, list(_FIELDS))
 
 
 @njit(cache=True)
 def _pack(ship_i, ship_f, seg, pos, vel, yaw, geoms, local, geom_pos, geom_quat, body_pos, body_radius, conaffinity,
-          affinity):  # fmt: skip
+          affinity, clearance):  # fmt: skip
     return FleetArgs(ship_i, ship_f, seg, pos, vel, yaw, geoms, local, geom_pos, geom_quat, body_pos, body_radius,
-                     conaffinity, affinity)  # fmt: skip
+                     conaffinity, affinity, clearance)  # fmt: skip
 
 
 @njit(cache=True)
 def place_fleet(t_s, a):
     """`evaluate_and_place(t_s, ...)` with the arguments bound in `a` (a `FleetArgs`); returns the ships near."""
     return evaluate_and_place(t_s, a.ship_i, a.ship_f, a.seg, a.pos, a.vel, a.yaw, a.geoms, a.local, a.geom_pos,
-                              a.geom_quat, a.body_pos, a.body_radius, a.conaffinity, a.affinity)  # fmt: skip
+                              a.geom_quat, a.body_pos, a.body_radius, a.conaffinity, a.affinity, a.clearance)  # fmt: skip
 
 
 def fleet_placer(args: tuple) -> tuple[FleetArgs, Callable[[float, FleetArgs], int]]:
     """(`FleetArgs` of `args`, a function f(t_s, packed) -> ships near): `place_fleet`'s compiled entry point
     for exactly the packed argument's type where numba exposes it (skipping the dispatcher's type lookup saves
     ~0.4 µs a call), else `place_fleet` itself."""
-    packed = _pack(*[*args[:-1], int(args[-1])])
+    packed = _pack(*[*args[:-2], int(args[-2]), args[-1]])
     key = (types.float64, numba.typeof(packed))
     try:
         place_fleet.compile(key)  # compiled or loaded from the cache once per type; nothing is called

@@ -93,6 +93,8 @@ class World:
         self._init_physics(floating)
         self._init_handles(floating)
         self._guard = DivergenceGuard(world.divergence, list(self.bodies), self.clock.dt)
+        self.unwatched = False  # True inside `Simulation.run` for steps nobody looks at between (traffic/fleet.py)
+        self.teleports = 0  # bodies put somewhere by `teleport` (traffic/fleet.py: far ships may have come near)
         self.odom_origin: dict[str, tuple[np.ndarray, np.ndarray]] = {}  # each vessel's pose at the episode start
         self._mark_odom_origin()
 
@@ -216,6 +218,7 @@ class World:
         """Put body `index` at `pose` with body-frame `twist` (FLU: u, v, w m/s, p, q, r rad/s) now; the
         marine models' histories restart (as after a model switch)."""
         pos, quat = pose_arrays(pose)
+        self.teleports += 1
         self._place(index, pos, quat, twist_array(twist))
         self.marine.reset()
         self._guard.reset()
