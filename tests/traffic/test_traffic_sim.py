@@ -399,7 +399,7 @@ def test_skipped_placements_without_sensors_teleport_and_reset(scenario_of):
     sc = scenario_of({"vessels": [OWN], "traffic": {"ships": ships, "ais": {"enabled": False}}})
     lazy, eager = Simulation(sc), Simulation(sc)
     touched = set()
-    for episode in range(2):
+    for _ in range(2):  # two episodes: a reset in between
         for sim in (lazy, eager):
             sim.run(3.0, on_step=None if sim is lazy else lambda s: None)
             x, y = sim.traffic.fleet.pos_enu[0] + [10.0 + 1.5, 0.0]  # 1.5 m ahead of the bow, on its course
