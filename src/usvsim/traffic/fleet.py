@@ -189,9 +189,11 @@ class Fleet:
         self._has_kinematic = nk > 0
         self._every: tuple[int, ...] = (1,)  # steps at which sensors look (`watch`); until then: every step
         self._quiet_until_ns, self._teleports = -1, 0  # placements may be skipped for steps ending by then
-        limits = world.scenario.world.divergence  # floating bodies' reach spheres move no faster than this
-        body_mps = limits.max_speed_mps + limits.max_angular_speed_radps * float(np.max(np.linalg.norm(
-            world.model.body_ipos[1:], axis=1), initial=0.0))  # fmt: skip
+        # the floating bodies' reach spheres (about world.state.pos, base_link) move no faster than the divergence
+        # limits allow: |v_com| + |omega| |base_link - CoM| (both offsets: MuJoCo's body frame and base_link's)
+        limits = world.scenario.world.divergence
+        offsets = np.r_[np.linalg.norm(world.model.body_ipos[1:], axis=1), np.linalg.norm(world._com_body, axis=1)]
+        body_mps = limits.max_speed_mps + limits.max_angular_speed_radps * float(np.max(offsets, initial=0.0))
         self._closing_mps = body_mps + _max_speed(self.table)
         if nk:  # hulls paired (or not) for the start, as after a reset
             self._place(world.clock.now_ns)
@@ -232,7 +234,8 @@ class Fleet:
 
     def _quiet(self, world: World, step: int, t_ns: int) -> None:
         """After a placement for the end of step `step` (at t_ns): until when the next ones may be skipped."""
-        until = t_ns + int(max(self._geoms.clearance[0], 0.0) / self._closing_mps * 1e9)  # far ships stay far
+        quiet_s = min(max(self._geoms.clearance[0], 0.0) / self._closing_mps, 3600.0)  # far ships stay far that long
+        until = t_ns + int(quiet_s * 1e9)
         for every in self._every:  # the next step after which a sensor that sees ships samples
             until = min(until, t_ns + ((step // every + 1) * every - step - 1) * world.clock.step_ns)
         self._quiet_until_ns, self._teleports = until, world.teleports
