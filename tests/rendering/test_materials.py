@@ -67,3 +67,58 @@ def test_shadows_on_the_water_are_cast_along_the_sun_and_change_rgb_only():
     assert np.all(shift >= -1e-4) and shift.max() > 1.0
     assert np.array_equal(lit["segmentation"], plain["segmentation"])
     assert np.array_equal(lit["depth"], plain["depth"], equal_nan=True)
+
+
+def test_marks_of_the_harbour():
+    """Hull numbers on each vessel's hulls (fore and aft, numbered in order), a band on each buoy."""
+    from usvsim.rendering.materials import MAX_MARKS, mark_geoms
+
+    sim = load(scenario_dict(1, {}, 64, 48))
+    model = sim.model
+    marks = mark_geoms(model, list(sim.vessels), list(sim.bodies))
+    by_body: dict[str, list[float]] = {}
+    for g, basis, _, kind in marks:
+        by_body.setdefault(model.body(int(model.geom_bodyid[g])).name, []).append(kind)
+        assert np.allclose(basis.T @ basis, np.eye(3))  # an orthonormal frame in the geom's
+    sim.close()
+    assert len(marks) <= MAX_MARKS
+    assert by_body["wamv"] == [1.0, 1.0]  # the two pontoons carry number 1
+    assert by_body["red_1"] == [0.0]  # a band
+
+
+def test_sun_and_sky_keep_the_fixed_function_brightness_at_both_ends():
+    """levels(): a face the sun lights fully and a face in the sky's light alone come out as bright as MuJoCo's
+    fixed-function look drew them (display = sqrt of linear)."""
+    from usvsim.config.rendering import Rendering
+    from usvsim.rendering.materials import levels
+    from usvsim.rendering.sky import daylight
+
+    light = daylight(Rendering(), 45.0, 10.0)
+    sun, sky = levels(light)
+    sky_level = float(light.ambient @ (0.3, 0.6, 0.1))
+    ambient = min(1.1 * sky_level, 0.4) * (0.75 + 0.25 * light.ambient / sky_level)
+    assert np.allclose(np.sqrt(sky), ambient)
+    assert np.allclose(np.sqrt(sky + sun), ambient + np.clip(0.62 * light.sun_color, 0, 1))
+
+
+def test_the_shadow_pass_adds_up_to_the_unshadowed_look():
+    """With shadows MuJoCo draws the sun in a second, additive pass (the program adds, on display, what the sun
+    adds): on geoms it does not shadow, the result matches the single-pass look to rounding."""
+
+    def frame(shadows: bool):
+        raw = scenario_dict(1, {"shadows": shadows, "sun": {"elevation_deg": 50.0, "azimuth_deg": 200.0}}, 160, 120)
+        raw["vessels"][0]["sensors"][0]["mount"] = {"position": [-1.0, 0.0, 2.5], "pitch_deg": 40.0, "yaw_deg": 180.0}
+        sim = load(raw, seed=0)
+        sim.run(0.2)
+        images = sim.sensors["wamv/camera"].render(sim)
+        water = sim.model.geom("water_surface").id + 1
+        sim.close()
+        return images, water
+
+    (lit, water), (plain, _) = frame(True), frame(False)
+    geoms = (plain["segmentation"] > 0) & (plain["segmentation"] != water)
+    assert geoms.sum() > 500
+    diff = lit["rgb"].astype(int) - plain["rgb"].astype(int)
+    same = np.abs(diff).max(axis=-1) <= 2
+    assert same[geoms].mean() > 0.9  # the boat is in the sun here (MuJoCo's map puts no shadow on it)
+    assert (diff[geoms] <= 2).all()  # shadows only darken

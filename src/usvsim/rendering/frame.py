@@ -103,9 +103,8 @@ def sea_extras(cache: dict, ocean, look):
 def apply_lights(scene: mujoco.MjvScene, light: Daylight, materials=None) -> None:
     """Sun and sky light on MuJoCo's geoms: directional lights follow the sun, the headlight gives sky fill.
     MuJoCo's colours are display values, so the levels are display levels (noon: ambient 0.35, sun 0.6).
-    `materials` (rendering/materials.Materials, or None): each geom's gloss."""
-    if materials is not None:
-        materials.apply(scene)
+    With `materials` (rendering/materials.Materials) the geoms are shaded by `begin_geoms`' program instead;
+    the lights still tell MuJoCo where the sun's shadow map looks from."""
     sky_level = float(light.ambient @ (0.3, 0.6, 0.1))
     tint = 0.75 + 0.25 * light.ambient / max(sky_level, 1e-6)
     ambient = np.clip(min(1.1 * sky_level, 0.4) * tint, 0.0, 1.0)
@@ -118,6 +117,24 @@ def apply_lights(scene: mujoco.MjvScene, light: Daylight, materials=None) -> Non
             lamp.dir[:] = -light.sun_dir
             lamp.pos[:] = light.sun_dir * 1000.0
             lamp.diffuse[:], lamp.ambient[:], lamp.specular[:] = sun, 0.0, (0.8 if materials is not None else 0.3) * sun
+
+
+def begin_geoms(marine, scene: mujoco.MjvScene, shadows: bool) -> bool:
+    """Bind the materials' program (rendering/materials.py) for MuJoCo's colour pass when the look has
+    materials; call `end_geoms` after `mjr_render`. `shadows`: MuJoCo draws the sun's shadow map this pass."""
+    if marine is None or marine.materials is None or marine.daylight is None:
+        return False
+    if marine.geom_shading is None:
+        from usvsim.rendering.materials import GeomShading
+
+        marine.geom_shading = GeomShading(marine.ctx)
+    shadows = shadows and any(scene.lights[i].castshadow and not scene.lights[i].headlight for i in range(scene.nlight))
+    marine.geom_shading.begin(scene, marine.materials, marine.daylight, shadows, marine.noise_texture)
+    return True
+
+
+def end_geoms(marine) -> None:
+    marine.geom_shading.end()
 
 
 def water_label(model: mujoco.MjModel) -> int:

@@ -92,7 +92,8 @@ class MarinePass:
         self.daylight = None
         self.sea_cache: dict = {}  # per wave field: the short-wave band and the whitecap slope (frame.py)
         self.lamps: tuple | None = None  # navigation lights of this frame (frame.lamps), drawn by `self._lights`
-        self.materials = None  # the geoms' gloss (rendering/materials.py), applied by frame.apply_lights
+        self.materials = None  # the geoms' materials (rendering/materials.py), drawn by frame.begin_geoms
+        self.geom_shading = None  # their program (materials.GeomShading), made on first use
         self.mip_ratio = None  # rms slope of the shortest band per mip level / level 0 (detail.mip_slope_ratio)
         self._lights = None
         self.wake = None  # the wakes' ribbons of this frame (frame.prepare), drawn by `self._wakes`
@@ -413,6 +414,11 @@ class MarinePass:
         fbo = self.ctx.detect_framebuffer()
         return self._fbos.setdefault(fbo.glo, fbo)
 
+    @property
+    def noise_texture(self):
+        """The 64² noise texture (fixed seed) the water's foam and the geoms' materials read."""
+        return self._noise
+
     def restore(self) -> None:
         """Leave the state MuJoCo's fixed-function pipeline expects: no program, no vertex array."""
         from OpenGL import GL
@@ -434,7 +440,7 @@ class MarinePass:
         self._noise.use(TEXTURE_UNITS["u_noise"])
 
     def release(self) -> None:
-        for extra in (self._lights, self._wakes):
+        for extra in (self._lights, self._wakes, self.geom_shading):
             if extra is not None:
                 extra.release()
         grids = [obj for entry in self._grids.values() for obj in (entry[:2] + entry[3:])]

@@ -80,7 +80,12 @@ class FrameRenderer:
             from usvsim.rendering.frame import apply_lights
 
             apply_lights(self.scene, marine.daylight, marine.materials)
+        from usvsim.rendering.frame import begin_geoms, end_geoms
+
+        shaded = begin_geoms(marine, self.scene, bool(self.scene.flags[mujoco.mjtRndFlag.mjRND_SHADOW]))
         mujoco.mjr_render(viewport, self.scene, self.context)
+        if shaded:
+            end_geoms(marine)
         if marine is not None:
             marine.draw(self.scene.camera[0], viewport, time_s=sim.time)
         if inset is not None:

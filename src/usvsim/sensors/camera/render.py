@@ -183,7 +183,12 @@ class PinholeRenderer:
         if self._look_shadows and not segment:
             self.scene.flags[_R.mjRND_SHADOW] = True
         self.scene.flags[_R.mjRND_SEGMENT] = self.scene.flags[_R.mjRND_IDCOLOR] = segment
+        from usvsim.rendering.frame import begin_geoms, end_geoms
+
+        shaded = not segment and begin_geoms(self.marine, self.scene, bool(self.scene.flags[_R.mjRND_SHADOW]))
         mujoco.mjr_render(self.rect, self.scene, self.ctx)
+        if shaded:
+            end_geoms(self.marine)
         if self.marine is not None and (water_label_pass or not segment):
             from usvsim.rendering.frame import id_color
 
