@@ -392,26 +392,64 @@ def test_skipped_placements_change_nothing_anyone_sees(scenario_of):
 
 
 def test_skipped_placements_without_sensors_teleport_and_reset(scenario_of):
-    """Without sensors the ships are placed only near floating bodies and at each run's last step; a teleport
-    just ahead of a far ship's bow, and a reset, must still give the same collision and states as placing every step."""
+    """Without sensors the ships are placed only near floating bodies and at each run's first and last steps; a
+    teleport in the middle of a run (as a command would) just ahead of a far ship's bow, and a reset, must still
+    give the same collision and states as placing every step."""
     ships = [ship("far", 257000003, {"type": "constant", "position": [400, 0], "course_deg": 90, "speed_mps": 4},
                   length_m=20, beam_m=6)]  # fmt: skip
     sc = scenario_of({"vessels": [OWN], "traffic": {"ships": ships, "ais": {"enabled": False}}})
     lazy, eager = Simulation(sc), Simulation(sc)
+
+    class TeleportAt:  # called every step inside the loop like a controller (not a step callback)
+        def __init__(self, sim, step):
+            self.sim, self.step, self.quiet = sim, step, []
+
+        def __call__(self, world):
+            if world.clock.steps == self.step:
+                self.quiet.append(self.sim.traffic.fleet._quiet_until_ns - world.clock.now_ns)
+                pos, vel, yaw = np.zeros((1, 2)), np.zeros((1, 2)), np.zeros(1)  # the ship now (from its track)
+                self.sim.traffic.fleet.table.evaluate(world.clock.now_ns / 1e9, pos, vel, yaw)
+                x, y = pos[0] + [10.0 + 1.5, 0.0]  # 1.5 m ahead of its bow, on its course
+                self.sim.vessels["wamv"].teleport({"position": [float(x), float(y), 0], "yaw_deg": 90})
+
+        def reset(self):
+            pass
+
+    hooks = [TeleportAt(sim, 300) for sim in (lazy, eager)]
+    for sim, hook in zip((lazy, eager), hooks):
+        sim.controllers["teleport"] = hook
     touched = set()
     for _ in range(2):  # two episodes: a reset in between
-        for sim in (lazy, eager):
-            sim.run(3.0, on_step=None if sim is lazy else lambda s: None)
-            x, y = sim.traffic.fleet.pos_enu[0] + [10.0 + 1.5, 0.0]  # 1.5 m ahead of the bow, on its course
-            sim.vessels["wamv"].teleport({"position": [float(x), float(y), 0], "yaw_deg": 90})
-        assert lazy.traffic.fleet._quiet_until_ns > lazy.clock_ns + 10**9  # was far: would skip a second
-        lazy.run(4.0)
-        eager.run(4.0, on_step=lambda s: touched.update(s.contacts()))
+        lazy.run(7.0)
+        eager.run(7.0, on_step=lambda s: touched.update(s.contacts()))
         np.testing.assert_array_equal(lazy.data.qpos, eager.data.qpos)
         np.testing.assert_array_equal(lazy.data.qvel, eager.data.qvel)
         assert lazy.contacts() == eager.contacts()
         for sim in (lazy, eager):
             sim.reset()
+    assert hooks[0].quiet[0] > 10**9 and hooks[1].quiet[0] < 0  # lazy would have skipped on for over a second
+    assert any("far" in c[:2] for c in touched)
+    lazy.close()
+    eager.close()
+
+
+def test_bodies_moved_by_hand_between_runs_meet_the_ships(scenario_of):
+    """Moving a body by writing its qpos between two `run` calls (no teleport) still pairs it with the ship it
+    now touches: the first step of a run places the ships."""
+    ships = [ship("far", 257000003, {"type": "constant", "position": [400, 0], "course_deg": 90, "speed_mps": 4},
+                  length_m=20, beam_m=6)]  # fmt: skip
+    sc = scenario_of({"vessels": [OWN], "traffic": {"ships": ships, "ais": {"enabled": False}}})
+    lazy, eager = Simulation(sc), Simulation(sc)
+    touched = set()
+    for sim in (lazy, eager):
+        sim.run(3.0, on_step=None if sim is lazy else lambda s: None)
+        adr = sim.model.jnt_qposadr[sim.model.body_jntadr[sim.vessels["wamv"].index + 1]]
+        sim.data.qpos[adr : adr + 2] = sim.traffic.fleet.pos_enu[0] + [10.0 + 1.5, 0.0]  # ahead of the bow
+        mujoco.mj_forward(sim.model, sim.data)
+        sim.world._update_kinematics()
+    lazy.run(3.0)
+    eager.run(3.0, on_step=lambda s: touched.update(s.contacts()))
+    np.testing.assert_array_equal(lazy.data.qpos, eager.data.qpos)
     assert any("far" in c[:2] for c in touched)
     lazy.close()
     eager.close()

@@ -6,7 +6,9 @@ the time the step ends at and writes all their geoms' poses into `model.geom_pos
 all ships), so after `mj_step` cameras, ray sensors and contacts see them where the clock says. Physics ships are
 scenario vessels whose velocity controller gets its reference from a pilot (LOS on a route or course, time-based
 track following on a recorded track). `pos_enu`, `vel_enu`, `yaw_rad` hold every ship's horizontal state at the current time, in the
-order of `traffic.ships` (world ENU m, m/s; ENU yaw rad).
+order of `traffic.ships` (world ENU m, m/s; ENU yaw rad), after every `step()`, at the end of every `run` and
+whenever the situation or AIS is due; in between, inside a `run` whose placements are skipped, they may hold
+an earlier time (the tracks themselves, `table.evaluate`, give any time).
 """
 
 from __future__ import annotations
@@ -218,7 +220,8 @@ class Fleet:
         Inside `Simulation.run` (no step callback, no subscribers: `world.unwatched`) a step after which no sensor
         that sees ships samples, and before which no ship can have come within reach of a floating body since
         the last placement (bounded by the fastest ship and the divergence limits' speeds), skips the placement:
-        nothing reads the ships' geoms then, and the floating bodies' motion is the same bit for bit."""
+        nothing reads the ships' geoms then, and the floating bodies' motion is the same bit for bit. The first
+        step of every `run` places (bodies may have been moved by hand in between)."""
         if self._has_kinematic:
             clock, geoms = world.clock, self._geoms
             t_ns = clock.now_ns + clock.step_ns  # the clock after the step
@@ -228,7 +231,10 @@ class Fleet:
             near = geoms._place(t_ns / 1e9, geoms._args) > 0  # `_ShipGeoms.place`, inline
             if near is not geoms.midphase_off:
                 geoms.midphase(near)
-            self._quiet(world, clock.steps + 1, t_ns)
+            if world.unwatched:
+                self._quiet(world, clock.steps + 1, t_ns)
+            else:  # someone looks after this step (and may move bodies before the next): place the next one too
+                self._quiet_until_ns = -1
         if self.pilots:
             self._pilots(world)
 
