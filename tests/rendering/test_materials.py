@@ -122,3 +122,25 @@ def test_the_shadow_pass_adds_up_to_the_unshadowed_look():
     same = np.abs(diff).max(axis=-1) <= 2
     assert same[geoms].mean() > 0.9  # the boat is in the sun here (MuJoCo's map puts no shadow on it)
     assert (diff[geoms] <= 2).all()  # shadows only darken
+
+
+def test_hull_number_is_painted_on_the_pontoon():
+    """A camera beside the WAM-V's port pontoon, level with its bow, sees the white '01' on the black rubber
+    with materials, and no near-white pixel on it without."""
+
+    def frame(materials: bool):
+        raw = scenario_dict(1, {"materials": materials, "sun": {"elevation_deg": 40.0, "azimuth_deg": 0.0}}, 160, 120)
+        raw["vessels"][0]["sensors"][0]["mount"] = {"position": [1.6, 4.0, 0.6], "pitch_deg": 5.0, "yaw_deg": -90.0}
+        sim = load(raw, seed=0)
+        sim.run(0.2)
+        images = sim.sensors["wamv/camera"].render(sim)
+        model = sim.model
+        hulls = [g + 1 for g in range(model.ngeom) if model.geom_bodyid[g] == model.body("wamv").id
+                 and model.geom_group[g] == 1 and model.geom_type[g] == 7]  # fmt: skip
+        sim.close()
+        on_hull = np.isin(images["segmentation"], hulls)
+        assert on_hull.sum() > 500
+        return int(((images["rgb"].min(axis=-1) > 150) & on_hull).sum())
+
+    assert frame(True) > 10
+    assert frame(False) == 0
