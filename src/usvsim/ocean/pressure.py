@@ -26,7 +26,7 @@ from numba import njit, prange
 from usvsim.ocean.direct import DirectWaveField
 from usvsim.ocean.dispatch import pick, serial_and_parallel
 from usvsim.ocean.fft import FFTWaveField
-from usvsim.ocean.fft_kernels import _bilinear, _blend4_real, _cell, band_height, band_heights_cached
+from usvsim.ocean.fft_kernels import _bilinear, _blend4_real, _cell, band_height, heights_cached
 from usvsim.ocean.field import WaveField, as_points
 from usvsim.ocean.spectra import G
 
@@ -101,6 +101,19 @@ def _direct_surface_and_head(px, py, zrel, t, amp, kx, ky, om, ph, s, depth, k_a
         zeta_out[p] = s * acc
 
 
+@njit(inline="always")
+def _head_from_bands(band_h, p, z, zrel_p, decay_k):
+    """ζ at point p from its band heights band_h[p] (summed to η = z): the surface value above the surface,
+    else each band decayed by exp(k_b (zrel - η)), summed in band order."""
+    zp = zrel_p - z
+    if zp >= 0.0:
+        return z
+    acc = 0.0
+    for b in range(band_h.shape[1]):
+        acc += math.exp(decay_k[b] * zp) * band_h[p, b]
+    return acc
+
+
 def _fft_surface_and_head_impl(px, py, zrel, geo, wts, inv_cells, decay_k, band_h, eta_out, zeta_out):
     """η and ζ at world points of an FFT sea without choppy displacement (labels = points) in one pass over the
     tiles: each band's bilinear height h_b is computed once (kept in `band_h`), η = Σ h_b as `fft_kernels._heights`
@@ -113,14 +126,7 @@ def _fft_surface_and_head_impl(px, py, zrel, geo, wts, inv_cells, decay_k, band_
             band_h[p, b] = h
             z += h
         eta_out[p] = z
-        zp = zrel[p] - z
-        if zp >= 0.0:
-            zeta_out[p] = z
-            continue
-        acc = 0.0
-        for b in range(geo.shape[0]):
-            acc += math.exp(decay_k[b] * zp) * band_h[p, b]
-        zeta_out[p] = acc
+        zeta_out[p] = _head_from_bands(band_h, p, z, zrel[p], decay_k)
 
 
 @njit(cache=True)
@@ -128,20 +134,9 @@ def fft_surface_and_head_cached(px, py, zrel, geo, wts, inv_cells, decay_k, band
                                 now):  # fmt: skip
     """`_fft_surface_and_head_impl` (serial) with the band heights from `fft_kernels.band_heights_cached` (each
     blended tile node once per blend state): bit for bit the same η and ζ."""
-    band_heights_cached(px, py, geo, wts, inv_cells, band_h, cache, stamp, now)
+    heights_cached(px, py, geo, wts, inv_cells, eta_out, band_h, cache, stamp, now)
     for p in range(px.shape[0]):
-        z = 0.0
-        for b in range(geo.shape[0]):
-            z += band_h[p, b]
-        eta_out[p] = z
-        zp = zrel[p] - z
-        if zp >= 0.0:
-            zeta_out[p] = z
-            continue
-        acc = 0.0
-        for b in range(geo.shape[0]):
-            acc += math.exp(decay_k[b] * zp) * band_h[p, b]
-        zeta_out[p] = acc
+        zeta_out[p] = _head_from_bands(band_h, p, eta_out[p], zrel[p], decay_k)
 
 
 @njit(cache=True)
