@@ -163,6 +163,18 @@ def test_dataset_bad_numbers_are_one_line(tmp_path, args, words):
     assert not (tmp_path / "ds").exists()
 
 
+@pytest.mark.parametrize(
+    ("args", "words"),
+    [
+        (["no_such_scenario"], ["no_such_scenario", "built-in"]),
+        (["buoy_field", "--randomize", "no_such_preset"], ["no_such_preset"]),
+    ],
+)
+def test_dataset_bad_scenario_or_randomization_makes_no_folder(tmp_path, args, words):
+    one_line_error(invoke("dataset", *args, "--frames", "1", "--out", tmp_path / "ds"), *words)
+    assert not (tmp_path / "ds").exists()
+
+
 def test_dataset_spec_rejects_nan_splits(tmp_path):
     from usvsim.datasets.generate import DatasetSpec
 
@@ -193,6 +205,21 @@ def test_dataset_out_under_a_file_is_one_line_and_the_result_line_is_on_stdout(t
 )
 def test_navigate_bad_numbers_are_one_line(tmp_path, args, words):
     one_line_error(invoke("demo", "navigate", "--out", tmp_path / "nav", *args), *words)
+    assert not (tmp_path / "nav").exists()
+
+
+@pytest.mark.parametrize(
+    ("scenario", "words"),
+    [
+        ("no_such_scenario", ["no_such_scenario", "built-in"]),
+        ("harbor", ["harbor", "no default goals"]),  # a scenario the demo has no goals for
+    ],
+)
+def test_navigate_bad_scenario_makes_no_folder(tmp_path, scenario, words):
+    one_line_error(invoke("demo", "navigate", scenario, "--out", tmp_path / "nav"), *words)
+    assert not (tmp_path / "nav").exists()
+    with_goals = invoke("demo", "navigate", "harbor", "--goals", "10,0", "--out", tmp_path / "nav")
+    one_line_error(with_goals, "controller", "lidar")  # harbor's vessels cannot navigate
     assert not (tmp_path / "nav").exists()
 
 

@@ -287,3 +287,23 @@ def test_map_draws_a_tasks_goals(tmp_path):
     image = np.asarray(Image.open(tmp_path / "m.png").convert("RGB")).astype(int)
     assert (np.abs(image - (0xE0, 0x7B, 0x00)).sum(axis=2) < 30).sum() > 100  # the three waypoints
     assert CliRunner().invoke(app, ["map", "nope", "--task"]).exit_code == 2
+
+
+def test_every_tasks_plan_marks_name_what_to_do_where_its_scorer_looks():
+    """`usvsim map --task` labels: each task's targets at the positions its scorer uses (world ENU m)."""
+    from usvsim.tasks import TASKS
+    from usvsim.tasks.animals import ANIMALS
+
+    marks = {name: TASKS[name](0, 3).plan_marks() for name in TASKS}
+    assert all(marks.values()), [name for name, m in marks.items() if not m]
+    sk = TASKS["station_keeping"](0, 3)
+    assert [m[:3] for m in sk.plan_marks()] == [sk.goal]
+    wf = TASKS["wayfinding"](0, 3)
+    assert [m[:3] for m in wf.plan_marks()] == wf.waypoints
+    gym = TASKS["gymkhana"](0, 3)
+    *gates, pinger = gym.plan_marks()
+    assert [m[:2] for m in gates] == [g.centre for g in gym.gates]
+    assert pinger[:3] == (gym.pinger[0], gym.pinger[1], None) and "pinger" in pinger[3]
+    labels = {m[3].split(":")[0]: m for m in marks["wildlife"]}
+    assert {name: labels[name][:2] for name in ANIMALS} == {name: xy for name, (xy, _) in ANIMALS.items()}
+    assert "clockwise" in labels["platypus"][3] and "10 m" in labels["crocodile"][3]

@@ -33,28 +33,40 @@ def parse_goals(text: str) -> list[tuple[float, float]]:
     return [(g[0], g[1]) for g in goals]
 
 
-def pick(sim, vessel: str | None, lidar: str | None) -> tuple[str, str]:
-    """The vessel with a velocity controller and a 3D LiDAR (the first, unless named)."""
-    for v in sim.scenario.vessels:
+def pick(scenario, vessel: str | None, lidar: str | None) -> tuple[str, str]:
+    """The vessel of `scenario` (a config.Scenario) with a velocity controller and a 3D LiDAR (the first, unless
+    named)."""
+    for v in scenario.vessels:
         if vessel not in (None, v.name) or v.controller is None:
             continue
         for s in v.sensors:
             if s.type == "lidar" and lidar in (None, s.name):
                 return v.name, s.name
-    raise UsvsimError(f"scenario {sim.scenario.name!r}: demo navigate needs a vessel with a `controller` and a 3D "
+    raise UsvsimError(f"scenario {scenario.name!r}: demo navigate needs a vessel with a `controller` and a 3D "
                       "`lidar` sensor (see the harbor_navigate scenario)")  # fmt: skip
+
+
+def check_demo(scenario: str, goals=None) -> list[tuple[float, float]]:
+    """The goals a demo run of `scenario` (a built-in name or a YAML path) will drive to, after checking what can
+    be checked before any work (the scenario loads, has a navigating vessel and goals); raises UsvsimError."""
+    from usvsim.config.loader import load_scenario
+
+    loaded = load_scenario(scenario)
+    goals = goals or DEFAULT_GOALS.get(loaded.name)
+    if not goals:
+        raise UsvsimError(f"scenario {loaded.name!r} has no default goals: pass --goals 'x,y;x,y'")
+    pick(loaded, None, None)
+    return goals
 
 
 def run_demo(scenario: str, goals=None, out: Path = Path("navigate_out"), max_time_s: float = 400.0, seed: int = 0,
              odometry: str = "auto", planner: str = "astar") -> dict:  # fmt: skip
     from usvsim.simulation import Simulation
 
+    goals = check_demo(scenario, goals)
     sim = Simulation.from_scenario(scenario, seed=seed)
     try:
-        goals = goals or DEFAULT_GOALS.get(sim.scenario.name)
-        if not goals:
-            raise UsvsimError(f"scenario {sim.scenario.name!r} has no default goals: pass --goals 'x,y;x,y'")
-        vessel, lidar = pick(sim, None, None)
+        vessel, lidar = pick(sim.scenario, None, None)
         nav, tap = build_navigator(sim, vessel, lidar, goals, odometry=odometry, planner=planner)
         start = time.perf_counter()
         trace = navigate(sim, nav, tap, vessel, lidar, max_time_s)

@@ -32,7 +32,9 @@ def dataset_command(
 ) -> None:
     """Render a scenario's cameras with domain randomization and write images, labels and masks."""
     from usvsim.cli.outputs import prepare_folder
+    from usvsim.config.loader import load_scenario
     from usvsim.datasets.generate import DatasetSpec, generate
+    from usvsim.datasets.randomization import load_randomization
 
     console = Console(stderr=True)
     try:
@@ -50,6 +52,7 @@ def dataset_command(
     try:
         spec = DatasetSpec(scenario, frames, out, tuple(f.strip() for f in format.split(",")), seed, randomize,
                            size, fractions, min_visible_pixels, min_visible_fraction)  # fmt: skip
+        load_scenario(scenario), load_randomization(randomize)  # bad input fails before the folder is made
         prepare_folder(out)
         columns = (TextColumn("dataset"), BarColumn(), MofNCompleteColumn(), TimeRemainingColumn())
         with Progress(*columns, console=console, transient=True) as bar:  # gone when done: an error stays one line

@@ -32,12 +32,12 @@ def map_command(
         _fail(f"--out {out}: unknown image format {out.suffix!r}; use .png (or {', '.join(sorted(formats))})")
     try:
         prepare_file(out)
-        goals = []
+        marks = []
         if task:
-            sim, goals = _task_simulation(scenario, difficulty, seed)
+            sim, marks = _task_simulation(scenario, difficulty, seed)
         else:
             sim = Simulation.from_scenario(scenario)
-        draw_plan(sim, out, goals=goals)
+        draw_plan(sim, out, marks=marks)
     except UsvsimError as exc:
         _fail(exc)
     except OSError as exc:
@@ -46,7 +46,7 @@ def map_command(
 
 
 def _task_simulation(name: str, difficulty: int, seed: int):
-    """The task's scenario as a simulation and its goal poses (x, y m ENU, yaw rad)."""
+    """The task's scenario as a simulation and its plan marks (`Task.plan_marks`)."""
     from usvsim.core.errors import UsvsimError
     from usvsim.simulation import Simulation
     from usvsim.tasks import TASKS
@@ -54,5 +54,4 @@ def _task_simulation(name: str, difficulty: int, seed: int):
     if name not in TASKS:
         raise UsvsimError(f"no task '{name}' (tasks: {', '.join(TASKS)})")
     task = TASKS[name](difficulty, seed)
-    goal = getattr(task, "goal", None)
-    return Simulation(task.scenario(), seed=seed), ([goal] if goal else list(getattr(task, "waypoints", [])))
+    return Simulation(task.scenario(), seed=seed), task.plan_marks()

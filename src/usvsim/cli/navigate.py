@@ -33,7 +33,7 @@ def navigate_command(
     ] = "astar",
 ) -> None:
     """Map as it goes (LiDAR odometry + occupancy grid), plan, drive to each goal; write pictures and metrics."""
-    from usvsim.autonomy.demo import acceptance, parse_goals, run_demo
+    from usvsim.autonomy.demo import acceptance, check_demo, parse_goals, run_demo
     from usvsim.cli.errors import fail as _fail
     from usvsim.cli.outputs import prepare_folder
     from usvsim.core.errors import UsvsimError
@@ -43,7 +43,7 @@ def navigate_command(
             raise UsvsimError(f"--odometry {odometry!r}: choose auto, kiss_icp or sensor")
         if planner not in ("astar", "hybrid"):
             raise UsvsimError(f"--planner {planner!r}: choose astar or hybrid")
-        parsed = parse_goals(goals) if goals else None
+        parsed = check_demo(scenario, parse_goals(goals) if goals else None)  # before the folder is made
         prepare_folder(out)
         summary = run_demo(scenario, parsed, out, max_time, seed, odometry, planner)
     except UsvsimError as exc:

@@ -43,7 +43,11 @@ class World(Section):
 class Recording(Section):
     """What `--record` (or `outputs.recording.path`) writes: an MCAP file in the rosbag2 layout."""
 
-    path: str | None = None
+    path: str | None = Field(
+        default=None,
+        description="MCAP file written by `usvsim run` without --record (which overrides it); a relative path is "
+        "taken from the working directory, like --record's (not from the scenario file, unlike meshes)",
+    )
     clock_rate_hz: PositiveFloat = 100.0
     ground_truth_rate_hz: PositiveFloat = 50.0
 

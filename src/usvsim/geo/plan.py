@@ -13,9 +13,10 @@ from usvsim.world.obstacles import static_parts
 LAND, WATER, STRUCTURE = "#8a9a6b", "#d8e8f0", "#9a9a96"
 
 
-def draw_plan(sim, path, size_in: float = 9.0, dpi: int = 110, goals=()) -> None:
-    """Write the plan view of a built simulation (its scenario and place) to a PNG file; `goals` are poses
-    (x, y m ENU, yaw rad) drawn as numbered targets (a task's station or waypoints)."""
+def draw_plan(sim, path, size_in: float = 9.0, dpi: int = 110, marks=()) -> None:
+    """Write the plan view of a built simulation (its scenario and place) to a PNG file; `marks` are a task's
+    targets (`Task.plan_marks`: x, y m ENU, heading rad or None, label), drawn as labelled markers (a triangle
+    pointing along the heading where there is one)."""
     import matplotlib
 
     matplotlib.use("Agg")
@@ -28,7 +29,7 @@ def draw_plan(sim, path, size_in: float = 9.0, dpi: int = 110, goals=()) -> None
         _draw_place(ax, place)
     _draw_objects(ax, scenario, sim)
     _draw_traffic(ax, scenario)
-    _draw_goals(ax, goals)
+    _draw_marks(ax, marks)
     if place is None:
         ax.margins(0.12)
     ax.autoscale_view()
@@ -115,10 +116,13 @@ def _draw_traffic(ax, scenario) -> None:
 GOAL = "#e07b00"
 
 
-def _draw_goals(ax, goals) -> None:
-    for k, (x, y, yaw) in enumerate(goals):
-        ax.plot([x], [y], marker=(3, 0, math.degrees(yaw) - 90.0), color=GOAL, ms=11, zorder=6)
-        ax.text(x, y, f"  goal {k + 1}" if len(goals) > 1 else "  goal", color=GOAL, fontsize=8, zorder=6)
+def _draw_marks(ax, marks) -> None:
+    for x, y, yaw, label in marks:
+        if yaw is None:
+            ax.plot([x], [y], "o", mfc="none", mec=GOAL, mew=1.5, ms=12, zorder=6)
+        else:
+            ax.plot([x], [y], marker=(3, 0, math.degrees(yaw) - 90.0), color=GOAL, ms=11, zorder=6)
+        ax.text(x, y, f"  {label}", color=GOAL, fontsize=8, zorder=6)
 
 
 def _box(ax, part) -> None:

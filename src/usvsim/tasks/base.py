@@ -60,6 +60,11 @@ class Task:
         """Draw the layout (goals) from a seed and build the scorer."""
         raise NotImplementedError
 
+    def plan_marks(self) -> list[tuple[float, float, float | None, str]]:
+        """What a plan view of the task shows (`usvsim map --task`): (x m, y m world ENU, heading rad or None,
+        label) per goal, gate or target."""
+        return []
+
     def scenario(self, extra_vessel: dict | None = None) -> Scenario:
         vessel = {"name": VESSEL, "model": "wamv", **(extra_vessel or {})}
         return Scenario.model_validate({

@@ -33,6 +33,9 @@ class StationKeeping(Task):
         self.goal = (r * math.cos(bearing), r * math.sin(bearing), yaw)
         self.scorer = StationKeepingScorer(self.goal)
 
+    def plan_marks(self):
+        return [(*self.goal, "goal (hold)")]
+
     def clear(self):
         super().clear()
         self._period_sum, self._period_n = 0.0, 0
@@ -69,6 +72,9 @@ class Wayfinding(Task):
             x, y = x + r * math.cos(b), y + r * math.sin(b)
             self.waypoints.append((x, y, rng.uniform(-math.pi, math.pi)))
         self.scorer = WayfindingScorer(self.waypoints)
+
+    def plan_marks(self):
+        return [(x, y, yaw, f"waypoint {k + 1}") for k, (x, y, yaw) in enumerate(self.waypoints)]
 
     def clear(self):
         super().clear()
@@ -124,6 +130,9 @@ class FollowPath(Task):
         self.gates, self._objects = channel(self.difficulty)
         self.scorer = GateCourseScorer(self.gates)
 
+    def plan_marks(self):
+        return [(*g.centre, g.yaw_rad, f"gate {k + 1}") for k, g in enumerate(self.gates)]
+
     def objects(self):
         return self._objects
 
@@ -171,6 +180,11 @@ class Wildlife(Task):
     def sample(self, rng):
         self.scorer = WildlifeScorer([(n, g) for n, (_, g) in ANIMALS.items()], time_limit_s=self.timing.running_s)
         self.motion = AnimalMotion(list(ANIMALS))
+
+    def plan_marks(self):
+        what = {"avoid": "keep 10 m off", "circumnavigate_clockwise": "circle clockwise",
+                "circumnavigate_counterclockwise": "circle counter-clockwise"}  # fmt: skip
+        return [(*xy, None, f"{name}: {what[goal]}") for name, (xy, goal) in ANIMALS.items()]
 
     def objects(self):
         colour = {"avoid": "green", "circumnavigate_clockwise": "orange", "circumnavigate_counterclockwise": "yellow"}
@@ -257,6 +271,9 @@ class Perception(Task):
     def sample(self, rng):
         self.scorer = PerceptionScorer([PerceptionObject(k, t, *xy, self.duration_s) for t, k, xy, _ in self.schedule])
 
+    def plan_marks(self):
+        return [(*xy, None, f"{kind} at {t:g} s") for t, kind, xy, _ in self.schedule]
+
     def objects(self):
         return [{"type": "buoy", "name": f"object_{i}", "position": [*xy, 0.0], "color": c}
                 for i, (_, _, xy, c) in enumerate(self.schedule)]  # fmt: skip
@@ -282,6 +299,9 @@ class Gymkhana(FollowPath):
         last = self.gates[-1]
         self.pinger = (last.centre[0] + 15.0 * last.direction[0], last.centre[1] + 15.0 * last.direction[1], 0.0)
         self.blackbox = StationKeepingScorer(self.pinger, heading=False)
+
+    def plan_marks(self):
+        return [*super().plan_marks(), (self.pinger[0], self.pinger[1], None, "pinger (hold)")]
 
     def clear(self):
         super().clear()
