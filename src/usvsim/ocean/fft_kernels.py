@@ -40,7 +40,7 @@ def _rows(n, iy):
     return n // 2 + 1 if iy == 0 or iy == n // 2 else n
 
 
-@njit(cache=True)
+@njit(cache=True, nogil=True)  # nogil: FFTWaveField runs it on a worker thread (snapshots made ahead)
 def geometry_and_velocity_spectra(amp, omega, khx, khy, t, choppy, out, vel, phases, bits):
     """`geometry_spectra` into `out` and, unless `vel` has no slots, `kinematic_spectra` (velocity) into `vel` in one
     pass: each (k, -k) pair's sine, cosine and H, G once for both; every velocity value is the same expression as
@@ -227,28 +227,37 @@ def band_height(geo, wts, inv_cell, mask, b, x, y):
     return a00 * (1 - fx) * (1 - fy) + a10 * fx * (1 - fy) + a01 * (1 - fx) * fy + a11 * fx * fy
 
 
-@njit(cache=True)
+@njit(cache=True, nogil=True)
 def band_heights_cached(px, py, geo, wts, inv_cells, band_h, cache, stamp, now):
     """band_h[p, b] = `band_height` of every band at every point (labels = points), bit for bit, with each tile
     node's blend over the snapshots (the sum `_blend4_real` forms, in its order) computed once per blend state
     `now` and kept in `cache` (stamp[b, iy, ix] == now marks a current entry). A vessel's hull vertices share a
-    handful of nodes of the long bands, so most of the per-point blending goes. (Written out in one loop: a
-    helper called per node costs numba reference counting on every call, ~10x the work it saves.)"""
+    handful of nodes of the long bands, so most of the per-point blending goes; and as neighbouring vertices
+    mostly fall in the same cell (harbor, sea state 4: a new cell at 2, 9 and 16 % of the vertices in the three
+    bands), each band's last four corners are kept and reused while the cell stays the same. (Written out in
+    one loop: a helper called per node costs numba reference counting on every call, ~10x the work it saves.)"""
     mask = geo.shape[3] - 1
+    nb = geo.shape[0]
+    last = np.full((nb, 2), -1, np.int64)  # per band: the cell (ix0, iy0) whose corners are in `corners`
+    corners = np.zeros((nb, 4))
     for p in range(px.shape[0]):
-        for b in range(geo.shape[0]):
+        for b in range(nb):
             ix0, ix1, fx = _cell(px[p], inv_cells[b], mask)
             iy0, iy1, fy = _cell(py[p], inv_cells[b], mask)
-            for iy, ix in ((iy0, ix0), (iy0, ix1), (iy1, ix0), (iy1, ix1)):
-                if stamp[b, iy, ix] != now:
-                    c = 0.0
-                    for r in range(4):
-                        w = wts[b, r]
-                        if w != 0.0:
-                            c += w * geo[b, r, 0, iy, ix].real
-                    cache[b, iy, ix] = c
-                    stamp[b, iy, ix] = now
-            a00, a10, a01, a11 = cache[b, iy0, ix0], cache[b, iy0, ix1], cache[b, iy1, ix0], cache[b, iy1, ix1]
+            if ix0 != last[b, 0] or iy0 != last[b, 1]:
+                for iy, ix in ((iy0, ix0), (iy0, ix1), (iy1, ix0), (iy1, ix1)):
+                    if stamp[b, iy, ix] != now:
+                        c = 0.0
+                        for r in range(4):
+                            w = wts[b, r]
+                            if w != 0.0:
+                                c += w * geo[b, r, 0, iy, ix].real
+                        cache[b, iy, ix] = c
+                        stamp[b, iy, ix] = now
+                corners[b, 0], corners[b, 1] = cache[b, iy0, ix0], cache[b, iy0, ix1]
+                corners[b, 2], corners[b, 3] = cache[b, iy1, ix0], cache[b, iy1, ix1]
+                last[b, 0], last[b, 1] = ix0, iy0
+            a00, a10, a01, a11 = corners[b, 0], corners[b, 1], corners[b, 2], corners[b, 3]
             band_h[p, b] = a00 * (1 - fx) * (1 - fy) + a10 * fx * (1 - fy) + a01 * (1 - fx) * fy + a11 * fx * fy
 
 

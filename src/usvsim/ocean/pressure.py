@@ -26,7 +26,14 @@ from numba import njit, prange
 from usvsim.ocean.direct import DirectWaveField
 from usvsim.ocean.dispatch import pick, serial_and_parallel
 from usvsim.ocean.fft import FFTWaveField
-from usvsim.ocean.fft_kernels import _bilinear, _blend4_real, _cell, band_height, heights_cached
+from usvsim.ocean.fft_kernels import (
+    _bilinear,
+    _blend4_real,
+    _cell,
+    band_height,
+    band_heights_cached,
+    heights_cached,
+)
 from usvsim.ocean.field import WaveField, as_points
 from usvsim.ocean.spectra import G
 
@@ -139,22 +146,26 @@ def fft_surface_and_head_cached(px, py, zrel, geo, wts, inv_cells, decay_k, band
         zeta_out[p] = _head_from_bands(band_h, p, eta_out[p], zrel[p], decay_k)
 
 
-@njit(cache=True)
+@njit(cache=True, nogil=True)  # nogil: a snapshot being made ahead (FFTWaveField.AHEAD) may take the GIL meanwhile
 def fft_hull_water_cached(verts, level, geo, wts, inv_cells, decay_k, band_h, coords, eta_out, head_out, cache, stamp,
                           now):  # fmt: skip
     """What world.World._water computes for hull vertices (N,3) world m under an FFT sea without displacement,
     every vertex Froude-Krylov, in one call: eta_out = η + level (surface z) and head_out = ζ + level - z (the
     hull kernel's pressure head), with η, ζ of `fft_surface_and_head_cached` at (x, y, z - level); the same
-    operations as the array code, bit for bit. band_h (N, bands), coords (3, N): scratch."""
+    operations as the array code, bit for bit, in one pass after the band heights. band_h (N, bands), coords
+    (3, N): scratch."""
     n = verts.shape[0]
-    px, py, zrel = coords[0], coords[1], coords[2]  # scratch (3, N), kept between calls
+    px, py = coords[0], coords[1]  # scratch (3, N), kept between calls
     for p in range(n):
-        px[p], py[p], zrel[p] = verts[p, 0], verts[p, 1], verts[p, 2] - level
-    fft_surface_and_head_cached(px, py, zrel, geo, wts, inv_cells, decay_k, band_h, eta_out, head_out, cache, stamp,
-                                now)  # fmt: skip
+        px[p], py[p] = verts[p, 0], verts[p, 1]
+    band_heights_cached(px, py, geo, wts, inv_cells, band_h, cache, stamp, now)
     for p in range(n):
-        eta_out[p] += level
-        head_out[p] = (head_out[p] + level) - verts[p, 2]
+        z = 0.0
+        for b in range(band_h.shape[1]):  # η summed as `fft_kernels.heights_cached` sums it
+            z += band_h[p, b]
+        zeta = _head_from_bands(band_h, p, z, verts[p, 2] - level, decay_k)
+        eta_out[p] = z + level
+        head_out[p] = (zeta + level) - verts[p, 2]
 
 
 def hull_water(waves: WaveField, verts: np.ndarray, level: float, t: float, eta: np.ndarray, head: np.ndarray) -> bool:
