@@ -103,3 +103,34 @@ def test_phase_tables_give_the_snapshot_rotations_and_spectra():
             scale = float(np.abs(ref).max())
             assert np.abs(spec - ref).max() <= 1e-6 * scale and np.abs(vel - vref).max() <= 1e-6 * float(np.abs(vref).max())
         assert f._phases.at(b, 0.5 * dt)[1] == -1
+
+
+def test_snapshots_made_ahead_on_the_worker_are_the_same_bytes(monkeypatch):
+    """A stepped run whose next snapshots are made on the worker thread (FFTWaveField.AHEAD) gives the bytes of one
+    that makes every snapshot when it is needed, whether the worker was in time or not (a slow worker is waited
+    for, then its band pauses), and after jumps in time."""
+    import time
+
+    monkeypatch.setattr(FFTWaveField, "AHEAD", False)
+    here = field(1e-3)
+    monkeypatch.setattr(FFTWaveField, "AHEAD", True)
+    ahead = field(1e-3)
+    if ahead.geometry.ahead is None:
+        pytest.skip("one core: nothing is made ahead")
+    make = ahead._make_ahead
+
+    def slow(*args):  # every third job late: the main thread waits for it
+        slow.calls += 1
+        if slow.calls % 3 == 0:
+            time.sleep(0.002)
+        make(*args)
+
+    slow.calls = 0
+    monkeypatch.setattr(ahead, "_make_ahead", slow)
+    x = np.linspace(0.0, 60.0, 50)
+    times = list(np.arange(0.0, 4.0, 0.01)) + [20.0, 1.5] + list(1.5 + np.arange(1, 100) * 0.01)
+    for t in times:
+        np.testing.assert_array_equal(ahead.elevation(x, x, t), here.elevation(x, x, t))
+        np.testing.assert_array_equal(ahead.velocity(x, x, -x / 60, t), here.velocity(x, x, -x / 60, t))
+    assert slow.calls > 10 and sum(ahead.ahead_stats) > 10
+    assert ahead.geometry.transforms == here.geometry.transforms

@@ -11,21 +11,29 @@ microseconds, so use it only for calls of a millisecond or more.
 
 from __future__ import annotations
 
+import os
 from collections.abc import Callable
-from concurrent.futures import ThreadPoolExecutor
+from concurrent.futures import Future, ThreadPoolExecutor
 from typing import Any
 
 
 class Overlap:
     def __init__(self) -> None:
         self._pool: ThreadPoolExecutor | None = None
+        self._pid = 0  # the process that started the worker: a forked child (batch/runner.py) starts its own
 
     def submit(self, fn: Callable[..., Any], *args: Any) -> Callable[[], Any]:
-        if self._pool is None:
+        return self.start(fn, *args).result
+
+    def start(self, fn: Callable[..., Any], *args: Any) -> Future:
+        """`submit`, returning the Future (`done()` tells whether waiting would block)."""
+        if self._pool is None or self._pid != os.getpid():  # a fork copies the pool but not its thread
             self._pool = ThreadPoolExecutor(max_workers=1, thread_name_prefix="usvsim-overlap")
-        return self._pool.submit(fn, *args).result
+            self._pid = os.getpid()
+        return self._pool.submit(fn, *args)
 
     def close(self) -> None:
         if self._pool is not None:
-            self._pool.shutdown(wait=True)
+            if self._pid == os.getpid():  # (a forked child's copy has no thread to join)
+                self._pool.shutdown(wait=True)
             self._pool = None

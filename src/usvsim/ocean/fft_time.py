@@ -98,11 +98,17 @@ class SnapshotRing:
         self._base: list[int | None] = [None] * bands  # the interval index m each band's ring was last filled for
         self._key = None
         self.transforms = 0  # snapshots computed so far (for tests and benchmarks)
+        # Computing ahead (set by the owner, see FFTWaveField): fetch(b, t, out) -> bool installs a snapshot made
+        # beforehand (False: none, compute it here); ahead(b, t) asks for band b's snapshot at t to be made now,
+        # e.g. on another core. Called with the next snapshot time whenever a band steps into its next interval.
+        self.fetch: Callable[[int, float, np.ndarray], bool] | None = None
+        self.ahead: Callable[[int, float], None] | None = None
 
     def prepare(self, t: float, scale: float) -> np.ndarray:
         """Make the snapshots around t present; return the blend weights (bands, 4), multiplied by `scale`."""
         if self._key == (t, scale):
             return self.weights
+        stepped = []  # bands that moved on to their next interval
         for b, dt in enumerate(self.intervals):
             if math.isinf(dt):
                 continue
@@ -114,6 +120,8 @@ class SnapshotRing:
             if m != self._base[b]:  # a new interval: bring in the missing snapshots m-1 … m+2
                 for i in range(4):
                     self._ensure(b, (m - 1 + i) % 4, (m - 1 + i) * dt)
+                if self._base[b] is not None and m == self._base[b] + 1:
+                    stepped.append((b, (m + 3) * dt))  # the one the next interval brings in (same expression)
                 self._base[b] = m
             u = t / dt - m
             r = (m - 1) % 4  # ring entries of nodes -1, 0, 1, 2: r, r+1, r+2, r+3 (mod 4)
@@ -123,10 +131,14 @@ class SnapshotRing:
             row[(r + 2) % 4] = -scale * (u + 1) * u * (u - 2) / 2
             row[(r + 3) % 4] = scale * (u + 1) * u * (u - 1) / 6
         self._key = (t, scale)
+        if self.ahead is not None:
+            for b, t_next in stepped:
+                self.ahead(b, t_next)
         return self.weights
 
     def _ensure(self, b: int, r: int, t: float) -> None:
         if self._held[b, r] != t:
-            self._compute(b, t, self.tiles[b, r])
+            if self.fetch is None or not self.fetch(b, t, self.tiles[b, r]):
+                self._compute(b, t, self.tiles[b, r])
             self._held[b, r] = t
             self.transforms += 1
