@@ -134,3 +134,38 @@ def test_snapshots_made_ahead_on_the_worker_are_the_same_bytes(monkeypatch):
         np.testing.assert_array_equal(ahead.velocity(x, x, -x / 60, t), here.velocity(x, x, -x / 60, t))
     assert slow.calls > 10 and sum(ahead.ahead_stats) > 10
     assert ahead.geometry.transforms == here.geometry.transforms
+
+
+@pytest.mark.skipif(not hasattr(__import__("os"), "fork"), reason="needs fork")
+def test_a_forked_child_does_not_wait_for_the_parents_worker():
+    """A field forked while a snapshot job is pending (batch/runner.py forks warm processes) makes the snapshot
+    itself: the job's thread did not come along, so waiting for it would never end."""
+    import os
+    import signal
+    import threading
+
+    f, ref = field(1e-3), field(1e-3)
+    if f.geometry.ahead is None:
+        pytest.skip("one core: nothing is made ahead")
+    make, gate = f._make_ahead, threading.Event()
+    f._make_ahead = lambda *args: (gate.wait(), make(*args))
+    x = np.linspace(0.0, 60.0, 20)
+    for t in np.arange(0.0, 1.0, 0.01):
+        f.elevation(x, x, t)
+        if f._jobs:
+            break
+    assert f._jobs  # a job is pending on the worker (held at the gate)
+    r, w = os.pipe()
+    pid = os.fork()
+    if pid == 0:  # the child: a stepped run on, compared with a field that never forked
+        try:
+            signal.alarm(30)  # a hang ends the child (and fails the test) instead of the session
+            f._make_ahead = make  # the child's own jobs run (its gate is never opened)
+            ok = all(np.array_equal(f.elevation(x, x, t), ref.elevation(x, x, t)) for t in np.arange(0.0, 3.0, 0.01))
+            os.write(w, b"1" if ok else b"0")
+        finally:
+            os._exit(0)
+    os.close(w)
+    gate.set()
+    os.waitpid(pid, 0)
+    assert os.read(r, 1) == b"1"

@@ -236,6 +236,7 @@ class FFTWaveField(WaveField):
         self._jobs: dict[int, tuple[float, int, bool, Future]] = {}  # band → (t, buffer set, with velocity,
         # the worker's job) of the snapshot being made ahead
         self._ahead_pause = [0] * len(self.sizes)  # per band: intervals left to compute here (see _fetch_ahead)
+        self._jobs_pid = os.getpid()  # the process whose worker runs the jobs (a forked child has none of them)
         self.ahead_stats = [0, 0]  # snapshots taken from the worker: ready in time, waited for
         self._ahead_bufs: tuple[np.ndarray, ...] | None = None  # see _start_ahead
         self._ahead_next = [0] * len(self.sizes)  # the buffer set each band's next job writes
@@ -315,6 +316,7 @@ class FFTWaveField(WaveField):
     def _start_ahead(self, b: int, t: float) -> None:
         """Start band b's geometry snapshot at t on the worker thread, into one of two buffer sets per band (the
         velocity tiles of the previous job may still wait for the velocity ring in the other)."""
+        self._forked()
         old = self._jobs.pop(b, None)
         if old is not None:  # never taken (the queries moved elsewhere): let it finish before reusing buffers
             old[3].result()
@@ -352,6 +354,7 @@ class FFTWaveField(WaveField):
         False where it was not. A snapshot not ready in time (the other core busy: a loaded machine) pauses the
         band's work ahead for `AHEAD_PAUSE` intervals: waiting for a descheduled worker costs more than the
         transform. (Which path made a snapshot never changes its bytes.)"""
+        self._forked()
         job = self._jobs.get(b)
         if job is None or job[0] != t:
             return False
@@ -367,9 +370,17 @@ class FFTWaveField(WaveField):
             self._vel_made[(b, t)] = job[1]
         return True
 
+    def _forked(self) -> None:
+        """In a forked child, forget the parent's jobs: their worker thread did not come along."""
+        if self._jobs_pid != os.getpid():
+            self._jobs.clear()
+            self._vel_made.clear()
+            self._jobs_pid = os.getpid()
+
     def _drain(self) -> None:
         """Wait for the snapshots being made ahead (kept for `_fetch_ahead`): the worker and this thread share the
         phase tables."""
+        self._forked()
         for job in self._jobs.values():
             job[3].result()
 
