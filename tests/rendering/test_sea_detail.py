@@ -39,20 +39,43 @@ def test_short_waves_are_reproducible_and_move(sea4):
 
 
 def test_whitecap_threshold_gives_monahans_coverage(sea4):
-    hs, mss = resolved_statistics(sea4)
+    from usvsim.rendering.detail import _bilinear, breaking_mask, foam_cover
+    from usvsim.rendering.surface import surface_data
+
+    hs, (major, minor) = resolved_statistics(sea4)
     assert hs == pytest.approx(1.875, rel=0.1)
+    assert major > 3.0 * minor  # a wind sea: steeper up- and downwind than across
     wind = math.sqrt(hs * 9.81 / 0.21)  # fully developed: Hs = 0.21 U²/g
-    assert whitecap_fraction(hs) == pytest.approx(3.84e-6 * wind**3.41)
-    tau = whitecap_threshold(hs, mss)
-    g = 0.7 + 0.6 * np.random.default_rng(0).random(200_000)  # the shader's breaking noise
-    slopes = np.sqrt(mss / 2) * np.random.default_rng(1).standard_normal((2, g.size))  # isotropic Gaussian slopes
-    foams = g * np.hypot(*slopes) > 0.9 * tau  # the middle of the shader's foam ramp
-    assert foams.mean() == pytest.approx(whitecap_fraction(hs), rel=0.1)
-    assert whitecap_threshold(0.0, mss) == math.inf
+    w = whitecap_fraction(hs)
+    assert w == pytest.approx(3.84e-6 * wind**3.41)
+    tau = whitecap_threshold(hs, (major, minor))
+    assert foam_cover(tau, (major, minor)) == pytest.approx(w, rel=1e-3)
+    # Monte Carlo of the shader's foam mask: the noise texture's breaking gust, streaks and density at random
+    # points, times smoothstep(0.8, 1.0, g |slope| / tau), over anisotropic Gaussian slopes...
+    g, density = breaking_mask()
+    rng = np.random.default_rng(1)
+    angle = rng.random()  # principal axes anywhere
+    a, b = np.sqrt(major) * rng.standard_normal(g.size), np.sqrt(minor) * rng.standard_normal(g.size)
+    slope = np.hypot(a * np.cos(angle) - b * np.sin(angle), a * np.sin(angle) + b * np.cos(angle))
+    x = np.clip((g * slope / tau - 0.8) / 0.2, 0.0, 1.0)
+    assert np.mean(density * x * x * (3 - 2 * x)) == pytest.approx(w, rel=0.1)
+    # ...and over the physics' own slope tile (the shortest band), read bilinearly as the shader reads it
+    class Ocean:
+        waves, level_m = sea4, 0.0
+
+    cover = []
+    for t in (20.0, 40.0, 60.0):
+        tile = surface_data(Ocean, t, (0.0, 0.0)).slope[-1, ..., :2].astype(np.float64)
+        p = rng.random((g.size, 2)) * tile.shape[0]
+        s = np.hypot(_bilinear(tile[..., 0], p), _bilinear(tile[..., 1], p))
+        x = np.clip((g * s / tau - 0.8) / 0.2, 0.0, 1.0)
+        cover.append(np.mean(density * x * x * (3 - 2 * x)))
+    assert np.mean(cover) == pytest.approx(w, rel=0.15)
+    assert whitecap_threshold(0.0, (major, minor)) == math.inf
 
 
-def test_mip_slope_ratio_matches_block_means_of_the_slope_tile(sea4):
-    from usvsim.rendering.detail import mip_slope_ratio
+def test_mip_slope_ratio_matches_bilinear_reads_of_the_block_means(sea4):
+    from usvsim.rendering.detail import _bilinear, mip_slope_ratio
     from usvsim.rendering.surface import surface_data
 
     class Ocean:  # the FFT field alone, at full height
@@ -60,13 +83,18 @@ def test_mip_slope_ratio_matches_block_means_of_the_slope_tile(sea4):
 
     tile = surface_data(Ocean, 30.0, (0.0, 0.0)).slope[-1, ..., :2].astype(np.float64)  # the shortest band
     n = tile.shape[0]
-    rms0 = np.sqrt(np.mean(np.sum(tile**2, axis=-1)))
+    points = np.random.default_rng(2).random((100_000, 2))
+
+    def rms(level: np.ndarray) -> float:  # bilinear reads at points spread over the tile (the shader's LINEAR)
+        p = points * level.shape[0]
+        return float(np.sqrt(np.mean(_bilinear(level[..., 0], p) ** 2 + _bilinear(level[..., 1], p) ** 2)))
+
+    rms0 = rms(tile)
     ratio = mip_slope_ratio(sea4)
     for level in (1, 2, 3, 4):
         m = 2**level
         blocks = tile.reshape(n // m, m, n // m, m, 2).mean(axis=(1, 3))  # a mip level: 2^L x 2^L block means
-        measured = np.sqrt(np.mean(np.sum(blocks**2, axis=-1))) / rms0
-        assert measured == pytest.approx(ratio[level], rel=0.08)
+        assert rms(blocks) / rms0 == pytest.approx(ratio[level], rel=0.08)
     assert ratio[0] == pytest.approx(1.0) and np.all(np.diff(ratio) <= 0)
 
 

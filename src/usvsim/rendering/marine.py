@@ -18,6 +18,7 @@ from typing import TYPE_CHECKING, cast
 import numpy as np
 
 from usvsim.rendering import shaders
+from usvsim.rendering.detail import foam_noise
 from usvsim.rendering.gl import attach_current
 from usvsim.rendering.grid import CELL_PX, FAR_M, screen_grid
 from usvsim.rendering.mips import mip_levels
@@ -86,7 +87,7 @@ class MarinePass:
         self._depth = self._periodic = None
         self._sky = ctx.texture((SKY_TEXELS, SKY_TEXELS), 3, dtype="f4")
         self._sky.repeat_x = self._sky.repeat_y = False
-        noise = np.random.default_rng(17).random((64, 64), dtype=np.float32)  # fixed: same bytes every run
+        noise = foam_noise()  # fixed: same bytes every run
         self._noise = ctx.texture((64, 64), 1, noise.tobytes(), dtype="f4")
         self._key, self._sky_key, self._fbos = None, None, {}
         self.daylight = None

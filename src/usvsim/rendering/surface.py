@@ -65,9 +65,11 @@ def _patch(ocean, t: float, center_xy) -> SurfaceData:
     h, dx, dy = grid[..., 2] - ocean.level_m, gx - grid[..., 0], gy - grid[..., 1]  # X = x0 - D
     geo, slope = _layers(h[None], dx[None], dy[None], np.array([step]))
     size = PATCH_SIZE_M + step  # texel centres sit on the grid points
-    from usvsim.rendering.detail import whitecap_threshold
+    from usvsim.rendering.detail import principal, whitecap_threshold
 
-    whitecap = whitecap_threshold(4.0 * float(h.std()), float(np.mean(slope[0, ..., 0] ** 2 + slope[0, ..., 1] ** 2)))
+    sx, sy = slope[0, ..., 0].astype(np.float64), slope[0, ..., 1].astype(np.float64)
+    cov = ((np.mean(sx * sx), np.mean(sx * sy)), (np.mean(sx * sy), np.mean(sy * sy)))
+    whitecap = whitecap_threshold(4.0 * float(h.std()), principal(np.array(cov)))
     return SurfaceData(geo, slope, (size,), 1.0, 1.0, ocean.level_m, (cx, cy, 0.5 * size), ("patch", t, cx, cy),
                        0, whitecap)  # fmt: skip
 
