@@ -70,5 +70,29 @@ def shader_window(out: str) -> None:
     print(json.dumps(stats))
 
 
+def culled(out: str) -> None:
+    """The benchmark's viewer frame (harbour, sea state 4) in both looks with and without frustum culling."""
+    import mujoco
+
+    from usvsim.rendering.gallery import load, scenario_dict
+    from usvsim.viewer.offscreen import OffscreenViewer
+
+    stats = {}
+    for renderer in ("shader", "mujoco"):
+        sim = load(scenario_dict(4, {"renderer": renderer, "fog": {"visibility_m": 2000.0}}, 64, 48))
+        sim.run(3.0)  # as the benchmark: the mooring lines are drawn in 252 segments by then
+        viewer = OffscreenViewer(sim, 640, 360)
+        frame = viewer.render()
+        scene = viewer.renderer.scene
+        count = sum(int(g.type) == int(mujoco.mjtGeom.mjGEOM_NONE) for g in scene.geoms[: scene.ngeom])
+        viewer.renderer.cull = lambda width, height: 0
+        full = viewer.render()
+        stats[renderer] = {"culled": count, "geoms": scene.ngeom, "same": bool(np.array_equal(frame, full))}
+        viewer.close()
+        sim.close()
+    print(json.dumps(stats))
+
+
 if __name__ == "__main__":
-    {"offscreen": offscreen, "lap": lap, "shader_window": shader_window}[sys.argv[1]](sys.argv[2])
+    kinds = {"offscreen": offscreen, "lap": lap, "shader_window": shader_window, "culled": culled}
+    kinds[sys.argv[1]](sys.argv[2])

@@ -53,6 +53,15 @@ def test_offscreen_frame_has_waves_hud_points_and_inset(tmp_path):
     assert (np.abs(frame - plain).sum(axis=2) > 60)[300:700].sum() > 200
 
 
+def test_geoms_out_of_view_are_culled_without_changing_a_pixel(tmp_path):
+    env = dict(os.environ, MUJOCO_GL="egl")
+    env.pop("PYOPENGL_PLATFORM", None)
+    stats = run_script("culled", tmp_path / "unused.png", env)
+    for renderer in ("shader", "mujoco"):
+        assert stats[renderer]["same"], stats  # the same bytes with and without culling
+        assert stats[renderer]["culled"] > 100, stats  # most of the 252 mooring-line segments lie out of view
+
+
 def start_xvfb():
     if shutil.which("Xvfb") is None:
         pytest.skip("Xvfb is not installed (apt-get install xvfb)")

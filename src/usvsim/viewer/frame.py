@@ -41,6 +41,9 @@ class FrameRenderer:
         self.buffer = mujoco.mjtFramebuffer.mjFB_WINDOW if window else mujoco.mjtFramebuffer.mjFB_OFFSCREEN
         mujoco.mjr_setBuffer(self.buffer, self.context)
         self.marine, self._center_xy = None, (0.0, 0.0)  # the shader passes (usvsim.rendering), made on first use
+        from usvsim.rendering.cull import FrustumCull
+
+        self.cull = FrustumCull(self.scene)  # geoms outside the view are not drawn (same pixels, less vertex work)
 
     def update_water(self, sim, center_xy) -> None:
         """Re-sample the drawn wave surface from `sim.ocean` around `center_xy` and upload it."""
@@ -76,6 +79,7 @@ class FrameRenderer:
                                self.scene)  # fmt: skip
         if points is not None and len(points):
             add_points(self.scene, points, max_points=self.max_points)
+        self.cull(viewport.width, viewport.height)
         if marine is not None and marine.daylight is not None:
             from usvsim.rendering.frame import apply_lights
 

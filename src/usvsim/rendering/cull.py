@@ -1,0 +1,109 @@
+"""Geoms wholly outside the view are not drawn: the same pixels, less work for a software rasterizer.
+
+MuJoCo's `mjr_render` sends every geom of the scene through the GL pipeline, and on llvmpipe the vertex work
+(transform, lighting or the materials' program, clipping, triangle setup) runs on the calling thread, one geom
+after another. The harbour's 252 mooring-line segments (capsules of 28 x 16 facets) cost more of it than the
+rest of the scene, and from most views nearly all of them lie behind or beside the camera. `FrustumCull` marks the
+scene's primitive geoms (sphere, ellipsoid, capsule, cylinder, box) whose bounding sphere lies wholly outside a
+slightly widened view frustum as `mjGEOM_NONE`, which `mjr_render` skips; meshes, planes, height fields and
+lines are always drawn. A geom outside the frustum covers no pixel, so colour, depth and ids are unchanged
+(tests/rendering/test_cull.py). Not while MuJoCo draws shadows or reflections: from the sun's view or in a
+mirror, a geom behind the camera can still show.
+"""
+
+from __future__ import annotations
+
+import ctypes
+
+import mujoco
+import numpy as np
+
+WIDEN = 1.05  # the frustum's half angles are widened by 5 % ...
+MARGIN_M = 0.05  # ... and a bounding sphere must clear a plane by this much plus 2 % of its radius
+_G = mujoco.mjtGeom
+_ROUND = (int(_G.mjGEOM_SPHERE), int(_G.mjGEOM_ELLIPSOID))
+_CAPSULE, _CYLINDER, _BOX, _NONE = (int(t) for t in (_G.mjGEOM_CAPSULE, _G.mjGEOM_CYLINDER, _G.mjGEOM_BOX, _G.mjGEOM_NONE))
+
+
+class FrustumCull:
+    """Culls one MjvScene (the scene must outlive it). Call after `mjv_updateScene`, before `mjr_render`."""
+
+    def __init__(self, scene: mujoco.MjvScene):
+        self.scene = scene
+        geoms = scene.geoms
+        self._size = self._pos = None
+        if len(geoms) < 2:
+            return
+        def address(array: np.ndarray) -> int:
+            return array.__array_interface__["data"][0]
+
+        base = address(geoms[0].size)
+        stride, pos_off, last = address(geoms[1].size) - base, address(geoms[0].pos) - base, len(geoms) - 1
+        if (stride <= 0 or stride % 4 or pos_off % 4 or pos_off < 12 or address(geoms[last].size) != base + last * stride
+                or address(geoms[last].pos) != base + last * stride + pos_off):  # fmt: skip
+            return  # not one array of structs as expected: cull nothing
+        n = last * stride // 4 + pos_off // 4 + 3  # floats from geom 0's size to the end of the last geom's pos
+        flat = np.ctypeslib.as_array((ctypes.c_float * n).from_address(base))
+        view = np.lib.stride_tricks.as_strided
+        self._size = view(flat, shape=(last + 1, 3), strides=(stride, 4), writeable=False)
+        self._pos = view(flat[pos_off // 4 :], shape=(last + 1, 3), strides=(stride, 4), writeable=False)
+
+    def __call__(self, width: int, height: int) -> int:
+        """Mark the geoms outside the view of `scene.camera[0]` (a `width` x `height` viewport); returns how many."""
+        scene = self.scene
+        flags = scene.flags
+        if (self._size is None or flags[mujoco.mjtRndFlag.mjRND_SHADOW] or flags[mujoco.mjtRndFlag.mjRND_REFLECTION]
+                or scene.stereo or scene.camera[0].orthographic):  # fmt: skip
+            return 0
+        n = scene.ngeom
+        geoms = scene.geoms
+        types = np.fromiter((int(g.type) for g in geoms[:n]), dtype=np.int64, count=n)
+        size = self._size[:n].astype(np.float64)
+        radius = np.full(n, -1.0)  # < 0: never culled
+        radius = np.where((types == _ROUND[0]) | (types == _ROUND[1]), size.max(axis=1), radius)
+        radius = np.where(types == _CAPSULE, size[:, 2] + size[:, :2].max(axis=1), radius)
+        radius = np.where(types == _CYLINDER, np.hypot(size[:, :2].max(axis=1), size[:, 2]), radius)
+        radius = np.where(types == _BOX, np.linalg.norm(size, axis=1), radius)
+        planes = frustum_planes(mujoco.mjv_averageCamera(scene.camera[0], scene.camera[1]), width, height)  # as mjr_render
+        dist = self._pos[:n].astype(np.float64) @ planes[:, :3].T + planes[:, 3]  # (n, planes), m
+        out = (radius >= 0.0) & (dist < -(MARGIN_M + 1.02 * radius)[:, None]).any(axis=1)
+        culled = np.flatnonzero(out)
+        for i in culled:
+            geoms[i].type = _NONE
+        return len(culled)
+
+
+def frustum_planes(camera, width: int, height: int) -> np.ndarray:
+    """(5, 4) planes (unit normal toward the inside, offset) of a MjvGLCamera's view widened by `WIDEN`: left, right,
+    bottom, top through the eye, and the plane through the eye across the view axis (the near plane, moved back)."""
+    eye = np.array(camera.pos, dtype=np.float64)
+    fwd = np.array(camera.forward, dtype=np.float64)
+    fwd /= np.linalg.norm(fwd)
+    right = _cross(fwd, np.array(camera.up, dtype=np.float64))
+    right /= np.linalg.norm(right)
+    up = _cross(right, fwd)
+    near = float(camera.frustum_near)
+    top, bottom = float(camera.frustum_top), float(camera.frustum_bottom)
+    half_w = float(camera.frustum_width) or 0.5 * (top - bottom) * width / height
+    center, middle = float(camera.frustum_center), 0.5 * (top + bottom)
+    half_h = 0.5 * (top - bottom)
+    edges = (  # a direction along each side of the frustum and the axis it turns about
+        (near * fwd + (center - WIDEN * half_w) * right, up),
+        (near * fwd + (center + WIDEN * half_w) * right, up),
+        (near * fwd + (middle - WIDEN * half_h) * up, right),
+        (near * fwd + (middle + WIDEN * half_h) * up, right),
+    )
+    inside = near * fwd + center * right + middle * up  # the view's centre ray
+    planes = []
+    for edge, axis in edges:
+        normal = _cross(axis, edge)
+        normal /= np.linalg.norm(normal)
+        if normal @ inside < 0.0:
+            normal = -normal
+        planes.append((*normal, -normal @ eye))
+    planes.append((*fwd, -fwd @ eye))
+    return np.array(planes)
+
+
+def _cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:  # np.cross costs ~30 us a call
+    return np.array((a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]))
