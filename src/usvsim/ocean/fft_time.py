@@ -16,6 +16,7 @@ import math
 from collections.abc import Callable
 
 import numpy as np
+from numba import njit
 
 NODES = np.array([-1.0, 0.0, 1.0, 2.0])
 MAX_INTERVAL_S = 2.0
@@ -85,6 +86,33 @@ def snapshot_interval(variance, omega, tolerance: float, total_rms, powers=(0, 1
     return lo
 
 
+_NO_BASE = np.iinfo(np.int64).min  # a ring not filled yet
+
+
+@njit(cache=True)
+def _blend_weights(t, scale, intervals, base, weights, m_out):
+    """Cubic Lagrange weights (`lagrange_weights`, times `scale`) of every band with a finite, non-zero interval
+    at time t into weights[band, ring entry]: the entries of nodes -1, 0, 1, 2 are r, r+1, r+2, r+3 (mod 4) with
+    r = (m - 1) mod 4, m = floor(t / Δ_b) (into m_out). Returns how many of those bands have m != base[band].
+    (Compiled: the same operations in the same order as Python's, ~4 µs less per ring and step.)"""
+    moved = 0
+    for b in range(intervals.shape[0]):
+        dt = intervals[b]
+        if not (0.0 < dt < math.inf):
+            continue
+        m = math.floor(t / dt)
+        m_out[b] = m
+        if m != base[b]:
+            moved += 1
+        u = t / dt - m
+        r = (m - 1) % 4
+        weights[b, r] = -scale * u * (u - 1) * (u - 2) / 6
+        weights[b, (r + 1) % 4] = scale * (u + 1) * (u - 1) * (u - 2) / 2
+        weights[b, (r + 2) % 4] = -scale * (u + 1) * u * (u - 2) / 2
+        weights[b, (r + 3) % 4] = scale * (u + 1) * u * (u - 1) / 6
+    return moved
+
+
 class SnapshotRing:
     """Four snapshots per band, tiles[band, m mod 4, slot] = the band's spatial tiles at time m·Δ_b."""
 
@@ -95,7 +123,10 @@ class SnapshotRing:
         self.weights = np.zeros((bands, 4))
         self._held = np.full((bands, 4), np.nan)  # the snapshot time each ring entry holds
         self._compute = compute  # compute(band, t, out (slots, n, n)) writes the band's tiles at time t
-        self._base: list[int | None] = [None] * bands  # the interval index m each band's ring was last filled for
+        self._dt = np.array(self.intervals)
+        self._base = np.full(bands, _NO_BASE, np.int64)  # the interval index m each band's ring was last filled for
+        self._m = np.zeros(bands, np.int64)  # scratch: each band's interval index at the time being prepared
+        self._exact = [b for b, dt in enumerate(self.intervals) if dt == 0.0]
         self._key = None
         self.transforms = 0  # snapshots computed so far (for tests and benchmarks)
         # Computing ahead (set by the owner, see FFTWaveField): fetch(b, t, out) -> bool installs a snapshot made
@@ -108,28 +139,21 @@ class SnapshotRing:
         """Make the snapshots around t present; return the blend weights (bands, 4), multiplied by `scale`."""
         if self._key == (t, scale):
             return self.weights
+        moved = _blend_weights(float(t), float(scale), self._dt, self._base, self.weights, self._m)
+        for b in self._exact:  # time_tolerance 0: a transform at every queried time
+            self._ensure(b, 0, t)
+            self.weights[b, 0] = scale
         stepped = []  # bands that moved on to their next interval
-        for b, dt in enumerate(self.intervals):
-            if math.isinf(dt):
-                continue
-            if dt == 0.0:
-                self._ensure(b, 0, t)
-                self.weights[b, 0] = scale
-                continue
-            m = math.floor(t / dt)
-            if m != self._base[b]:  # a new interval: bring in the missing snapshots m-1 … m+2
-                for i in range(4):
+        if moved:
+            for b, dt in enumerate(self.intervals):
+                m, base = int(self._m[b]), int(self._base[b])
+                if not (0.0 < dt < math.inf) or m == base:
+                    continue
+                for i in range(4):  # a new interval: bring in the missing snapshots m-1 … m+2
                     self._ensure(b, (m - 1 + i) % 4, (m - 1 + i) * dt)
-                if self._base[b] is not None and m == self._base[b] + 1:
+                if base != _NO_BASE and m == base + 1:
                     stepped.append((b, (m + 3) * dt))  # the one the next interval brings in (same expression)
                 self._base[b] = m
-            u = t / dt - m
-            r = (m - 1) % 4  # ring entries of nodes -1, 0, 1, 2: r, r+1, r+2, r+3 (mod 4)
-            row = self.weights[b]
-            row[r] = -scale * u * (u - 1) * (u - 2) / 6  # cubic Lagrange weights (`lagrange_weights`)
-            row[(r + 1) % 4] = scale * (u + 1) * (u - 1) * (u - 2) / 2
-            row[(r + 2) % 4] = -scale * (u + 1) * u * (u - 2) / 2
-            row[(r + 3) % 4] = scale * (u + 1) * u * (u - 1) / 6
         self._key = (t, scale)
         if self.ahead is not None:
             for b, t_next in stepped:
