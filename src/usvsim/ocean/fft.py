@@ -105,20 +105,38 @@ def _bilinear_gain(k_times_cell: np.ndarray) -> np.ndarray:
     return (2.0 + np.cos(k_times_cell)) / 3.0
 
 
+def pair_bins(amp: np.ndarray) -> np.ndarray:
+    """(bands, N, N) bool: the bins whose e^{-iωt} the spectra kernels read: the canonical bin of each (k, -k)
+    pair (`fft_kernels._rows`) of which at least one has an amplitude."""
+    n = amp.shape[1]
+    mirror = np.roll(amp[:, ::-1, ::-1], 1, axis=(1, 2))  # mirror[b, iy, ix] = amp[b, (n - iy) % n, (n - ix) % n]
+    live = (amp != 0) | (mirror != 0)
+    canonical = np.zeros((n, n), bool)
+    canonical[: n // 2 + 1] = True
+    canonical[0, n // 2 + 1 :] = canonical[n // 2, n // 2 + 1 :] = False
+    return live & canonical[None]
+
+
 class PhaseTables:
     """e^{-iω t} of every bin at a band's snapshot times t = m Δ_b without a sine and cosine per bin: m = 8 q + r,
     e^{-iω m Δ} = A_q · P1^(bit 0 of r) · P2^(bit 1) · P4^(bit 2), with P_j = e^{-iω j Δ} made once and A_q =
     e^{-iω 8 q Δ} made (by sine and cosine) when a snapshot needs a new q (every 8 snapshots; two kept, as the
     four snapshots of a ring may straddle a boundary). A snapshot is still a function of its time alone (the
     same products whatever was queried before); the rotation is within a few 1e-16 of the direct one. Times
-    off the band's snapshot grid (time_tolerance 0, or a band never transformed) use the sine and cosine."""
+    off the band's snapshot grid (time_tolerance 0, or a band never transformed) use the sine and cosine.
+
+    Only the bins the spectra kernel reads are filled (`used`, see `pair_bins`; the rest are 0): half the
+    spectrum at most, 5 % of it in the long bands of a cascade (each the same numpy operation on the same value,
+    so the same bits as made over the whole band)."""
 
     SPAN = 8
 
-    def __init__(self, omega: np.ndarray, intervals):
+    def __init__(self, omega: np.ndarray, intervals, used: np.ndarray | None = None):
         self._omega, self._dt = omega, [float(d) for d in intervals]
+        self._idx = [np.flatnonzero(np.ones(omega[b].shape, bool) if used is None else used[b])
+                     for b in range(len(omega))]  # fmt: skip
         self._steps: dict[int, np.ndarray] = {}  # band → (4, N, N): slot 0 for A_q, then P1, P2, P4
-        self._base: dict[int, dict[int, np.ndarray]] = {}  # band → {q: A_q}
+        self._base: dict[int, dict[int, np.ndarray]] = {}  # band → {q: A_q at the used bins}
         self._held: dict[int, int | None] = {}  # band → the q whose A_q is in slot 0
         self._none = np.zeros((4, 1, 1), np.complex128)
 
@@ -131,21 +149,21 @@ class PhaseTables:
         if m * dt != t:  # not a snapshot time of this band's ring
             return self._none, -1
         q, r = divmod(m, self.SPAN)
-        table = self._steps.get(b)
+        table, idx = self._steps.get(b), self._idx[b]
         if table is None:
-            w = self._omega[b]
-            table = self._steps[b] = np.empty((4, *w.shape), np.complex128)
+            w = self._omega[b].reshape(-1)[idx]
+            table = self._steps[b] = np.zeros((4, *self._omega[b].shape), np.complex128)
             for slot, j in ((1, 1), (2, 2), (3, 4)):
-                table[slot] = np.exp(-1j * w * (j * dt))
+                table[slot].reshape(-1)[idx] = np.exp(-1j * w * (j * dt))
             self._base[b], self._held[b] = {}, None
         if self._held[b] != q:  # slot 0 holds A_q
             bases = self._base[b]
             if q not in bases:
                 if len(bases) >= 2:
                     del bases[next(iter(bases))]  # the older one
-                phase = self._omega[b] * (q * self.SPAN * dt)
+                phase = self._omega[b].reshape(-1)[idx] * (q * self.SPAN * dt)
                 bases[q] = np.cos(phase) - 1j * np.sin(phase)
-            table[0], self._held[b] = bases[q], q
+            table[0].reshape(-1)[idx], self._held[b] = bases[q], q
         return table, r
 
 
@@ -230,7 +248,7 @@ class FFTWaveField(WaveField):
         self.geometry = self._ring(
             time_tolerance, (0, 1), 2 if self.choppiness else 1, self._geometry_snapshot
         )
-        self._phases = PhaseTables(self._omega, self.geometry.intervals)
+        self._phases = PhaseTables(self._omega, self.geometry.intervals, pair_bins(self._amp))
         self.velocity_ring = self._ring(time_tolerance, (1,), 1, partial(self._kinematic_snapshot, False))
         self.acceleration_ring = self._ring(time_tolerance, (2,), 2, partial(self._kinematic_snapshot, True))
         self._jobs: dict[int, tuple[float, int, bool, Future]] = {}  # band → (t, buffer set, with velocity,
