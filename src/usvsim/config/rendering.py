@@ -87,7 +87,7 @@ class CameraLook(Section):
     blur_sigma_px: Annotated[float, Field(ge=0, le=20)] = 0.0  # Gaussian defocus blur
     noise_stddev: Annotated[float, Field(ge=0, le=1)] = 0.0  # on top of each camera's own rgb_noise_stddev
     droplets: Annotated[float, Field(ge=0, le=1)] = 0.0  # water drops on the lens (0: none, 1: ~60 drops)
-    motion_blur_ms: Annotated[float, Field(ge=0, le=200)] = 0.0  # exposure smearing the camera's rotation (0: off)
+    motion_blur_ms: Annotated[float, Field(ge=0, le=200)] = 0.0  # exposure smearing the camera's motion (0: off)
 
 
 class Rain(Section):

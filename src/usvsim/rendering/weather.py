@@ -12,9 +12,12 @@ the frame's time on the simulation clock, so the same seed and parameters give t
 - **Droplets on the lens** (`camera.droplets`, 0–1): round drops of 1.5–6 % of the image height, each a small
   lens that shows the scene inverted and blurred, with a darker rim; they come and go slowly (each its own
   lifetime of 20–60 s of simulated time, phase from the seed).
-- **Motion blur** (`camera.motion_blur_ms`): the image smeared along the flow that the camera's rotation
-  (from its vessel's angular velocity) makes at the image centre during the exposure; translation and roll
-  are left out.
+- **Motion blur** (`camera.motion_blur_ms`): each pixel smeared along the image motion that the camera's own
+  motion gives it during the exposure (`motion_field`): the camera frame's linear and angular velocity (from its
+  vessel's rigid-body state, in the optical frame) and the pixel's depth, through the instantaneous motion field
+  of a pinhole camera over a static scene (Longuet-Higgins & Prazdny 1980). Translation blurs near things more
+  than far ones (the sky, depth NaN, not at all), yaw and pitch shift the whole image, roll turns it about the
+  principal point. Moving objects' own motion is not included. A camera at rest is not touched (same bytes).
 """
 
 from __future__ import annotations
@@ -126,18 +129,59 @@ def lens_droplets(rgb: np.ndarray, amount: float, seed: int, name: str, time_s: 
 
 def motion_blur(rgb: np.ndarray, flow_px: tuple[float, float]) -> None:
     """In place: the average of the image shifted along `flow_px` (pixels during the exposure), centred."""
-    fx, fy = flow_px
-    steps = int(min(math.ceil(math.hypot(fx, fy)), 32))
-    if steps < 2:
-        return
     h, w = rgb.shape[:2]
-    shifts = [(int(round(fx * s)), int(round(fy * s))) for s in np.linspace(-0.5, 0.5, steps)]
-    px, py = max(abs(dx) for dx, _ in shifts), max(abs(dy) for _, dy in shifts)
-    padded = np.pad(rgb, ((py, py), (px, px), (0, 0)), mode="edge")
-    acc = np.zeros(rgb.shape, np.uint16)  # at most 32 x 255
-    for dx, dy in shifts:
-        acc += padded[py + dy : py + dy + h, px + dx : px + dx + w]
-    rgb[:] = ((acc + steps // 2) // steps).astype(np.uint8)
+    blur_along(rgb, np.full((h, w), flow_px[0], np.float32), np.full((h, w), flow_px[1], np.float32))
+
+
+def blur_along(rgb: np.ndarray, flow_u: np.ndarray, flow_v: np.ndarray) -> None:
+    """In place: each pixel of an RGB image the mean of ceil(|flow|) samples (at most 32) of the image on the
+    segment of its flow (pixels during the exposure, u right, v down), centred on it, nearest pixel, clamped at the
+    border. Pixels whose flow is under one pixel are left as they are."""
+    if rgb.size == 0 or float(np.max(np.hypot(flow_u, flow_v))) < 1.0:
+        return
+    _blur_along(rgb, rgb.copy(), flow_u.astype(np.float32), flow_v.astype(np.float32))
+
+
+@njit(cache=True, nogil=True)
+def _blur_along(out, src, flow_u, flow_v):
+    h, w = src.shape[0], src.shape[1]
+    for r in range(h):
+        for col in range(w):
+            fu, fv = flow_u[r, col], flow_v[r, col]
+            steps = int(min(math.ceil(math.sqrt(fu * fu + fv * fv)), 32.0))
+            if steps < 2:
+                continue
+            a0 = a1 = a2 = 0
+            for k in range(steps):
+                s = -0.5 + k / (steps - 1)
+                rr = min(max(r + int(math.floor(fv * s + 0.5)), 0), h - 1)
+                cc = min(max(col + int(math.floor(fu * s + 0.5)), 0), w - 1)
+                a0 += src[rr, cc, 0]
+                a1 += src[rr, cc, 1]
+                a2 += src[rr, cc, 2]
+            half = steps // 2
+            out[r, col, 0] = (a0 + half) // steps
+            out[r, col, 1] = (a1 + half) // steps
+            out[r, col, 2] = (a2 + half) // steps
+
+
+def motion_field(depth_m: np.ndarray, v_optical, omega_optical, fx: float, fy: float, cx: float, cy: float,
+                 exposure_s: float) -> tuple[np.ndarray, np.ndarray]:  # fmt: skip
+    """Image motion (pixels during the exposure; u right, v down) of each pixel of a static scene seen by a camera
+    moving at `v_optical` (m/s) and turning at `omega_optical` (rad/s), both in its optical frame (x right, y
+    down, z forward), `depth_m` (H, W) the depth along z (m; NaN or inf: at infinity). With x = (u - cx)/fx,
+    y = (v - cy)/fy and a point's velocity relative to the camera -v - ω × P:
+    ẋ = (-v_x + x v_z)/Z + x y ω_x - (1 + x²) ω_y + y ω_z,  ẏ = (-v_y + y v_z)/Z + (1 + y²) ω_x - x y ω_y - x ω_z."""
+    h, w = depth_m.shape
+    x = ((np.arange(w, dtype=np.float64) - cx) / fx)[None, :]
+    y = ((np.arange(h, dtype=np.float64) - cy) / fy)[:, None]
+    vx, vy, vz = (float(c) for c in v_optical)
+    wx, wy, wz = (float(c) for c in omega_optical)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        inv_z = np.where(np.isfinite(depth_m) & (depth_m > 0), 1.0 / depth_m, 0.0)
+    dx = (-vx + x * vz) * inv_z + x * y * wx - (1.0 + x * x) * wy + y * wz
+    dy = (-vy + y * vz) * inv_z + (1.0 + y * y) * wx - x * y * wy - x * wz
+    return (dx * fx * exposure_s).astype(np.float32), (dy * fy * exposure_s).astype(np.float32)
 
 
 def rotation_flow(omega_optical: np.ndarray, focal_px: float, exposure_s: float) -> tuple[float, float]:
@@ -146,11 +190,20 @@ def rotation_flow(omega_optical: np.ndarray, focal_px: float, exposure_s: float)
     return -float(omega_optical[1]) * focal_px * exposure_s, float(omega_optical[0]) * focal_px * exposure_s
 
 
-def camera_weather(rgb: np.ndarray, look, focal_px: float, seed: int, name: str, time_ns: int,
-                   omega_optical: np.ndarray) -> None:  # fmt: skip
-    """In place, in the order a camera suffers them: motion blur of the scene, rain in front of it, drops on
-    the lens (the look's `camera.motion_blur_ms`, `rain`, `camera.droplets`)."""
+def camera_weather(rgb: np.ndarray, look, intrinsics, seed: int, name: str, time_ns: int, depth_m: np.ndarray | None,
+                   v_optical, omega_optical, riding: np.ndarray | None = None) -> None:  # fmt: skip
+    """In place, in the order a camera suffers them: motion blur of the scene (`motion_field` from the camera's
+    velocities `v_optical` m/s and `omega_optical` rad/s in its optical frame and the depth image `depth_m`; None:
+    all at infinity; `riding`: (H, W) bool, pixels of things that move with the camera, its own vessel, kept
+    sharp), rain in front of it, drops on the lens (the look's `camera.motion_blur_ms`, `rain`,
+    `camera.droplets`). `intrinsics`: fx, fy, cx, cy (pixels)."""
+    fx, fy, cx, cy = (float(v) for v in intrinsics)
     if look.camera.motion_blur_ms > 0:
-        motion_blur(rgb, rotation_flow(omega_optical, focal_px, look.camera.motion_blur_ms * 1e-3))
-    rain_streaks(rgb, look.rain.rate_mm_h, look.rain.slant_deg, focal_px, seed, name, time_ns)
+        depth = depth_m if depth_m is not None else np.full(rgb.shape[:2], np.inf, np.float32)
+        du, dv = motion_field(depth, v_optical, omega_optical, fx, fy, cx, cy, look.camera.motion_blur_ms * 1e-3)
+        if riding is not None:
+            du[riding] = 0.0
+            dv[riding] = 0.0
+        blur_along(rgb, du, dv)
+    rain_streaks(rgb, look.rain.rate_mm_h, look.rain.slant_deg, fx, seed, name, time_ns)
     lens_droplets(rgb, look.camera.droplets, seed, name, time_ns * 1e-9)

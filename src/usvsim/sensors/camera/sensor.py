@@ -78,6 +78,7 @@ class Camera(Sensor):
             self.boxes = BoxMaker(cfg.detections, objects, sim.model, self.intrinsics, cfg.near_m)
         self._rgb_normal = np.empty((cfg.height, cfg.width, 3) if cfg.rgb_noise_stddev > 0 else 0, np.float32)
         self._lens: dict = {}  # exposure-vignetting factors of the current look (lens_effects)
+        self._own: np.ndarray | None = None  # labels of this camera's vessel's geoms (motion blur keeps them sharp)
         self._depth_normal = np.empty((cfg.height, cfg.width) if cfg.depth_noise_stddev_m > 0 else 0, np.float32)
 
     def render(self, sim: World, pose=None, streams=None) -> dict[str, np.ndarray]:
@@ -92,26 +93,47 @@ class Camera(Sensor):
         if self.cfg.water_surface and r.marine is None:  # centred on the vessel: its cameras share one upload per tick
             r.context.refresh_water(sim, center)
         r.update(sim.data.qpos, pos, rot @ OPTICAL_ROT)
+        blur = r.marine is not None and "rgb" in streams and sim.look.camera.motion_blur_ms > 0  # needs the labels
         images = r.capture(rgb_depth=bool(streams & {"rgb", "depth"}),
-                           segmentation="segmentation" in streams or self.boxes is not None)  # fmt: skip
+                           segmentation="segmentation" in streams or self.boxes is not None or blur)  # fmt: skip
         out = {k: v for k, v in images.items() if k in streams or k == "segmentation"}
         if self.remap is not None:
             out = {k: (self.remap.linear(v) if k == "rgb" else self.remap.closest(v)) for k, v in out.items()}
         if "rgb" in out and r.marine is not None:  # the shader look includes the camera's exposure and lens
-            self._weather(out["rgb"], sim, rot)
+            depth = out.get("depth", images.get("depth"))
+            if depth is not None and "depth" not in out and self.remap is not None:
+                depth = self.remap.closest(depth)
+            self._weather(out["rgb"], sim, pos, rot, depth, out.get("segmentation"))
             lens_effects(out["rgb"], sim.look.camera, self.intrinsics, self._lens)
         return out
 
-    def _weather(self, rgb: np.ndarray, sim, rot: np.ndarray) -> None:
-        """Motion blur, rain and lens droplets of the look (usvsim.rendering.weather), when it has any."""
+    def _weather(self, rgb: np.ndarray, sim, pos: np.ndarray, rot: np.ndarray, depth: np.ndarray | None,
+                 labels: np.ndarray | None) -> None:  # fmt: skip
+        """Motion blur, rain and lens droplets of the look (usvsim.rendering.weather), when it has any. The camera
+        frame's velocity is its vessel's rigid-body motion at the camera's position `pos` (ENU, m); the pixels of
+        its own vessel (`labels`: the segmentation image) move with it and stay sharp."""
         look = sim.look
         if look.camera.motion_blur_ms <= 0 and look.rain.rate_mm_h <= 0 and look.camera.droplets <= 0:
             return
         from usvsim.rendering.weather import camera_weather
 
-        omega_world = sim.state.rot[self.body] @ sim.state.omega_body[self.body]
-        omega_optical = (rot @ OPTICAL_ROT).T @ omega_world
-        camera_weather(rgb, look, self.intrinsics.fx, sim.seed, self.topic, sim.clock.now_ns, omega_optical)
+        s, b = sim.state, self.body
+        omega_world = s.rot[b] @ s.omega_body[b]
+        v_world = s.vcom_world[b] + np.cross(omega_world, pos - s.com_world[b])
+        to_optical = (rot @ OPTICAL_ROT).T
+        k = self.intrinsics
+        riding = None
+        if labels is not None and look.camera.motion_blur_ms > 0:
+            riding = np.isin(labels, self._own_labels(sim.model))
+        camera_weather(rgb, look, (k.fx, k.fy, k.cx, k.cy), sim.seed, self.topic, sim.clock.now_ns, depth,
+                       to_optical @ v_world, to_optical @ omega_world, riding)  # fmt: skip
+
+    def _own_labels(self, model) -> np.ndarray:
+        """Segmentation labels (geom id + 1) of the geoms of this camera's vessel (every body under its root)."""
+        if self._own is None:
+            root = model.body_rootid[model.body(self.vessel).id]
+            self._own = np.flatnonzero(model.body_rootid[model.geom_bodyid] == root).astype(np.uint16) + 1
+        return self._own
 
     def _noisy(self, images: dict[str, np.ndarray], look=None) -> dict[str, np.ndarray]:
         c = self.cfg
