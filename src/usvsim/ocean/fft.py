@@ -249,7 +249,9 @@ class FFTWaveField(WaveField):
             time_tolerance, (0, 1), 2 if self.choppiness else 1, self._geometry_snapshot
         )
         self._phases = PhaseTables(self._omega, self.geometry.intervals, pair_bins(self._amp))
-        self.velocity_ring = self._ring(time_tolerance, (1,), 1, partial(self._kinematic_snapshot, False))
+        # Velocity (power 1) at the geometry's times: the geometry bound (powers 0 and 1) is the stricter one, so
+        # its interval is never longer, and every velocity spectrum is then made in the geometry pass (and ahead).
+        self.velocity_ring = SnapshotRing(self.geometry.intervals, 1, self.n, partial(self._kinematic_snapshot, False))
         self.acceleration_ring = self._ring(time_tolerance, (2,), 2, partial(self._kinematic_snapshot, True))
         self._jobs: dict[int, tuple[float, int, bool, Future]] = {}  # band → (t, buffer set, with velocity,
         # the worker's job) of the snapshot being made ahead
