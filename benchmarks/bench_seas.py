@@ -3,7 +3,10 @@
 Figures are medians over interleaved repeats of the mean µs per physics step (100 Hz), wall clock and process
 CPU time (which leaves out what other jobs took on a loaded machine), each with the median 1-minute load average
 of its repeats beside it; every ratio divides two figures of this run (wall by wall, CPU by CPU). Bare MuJoCo:
-`mj_step` alone on the same model and its own MjData (no marine forces), interleaved with the others. Also:
+`mj_step` alone on the same model and its own MjData (no marine forces), interleaved with the others. Sea state 4
+runs twice: with the FFT snapshots made ahead on the worker thread (the default) and all on the simulation thread
+(the same sea bit for bit); besides wall and process CPU time (both threads), the simulation thread's own CPU time is
+reported. Also:
 serial vs parallel builds of the wave-query kernels per call (points per call), both real since the
 dispatch fix. Run: python benchmarks/bench_seas.py [--quick]
 
@@ -32,13 +35,24 @@ def load() -> float:
     return round(os.getloadavg()[0], 2)
 
 
-def harbor(code: int) -> Simulation:
+def harbor(code: int, ahead: bool = True) -> Simulation:
+    """The harbor scenario in sea state `code` (0 = calm); `ahead` False: FFT snapshots all made on the simulation's
+    thread (`FFTWaveField.AHEAD`, the same sea bit for bit)."""
     import yaml
+
+    from usvsim.ocean.fft import FFTWaveField
 
     data = yaml.safe_load(resolve("harbor")[0])
     if code:
         data.setdefault("environment", {})["sea"] = {"type": "sea_state", "code": code}
-    return Simulation(parse_scenario(data, "harbor"))
+    before = getattr(FFTWaveField, "AHEAD", None)
+    if before is not None:
+        FFTWaveField.AHEAD = ahead
+    try:
+        return Simulation(parse_scenario(data, "harbor"))
+    finally:
+        if before is not None:
+            FFTWaveField.AHEAD = before
 
 
 def fleet(n: int, code: int) -> Simulation:
@@ -50,22 +64,24 @@ def fleet(n: int, code: int) -> Simulation:
     return Simulation(parse_scenario({"version": 1, "vessels": vessels, "environment": env}, "fleet"))
 
 
-def step_us(sim, steps: int, bare: bool = False) -> tuple[float, float]:
-    """(wall, CPU) µs per step of `sim`; `bare`: `mj_step` alone on the same model, on its own MjData copied from
+def step_us(sim, steps: int, bare: bool = False) -> tuple[float, float, float]:
+    """(wall, CPU, this thread's CPU) µs per step of `sim`; `bare`: `mj_step` alone on the same model, on its own MjData copied from
     the simulation's (state and the last marine wrenches in `xfrc_applied`, held constant), so MuJoCo integrates
     the same floating bodies with the same contacts and constraints, without anything of usvsim. CPU time is the
-    process's (all threads): on a loaded machine it leaves out the time other jobs held the cores."""
+    process's (all threads): on a loaded machine it leaves out the time other jobs held the cores. The simulation
+    thread's own CPU time leaves out what worker threads did (FFT snapshots made ahead, split hydrostatics)."""
     data = sim.__dict__.setdefault("_bare_data", mujoco.MjData(sim.model)) if bare else None
     if bare:
         mujoco.mj_copyData(data, sim.model, sim.data)
-    wall, cpu = time.perf_counter(), time.process_time()
+    wall, cpu, main = time.perf_counter(), time.process_time(), time.thread_time()
     if bare:
         for _ in range(steps):
             mujoco.mj_step(sim.model, data)
     else:
         for _ in range(steps):
             sim.step()
-    return 1e6 * (time.perf_counter() - wall) / steps, 1e6 * (time.process_time() - cpu) / steps
+    return (1e6 * (time.perf_counter() - wall) / steps, 1e6 * (time.process_time() - cpu) / steps,
+            1e6 * (time.thread_time() - main) / steps)  # fmt: skip
 
 
 def compare(cases: dict, steps: int, repeats: int) -> dict:
@@ -79,10 +95,11 @@ def compare(cases: dict, steps: int, repeats: int) -> dict:
             times[name].append(step_us(sim, steps, bare))
     out = {}
     for name in cases:
-        wall, cpu = np.median(np.array(times[name]), axis=0)
+        wall, cpu, main = np.median(np.array(times[name]), axis=0)
         out[name] = {
             "us": round(float(wall), 1),
             "cpu_us": round(float(cpu), 1),
+            "main_thread_cpu_us": round(float(main), 1),
             "load": round(float(np.median(loads[name])), 2),
         }
     return out
@@ -138,13 +155,14 @@ def main() -> None:
     parser.add_argument("--quick", action="store_true", help="fewer steps and repeats (a smoke run)")
     args = parser.parse_args()
     steps, repeats = (50, 3) if args.quick else (300, 7)
-    calm, wavy = harbor(0), harbor(4)
-    for sim in (calm, wavy):
+    calm, wavy, here = harbor(0), harbor(4), harbor(4, ahead=False)
+    for sim in (calm, wavy, here):
         sim.run(0.5)  # JIT and caches
-    h = compare(
-        {"calm": (calm, False), "sea_state_4": (wavy, False), "bare_mujoco": (calm, True)}, steps, repeats
-    )
+    cases = {"calm": (calm, False), "sea_state_4": (wavy, False), "sea_state_4_no_ahead": (here, False),
+             "bare_mujoco": (calm, True)}  # fmt: skip
+    h = compare(cases, steps, repeats)
     h["sea_state_4_over_calm"] = ratio(h, "sea_state_4", "calm")
+    h["sea_state_4_no_ahead_over_calm"] = ratio(h, "sea_state_4_no_ahead", "calm")
     h["calm_speed_over_bare_mujoco"] = ratio(h, "bare_mujoco", "calm")
     print("harbor", h, flush=True)
     fleets = {"calm_100": fleet(100, 0), "sea_state_4_100": fleet(100, 4), "sea_state_4_200": fleet(200, 4)}

@@ -172,3 +172,25 @@ def test_a_forked_child_does_not_wait_for_the_parents_worker():
     gate.set()
     os.waitpid(pid, 0)
     assert os.read(r, 1) == b"1"
+
+
+@pytest.mark.parametrize("choppy", [False, True])
+def test_sparse_bands_make_the_same_spectra_pair_by_pair(choppy):
+    """The long bands of a cascade have an amplitude in few bins: their spectra are made over those pairs only
+    (fft_kernels.geometry_and_velocity_spectra_at) into arrays kept zero elsewhere: the same bytes as the full pass,
+    on and off the phase tables' grid."""
+    from usvsim.ocean import fft_kernels as kern
+
+    f = field(1e-3)
+    used = pair_bins(f._amp)
+    assert f._pairs[0] is not None and f._pairs[-1] is None  # SIZES at 64: the longest band sparse, the finest not
+    for b in range(len(f.sizes)):
+        pairs = np.argwhere(used[b])
+        full = [np.zeros((2, f.n, f.n), np.complex64), np.zeros((1, f.n, f.n), np.complex64)]
+        part = [np.zeros_like(full[0]), np.zeros_like(full[1])]
+        for t in (0.0, 3 * f.geometry.intervals[b], 17 * f.geometry.intervals[b], 2.345):
+            args = (f._amp[b], f._omega[b], f._khx[b], f._khy[b], t, choppy)
+            phases = f._phases.at(b, t)
+            kern.geometry_and_velocity_spectra(*args, full[0][: 1 + choppy], full[1], *phases)
+            kern.geometry_and_velocity_spectra_at(pairs, *args, part[0][: 1 + choppy], part[1], *phases)
+            assert full[0].tobytes() == part[0].tobytes() and full[1].tobytes() == part[1].tobytes()
