@@ -23,6 +23,7 @@ def prepare(marine, sim, center_xy) -> Daylight:
     marine.mip_ratio = marine.sea_cache["mip_ratio"] if detail is not None or whitecap != float("inf") else None
     marine.upload(surface_data(sim.ocean, sim.time, center_xy, detail, whitecap))
     marine.set_light(light, sim.look, sim.ocean.level_m)
+    marine.set_rain(sim.look.rain.rate_mm_h, sim.seed)
     marine.restore()  # setting uniforms binds programs: MuJoCo's fixed-function pipeline needs none bound
     marine.daylight = light
     marine.lamps = lamps(marine.sea_cache, sim, light)

@@ -64,9 +64,12 @@ class MarinePass:
         self.plain = _bind_samplers(
             ctx.program(vertex_shader=shaders.WATER_DRAW_VS, fragment_shader=shaders.WATER_FS)
         )
-        self._waters = (self.water, self.plain)
-        for prog in self._waters:
-            _set(prog, u_pierce_taps=PIERCE_TAPS)
+        self._waters = (self.water, self.plain)  # every water program made (the rain's too, once made)
+        self._water_uniforms: dict = {}  # their uniforms' last values (a program made later gets them all)
+        self._rain = None  # (water, plain) programs with the rain's rings (WATER_MARKS_RAIN_FS, ...), made on first use
+        self._rain_vaos: dict[tuple[int, int], tuple] = {}  # viewport size → their vertex arrays
+        self._raining = False  # this frame draws the rain programs
+        self._set_waters(u_pierce_taps=PIERCE_TAPS)
         self.label = ctx.program(vertex_shader=shaders.LABEL_VS, fragment_shader=shaders.LABEL_FS)
         self.fullscreen = {p: ctx.vertex_array(p, []) for p in (self.sky, self.fog)}
         self._grids: dict[
@@ -111,7 +114,7 @@ class MarinePass:
             out = ctx.buffer(reserve=len(vertices) * FEEDBACK_BYTES)  # the displaced vertices, once per frame
             feedback = ctx.vertex_array(self.surface, [(vbo, "2f", "in_ndc")])
             water, plain = (ctx.vertex_array(prog, [(out, "3f 2f 1f 4f 2f 3f", *(f"in_{v[2:]}" for v in FEEDBACK))],
-                                             index_buffer=ibo, index_element_size=4) for prog in self._waters)  # fmt: skip
+                                             index_buffer=ibo, index_element_size=4) for prog in (self.water, self.plain))  # fmt: skip
             self._plain_vaos[(width, height)] = plain
             label = ctx.vertex_array(self.label, [(out, f"3f {FEEDBACK_BYTES - 12}x", "in_world")],
                                      index_buffer=ibo, index_element_size=4)  # fmt: skip
@@ -188,9 +191,10 @@ class MarinePass:
         self._key, self._data = data.key, data
         surface = (data.height_scale, data.displacement_scale, data.level_m, float(n))
         self._surface_key = None
-        for prog in (self.surface, *self._waters):
-            _set(prog, u_tile=tuple(data.tiles_m) + (1.0,) * (5 - len(data.tiles_m)), u_bands=bands,
-                 u_detail=data.detail, u_surface=surface, u_patch=(*data.patch, 0.0))  # fmt: skip
+        tiles = {"u_tile": tuple(data.tiles_m) + (1.0,) * (5 - len(data.tiles_m)), "u_bands": bands,
+                 "u_detail": data.detail, "u_surface": surface, "u_patch": (*data.patch, 0.0)}  # fmt: skip
+        _set(self.surface, **tiles)
+        self._set_waters(**tiles)
         self._whitecap_slope = min(data.whitecap_slope, 1e6)
 
     def set_light(self, light: Daylight, look, level_m: float) -> None:
@@ -204,8 +208,9 @@ class MarinePass:
                   "u_ambient": tuple(light.ambient), "u_haze_color": tuple(light.horizon),
                   "u_fog_color": tuple(np.array(look.fog.color) * brightness), "u_level": level_m,
                   "u_fog": (fog_sigma, look.fog.height_falloff_m, 3.912 / look.haze.visibility_m, HAZE_HEIGHT_M)}  # fmt: skip
-        for prog in (self.sky, self.fog, *self._waters, self.surface):
+        for prog in (self.sky, self.fog, self.surface):
             _set(prog, **common)
+        self._set_waters(**common)
         sky_key = (
             tuple(light.sun_dir),
             tuple(light.zenith),
@@ -220,9 +225,31 @@ class MarinePass:
         self._surface_key = None
         self._look = (look.water.foam, look.water.glint, FOAM_CHOPPINESS)
         self._level_m, self._fog_height_m = level_m, look.fog.height_falloff_m
-        for prog in self._waters:
-            _set(prog, u_water=tuple(look.water.color), u_clarity=float(look.water.clarity_m or 0.0))
+        self._set_waters(u_water=tuple(look.water.color), u_clarity=float(look.water.clarity_m or 0.0))
         self._short_waves = look.water.short_waves
+
+    def set_rain(self, rate_mm_h: float, seed: int) -> None:
+        """Rings of raindrops on the water this frame (rendering/rain.py), drawn by programs that have them compiled
+        in; rate 0: the programs without them (llvmpipe runs every branch, so only code left out costs nothing)."""
+        from usvsim.rendering.rain import RING_STRENGTH, ring_chance
+
+        self._raining = rate_mm_h > 0
+        if not self._raining:
+            return
+        if self._rain is None:
+            ctx = self.ctx
+            self._rain = tuple(_bind_samplers(ctx.program(vertex_shader=shaders.WATER_DRAW_VS, fragment_shader=fs))
+                               for fs in (shaders.WATER_MARKS_RAIN_FS, shaders.WATER_RAIN_FS))  # fmt: skip
+            self._waters = (self.water, self.plain, *self._rain)
+            for prog in self._rain:
+                _set(prog, **self._water_uniforms)
+        self._set_waters(u_rain=(ring_chance(rate_mm_h), float(int(seed) % 65521), RING_STRENGTH))
+
+    def _set_waters(self, **values) -> None:
+        """Uniforms of every water program (those a program lacks are skipped), kept for programs made later."""
+        self._water_uniforms.update(values)
+        for prog in self._waters:
+            _set(prog, **values)
 
     def draw(
         self, camera, rect, labels: tuple[float, float, float] | None = None, time_s: float = 0.0
@@ -266,17 +293,18 @@ class MarinePass:
             self._copy_depth(fbo, viewport)
             for prog in (self.sky, self.fog):
                 _set(prog, u_cam=tuple(eye), u_inv_view_proj=inv, u_forward=_forward(camera))
-            for prog in (self.fog, *self._waters):
-                _set(prog, u_near_far=(near, far), u_viewport=viewport[:2])
-            for prog in self._waters:
-                _set(prog, u_look=(*self._look, time_s), u_pixel=pixel_tan,
-                     u_sea=(self._short_waves, self._whitecap_slope), u_mip_ratio=self.mip_ratio or (1.0,) * 8,
-                     **grid)  # fmt: skip
+            _set(self.fog, u_near_far=(near, far), u_viewport=viewport[:2])
+            self._set_waters(u_near_far=(near, far), u_viewport=viewport[:2], u_look=(*self._look, time_s),
+                             u_pixel=pixel_tan, u_sea=(self._short_waves, self._whitecap_slope),
+                             u_mip_ratio=self.mip_ratio or (1.0,) * 8, **grid)  # fmt: skip
             self._marks = self._marks_runs((rect.width, rect.height), view_proj, eye)
             self._fullscreen(self.fog, "<", blend=True)  # only where a geom was drawn (depth > 0)
             GL.glClear(GL.GL_STENCIL_BUFFER_BIT)
-            self._water(water_vao, stencil=True, blend=True, columns=self._columns[(rect.width, rect.height)],
-                        plain=self._plain_vaos[(rect.width, rect.height)])  # fmt: skip
+            marks, plain = water_vao, self._plain_vaos[(rect.width, rect.height)]
+            if self._raining:
+                marks, plain = self._rain_arrays(rect.width, rect.height)
+            self._water(marks, stencil=True, blend=True, columns=self._columns[(rect.width, rect.height)],
+                        plain=plain)  # fmt: skip
             GL.glStencilFunc(GL.GL_EQUAL, 0, 0xFF)  # the sky where neither geoms nor water were drawn
             GL.glStencilOp(GL.GL_KEEP, GL.GL_KEEP, GL.GL_KEEP)
             low, high = _sky_rows(view_proj, eye, rect.height)  # only rows that can see the sky: llvmpipe pays
@@ -316,8 +344,18 @@ class MarinePass:
                 region = (*self._wakes.region, 1.0)
                 self._extent = self._wakes.extent
                 self._wakes.texture.use(TEXTURE_UNITS["u_wake"])
-        _set(self.water, u_wake_region=region)
+        self._set_waters(u_wake_region=region)
         self._region = region
+
+    def _rain_arrays(self, width: int, height: int) -> tuple:
+        """The rain programs' vertex arrays over the grid's displaced vertices (`_grid`), made once per size."""
+        if (width, height) not in self._rain_vaos:
+            assert self._rain is not None, "set_rain first"
+            _, _, _, _, out, _, ibo = self._grid(width, height)
+            self._rain_vaos[(width, height)] = tuple(
+                self.ctx.vertex_array(prog, [(out, "3f 2f 1f 4f 2f 3f", *(f"in_{v[2:]}" for v in FEEDBACK))],
+                                      index_buffer=ibo, index_element_size=4) for prog in self._rain)  # fmt: skip
+        return self._rain_vaos[(width, height)]
 
     def _draw_lamps(self, camera, rect, view_proj, eye) -> None:
         from usvsim.rendering.lights import LightPass
@@ -445,7 +483,8 @@ class MarinePass:
             if extra is not None:
                 extra.release()
         grids = [obj for entry in self._grids.values() for obj in (entry[:2] + entry[3:])]
-        grids += list(self._plain_vaos.values())
+        grids += list(self._plain_vaos.values()) + [v for pair in self._rain_vaos.values() for v in pair]
+        grids += list(self._rain or ())
         self._release_depth()
         for obj in (
             self._geo,

@@ -216,6 +216,51 @@ in vec4 v_atm;
 in vec2 v_slope;
 in vec3 v_jac;
 out vec4 f_color;
+#ifdef RAIN
+uniform vec3 u_rain;  // chance that a ring cell holds a drop per cycle (rendering/rain.py), the seed, strength
+const float RING_CELL = 0.2;     // m: a cell holds at most one drop's ring at a time
+const float RING_PERIOD = 0.4;   // s: a cell's cycle (its phase from the hash)
+const float RING_SPEED = 0.25;   // m/s: how fast a ring spreads (capillary-gravity waves of a few cm)
+const float RING_WIDTH = 0.012;  // m
+const float RING_LIFE = 0.36;    // s: it reaches 0.09 m = RING_CELL / 2 - ring cells nearer than the 2 x 2 suffice
+uint hash3(uvec3 v) {  // integer hash (deterministic on any machine: no float sin-hash)
+    v = v * 1664525u + 1013904223u;
+    v.x += v.y * v.z; v.y += v.z * v.x; v.z += v.x * v.y;
+    v ^= v >> 16u;
+    v.x += v.y * v.z; v.y += v.z * v.x; v.z += v.x * v.y;
+    return v.x ^ v.y ^ v.z;
+}
+float u01(uint h) { return float(h >> 8u) * (1.0 / 16777216.0); }
+vec2 rain_rings(vec2 p, float t, float footprint) {
+    // slopes of the rings that drops leave where they hit: each cell of RING_CELL holds, once per cycle of
+    // RING_PERIOD (its phase and the drop's place from the hash of the cell, the cycle and the seed), a drop with
+    // chance u_rain.x; its ring spreads at RING_SPEED and fades over RING_LIFE. Rings narrower than a pixel fade out.
+    float w = max(RING_WIDTH, footprint);
+    float seen = u_rain.z * (1.0 - smoothstep(RING_WIDTH, 3.0 * RING_WIDTH, footprint)) * RING_WIDTH / w;
+    vec2 base = floor(p / RING_CELL - 0.5);
+    vec2 slope = vec2(0.0);
+    for (int j = 0; j < 2; j++) {
+        for (int i = 0; i < 2; i++) {
+            vec2 cell = base + vec2(i, j);
+            uvec3 key = uvec3(ivec3(ivec2(cell), int(u_rain.y)));
+            float phase = u01(hash3(key));
+            float cycle = t / RING_PERIOD + phase;
+            float n = floor(cycle);
+            uint h = hash3(key ^ uvec3(uint(int(n)) * 2654435761u, 40503u, 977u));
+            float age = (cycle - n) * RING_PERIOD;
+            vec2 c = (cell + vec2(u01(h * 747796405u + 1u), u01(h * 2891336453u + 7u))) * RING_CELL;
+            vec2 d = p - c;
+            float r = length(d);
+            float x = r - RING_SPEED * age;
+            float life = clamp(1.0 - age / RING_LIFE, 0.0, 1.0);
+            float on = step(u01(h), u_rain.x) * life * life;
+            // a ring of height exp(-x²/w²): its slope along the radius -2x/w² · exp(-x²/w²), scaled to w
+            slope += on * (-2.0 * x / w) * exp(-x * x / (w * w)) * d / max(r, 1e-4);
+        }
+    }
+    return seen * slope;
+}
+#endif
 
 void main() {
     vec2 zs = v_slope;
@@ -245,6 +290,11 @@ void main() {
     float k = u_surface.y, kf = max(u_look.z, k);
     vec3 tx = vec3(1.0 - k * jac.x, -k * jac.z, u_surface.x * zs.x);
     vec3 ty = vec3(-k * jac.z, 1.0 - k * jac.y, u_surface.x * zs.y);
+#ifdef RAIN
+    vec2 rings = rain_rings(v_label, u_look.w, footprint);  // on any sea, a flat one too (not scaled by the ramp)
+    tx.z += rings.x;
+    ty.z += rings.y;
+#endif
     vec3 n = normalize(cross(tx, ty));
     float det = (1.0 - kf * jac.x) * (1.0 - kf * jac.y) - kf * kf * jac.z * jac.z;
 
@@ -321,6 +371,9 @@ void main() {
 # region; WATER_FS (no MARKS) for the others. llvmpipe runs an `if` body for every pixel whatever the condition
 # (its shaders are SIMD over a 4 x 4 block, with no branch on a uniform), so code left out is the only code skipped.
 WATER_MARKS_FS = WATER_FS.replace("#version 330\n", "#version 330\n#define MARKS\n", 1)
+# Rain on: the same two with the rings of the drops compiled in (rain off draws the programs above: no cost)
+WATER_RAIN_FS = WATER_FS.replace("#version 330\n", "#version 330\n#define RAIN\n", 1)
+WATER_MARKS_RAIN_FS = WATER_MARKS_FS.replace("#version 330\n", "#version 330\n#define RAIN\n", 1)
 
 LABEL_FS = """
 #version 330
