@@ -22,6 +22,7 @@ from __future__ import annotations
 
 import math
 import os
+import time
 from collections import OrderedDict
 from collections.abc import Callable, Hashable
 from concurrent.futures import Future
@@ -261,11 +262,12 @@ class FFTWaveField(WaveField):
         # its interval is never longer, and every velocity spectrum is then made in the geometry pass (and ahead).
         self.velocity_ring = SnapshotRing(self.geometry.intervals, 1, self.n, partial(self._kinematic_snapshot, False))
         self.acceleration_ring = self._ring(time_tolerance, (2,), 2, partial(self._kinematic_snapshot, True))
-        self._jobs: dict[int, tuple[float, int, bool, Future]] = {}  # band → (t, buffer set, with velocity,
-        # the worker's job) of the snapshot being made ahead
+        self._jobs: dict[int, tuple[float, int, bool, Future, float, float]] = {}  # band → (t, buffer set, with
+        # velocity, the worker's job, wall clock and this thread's CPU time at its start) of a snapshot made ahead
         self._ahead_pause = [0] * len(self.sizes)  # per band: intervals left to compute here (see _fetch_ahead)
+        self._ahead_backoff = [self.AHEAD_PAUSE // 2] * len(self.sizes)  # per band: half the next pause
         self._jobs_pid = os.getpid()  # the process whose worker runs the jobs (a forked child has none of them)
-        self.ahead_stats = [0, 0]  # snapshots taken from the worker: ready in time, waited for
+        self.ahead_stats = [0, 0]  # snapshots taken from the worker: in time on a core of its own, or not
         self._ahead_bufs: tuple[np.ndarray, ...] | None = None  # see _start_ahead
         self._ahead_next = [0] * len(self.sizes)  # the buffer set each band's next job writes
         self._vel_made: dict[tuple[int, float], int] = {}  # (band, t) → buffer set holding its velocity tiles
@@ -362,10 +364,17 @@ class FFTWaveField(WaveField):
         for key in [k for k, v in self._vel_made.items() if k[0] == b and v == s]:
             del self._vel_made[key]  # not taken by the velocity ring, about to be overwritten
         with_vel = self.velocity_ring.intervals[b] == self.geometry.intervals[b]
-        self._jobs[b] = (t, s, with_vel, _AHEAD.start(self._make_ahead, b, t, s, with_vel))
+        self._jobs[b] = (t, s, with_vel, _AHEAD.start(self._make_ahead, b, t, s, with_vel), time.perf_counter(),
+                         time.thread_time())  # fmt: skip
 
-    def _make_ahead(self, b: int, t: float, s: int, with_vel: bool) -> None:
-        """(Worker thread.) `_geometry_snapshot`'s work into buffer set s: the same kernel and transforms."""
+    def _make_ahead(self, b: int, t: float, s: int, with_vel: bool) -> tuple[float, float]:
+        """(Worker thread.) `_geometry_snapshot`'s work into buffer set s: the same kernel and transforms. Returns
+        the job's wall and thread CPU time (s): far apart, the worker shared a core (see `_fetch_ahead`)."""
+        wall, cpu = time.perf_counter(), time.thread_time()
+        self._make_snapshot_ahead(b, t, s, with_vel)
+        return time.perf_counter() - wall, time.thread_time() - cpu
+
+    def _make_snapshot_ahead(self, b: int, t: float, s: int, with_vel: bool) -> None:
         assert self._ahead_bufs is not None
         geo, vel, spec, vspec = self._ahead_bufs
         self._spectra(b, t, spec[b], vspec[b, : 1 if with_vel else 0])
@@ -373,23 +382,32 @@ class FFTWaveField(WaveField):
         if with_vel:
             vel[s, b] = self._ifft2(vspec[b], norm="forward", workers=1)
 
-    AHEAD_PAUSE = 8  # intervals a band computes its snapshots here after the worker was late with one
+    AHEAD_PAUSE = 8  # intervals a band computes its snapshots here after the worker was late with one (then 16, …)
+    AHEAD_PAUSE_MAX = 512
 
     def _fetch_ahead(self, b: int, t: float, out: np.ndarray) -> bool:
         """Copy band b's snapshot at t into out if it was made ahead (waiting for the worker if it is not done);
-        False where it was not. A snapshot not ready in time (the other core busy: a loaded machine) pauses the
-        band's work ahead for `AHEAD_PAUSE` intervals: waiting for a descheduled worker costs more than the
-        transform. (Which path made a snapshot never changes its bytes.)"""
+        False where it was not. A snapshot not ready in time, or one whose job took much more wall than CPU time
+        (the worker shared a core: a loaded machine), pauses the band's work ahead for `AHEAD_PAUSE` intervals:
+        without a core of its own the worker only adds its hand-offs. (Which path made a snapshot never changes its
+        bytes.)"""
         self._forked()
         job = self._jobs.get(b)
         if job is None or job[0] != t:
             return False
         del self._jobs[b]
         ready = job[3].done()
-        self.ahead_stats[0 if ready else 1] += 1
-        if not ready:
-            self._ahead_pause[b] = self.AHEAD_PAUSE
-        job[3].result()  # re-raises the worker's error
+        wall, cpu = job[3].result()  # re-raises the worker's error
+        since, here = time.perf_counter() - job[4], time.thread_time() - job[5]
+        # the worker descheduled for a third of its job, or this thread for a fifth of the time since it started it:
+        # the two threads did not have two cores
+        shared = wall > 1.5 * cpu + 50e-6 or here < 0.8 * since - 50e-6
+        self.ahead_stats[0 if ready and not shared else 1] += 1
+        if not ready or shared:  # pause, twice as long as last time while it lasts (a loaded machine stays loaded)
+            self._ahead_backoff[b] = min(2 * self._ahead_backoff[b], self.AHEAD_PAUSE_MAX)
+            self._ahead_pause[b] = self._ahead_backoff[b]
+        else:
+            self._ahead_backoff[b] = self.AHEAD_PAUSE // 2
         assert self._ahead_bufs is not None
         out[:] = self._ahead_bufs[0][job[1], b]
         if job[2]:
