@@ -196,3 +196,16 @@ def test_sparse_bands_make_the_same_spectra_pair_by_pair(choppy):
             kern.geometry_and_velocity_spectra(*args, full[0][: 1 + choppy], full[1], *phases)
             kern.geometry_and_velocity_spectra_at(pairs, *args, part[0][: 1 + choppy], part[1], *phases)
             assert full[0].tobytes() == part[0].tobytes() and full[1].tobytes() == part[1].tobytes()
+
+
+def test_snapshot_transforms_into_the_ring_are_scipys_ifft2():
+    """FFTWaveField._ifft2_into (scipy's pocketfft transform writing into the ring) gives scipy.fft.ifft2's bytes."""
+    import scipy.fft
+
+    f = field(1e-3)
+    rng = np.random.default_rng(3)
+    spec = (rng.standard_normal((2, f.n, f.n)) + 1j * rng.standard_normal((2, f.n, f.n))).astype(np.complex64)
+    out = np.zeros((3, 2, f.n, f.n), np.complex64)[1]
+    f._ifft2_into(spec, out)
+    assert f._c2c is not None  # the fast path is what runs here
+    assert out.tobytes() == scipy.fft.ifft2(spec, norm="forward", workers=1).tobytes()

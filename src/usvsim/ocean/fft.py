@@ -213,6 +213,12 @@ class FFTWaveField(WaveField):
         import scipy.fft  # here: ~0.4 s to import, and only FFT seas need it (a process start pays it otherwise)
 
         self._ifft2 = scipy.fft.ifft2
+        try:  # scipy.fft.ifft2's own C++ transform, called into a given array (see _ifft2_into)
+            from scipy.fft._pocketfft import pypocketfft
+
+            self._c2c = pypocketfft.c2c
+        except ImportError:  # another scipy layout: the public function and a copy
+            self._c2c = None
         self.sizes = np.asarray(tile_sizes_m, dtype=float)
         self.n = int(resolution)
         self.choppiness = float(choppiness)
@@ -378,9 +384,9 @@ class FFTWaveField(WaveField):
         assert self._ahead_bufs is not None
         geo, vel, spec, vspec = self._ahead_bufs
         self._spectra(b, t, spec[b], vspec[b, : 1 if with_vel else 0])
-        geo[s, b] = self._ifft2(spec[b], norm="forward", workers=1)
+        self._ifft2_into(spec[b], geo[s, b])
         if with_vel:
-            vel[s, b] = self._ifft2(vspec[b], norm="forward", workers=1)
+            self._ifft2_into(vspec[b], vel[s, b])
 
     AHEAD_PAUSE = 8  # intervals a band computes its snapshots here after the worker was late with one (then 16, …)
     AHEAD_PAUSE_MAX = 512
@@ -450,7 +456,17 @@ class FFTWaveField(WaveField):
             if len(self._vel_spectra) >= 4 * len(self.sizes):  # a ring's worth per band at most
                 del self._vel_spectra[next(iter(self._vel_spectra))]
             self._vel_spectra[(b, t)] = vel
-        out[:] = self._ifft2(spec, norm="forward", workers=1)
+        self._ifft2_into(spec, out)
+
+    def _ifft2_into(self, spec: np.ndarray, out: np.ndarray) -> None:
+        """out[:] = scipy.fft.ifft2(spec, norm="forward", workers=1) for spec and out (slots, N, N) complex64, out
+        C-contiguous: the C++ transform that scipy.fft.ifft2 calls (pocketfft c2c over axes 1 and 2, inverse, no
+        scaling, one thread) writing into out: the same bytes (tested) without a new array, a copy and the Python
+        argument handling (which holds the GIL: a worker thread preempted there stalls the simulation thread)."""
+        if self._c2c is not None and out.flags.c_contiguous and spec.shape == out.shape:
+            self._c2c(spec, (1, 2), False, 0, out, 1)
+        else:
+            out[:] = self._ifft2(spec, norm="forward", workers=1)
 
     def _spectra(self, b: int, t: float, spec: np.ndarray, vel: np.ndarray) -> None:
         """Band b's geometry spectra (and velocity, if vel has a slot) at t: a sparse band (`_pairs`) writes its
@@ -475,7 +491,7 @@ class FFTWaveField(WaveField):
             kern.kinematic_spectra(
                 self._amp[b], self._omega[b], self._khx[b], self._khy[b], t, acceleration, spec
             )
-        out[:] = self._ifft2(spec, norm="forward", workers=1)
+        self._ifft2_into(spec, out)
 
     def node_cache(self) -> tuple[np.ndarray, np.ndarray, int]:
         """(cache, stamp, now) for the cached height kernels (`fft_kernels._corner`): blended heights of the tile
