@@ -7,6 +7,7 @@ import pytest
 
 pytest.importorskip("moderngl")
 
+from usvsim.rendering.frame import water_label
 from usvsim.rendering.gallery import load, scenario_dict
 from usvsim.rendering.materials import geom_classes
 
@@ -46,27 +47,56 @@ def test_materials_change_rgb_only():
     assert not np.array_equal(glossy["rgb"], matte["rgb"])
 
 
-def test_shadows_on_the_water_are_cast_along_the_sun_and_change_rgb_only():
-    from usvsim.rendering.shadows import shadow_triangles
+def test_shadows_on_the_water_are_the_geoms_shadows_along_the_sun_and_change_rgb_only():
+    """The water takes the sun away where MuJoCo's shadow map of the geoms (their meshes as drawn) covers the
+    surface point. Independent reference: a ray from each water pixel's surface point (from the depth image)
+    toward the sun, against the same geoms (mujoco.mj_ray, exact mesh and primitive intersection)."""
+    import mujoco
+
+    from usvsim.sensors.base import OPTICAL_ROT
+
+    sun = {"elevation_deg": 40.0, "azimuth_deg": 270.0}  # from the west: shadows fall east
+    down = np.array([[0.0, 0.0, 1.0], [0.0, 1.0, 0.0], [-1.0, 0.0, 0.0]])  # FLU → world: straight down
 
     def frame(shadows: bool):
-        raw = scenario_dict(1, {"shadows": shadows, "sun": {"elevation_deg": 30.0, "azimuth_deg": 270.0}}, 160, 120)
+        raw = scenario_dict(1, {"shadows": shadows, "sun": sun}, 320, 240)
+        raw["objects"] = []
         sim = load(raw, seed=0)
         sim.run(0.5)
-        images = sim.sensors["wamv/camera"].render(sim)
-        west = shadow_triangles(sim.model, sim.data, np.array([-0.866, 0.0, 0.5]), 0.0, (0.0, 0.0))
-        east = shadow_triangles(sim.model, sim.data, np.array([0.866, 0.0, 0.5]), 0.0, (0.0, 0.0))
+        camera = sim.sensors["wamv/camera"]
+        boat = sim.state.pos[camera.body]
+        pose = (np.array([boat[0] + 1.5, boat[1], boat[2] + 9.0]), down)
+        images = camera.render(sim.world, pose=pose)
+        out = images, pose, camera.intrinsics, camera.renderer.marine.daylight.sun_dir.copy(), water_label(sim.model)
+        if shadows:  # the reference: rays toward the sun from the surface points
+            (pos, rot), k = pose, camera.intrinsics
+            depth = images["depth"]
+            v, u = np.nonzero(images["segmentation"] == out[4])
+            d = depth[v, u].astype(np.float64)
+            optical = np.stack([(u - k.cx) / k.fx * d, (v - k.cy) / k.fy * d, d], axis=1)
+            points = pos + optical @ (rot @ OPTICAL_ROT).T
+            groups = np.array([1, 1, 0, 0, 0, 0], np.uint8)  # the geoms the scene draws (group 2: MuJoCo's water)
+            geom = np.zeros(1, np.int32)
+            hits = np.zeros((len(points), 5), bool)
+            for i, p in enumerate(points):
+                for j, offset in enumerate(((0, 0), (0.05, 0), (-0.05, 0), (0, 0.05), (0, -0.05))):
+                    start = p + np.array([*offset, 0.01])
+                    hits[i, j] = mujoco.mj_ray(sim.model, sim.data, start, out[3], groups, 1, -1, geom) >= 0
+            out = (*out, (v, u, hits))
         sim.close()
-        return images, west, east
+        return out
 
-    lit, west, east = frame(True)
-    plain, _, _ = frame(False)
-    assert len(west) and len(west) % 3 == 0 and len(west) == len(east)
-    # the same boxes: with the sun in the west their shadows lie further east than with the sun in the east
-    shift = west.reshape(-1, 36, 2)[:, :, 0].mean(axis=1) - east.reshape(-1, 36, 2)[:, :, 0].mean(axis=1)
-    assert np.all(shift >= -1e-4) and shift.max() > 1.0
+    lit, _, _, _, _, (v, u, hits) = frame(True)
+    plain = frame(False)[0]
     assert np.array_equal(lit["segmentation"], plain["segmentation"])
     assert np.array_equal(lit["depth"], plain["depth"], equal_nan=True)
+    luminance = np.array([0.3, 0.6, 0.1])
+    darker = (plain["rgb"][v, u].astype(float) - lit["rgb"][v, u].astype(float)) @ luminance
+    sure = hits.all(axis=1) | ~hits.any(axis=1)  # 5 cm from an edge of the shadow either way: left out
+    shade = hits[:, 0]
+    assert (shade & sure).sum() > 300 and (~shade & sure).sum() > 300
+    assert (darker[shade & sure] > 2.0).mean() > 0.9  # in the geoms' shadow: the sun's share is gone
+    assert (np.abs(darker[~shade & sure]) < 1.0).mean() > 0.95  # in the sun: as without shadows
 
 
 def test_marks_of_the_harbour():

@@ -26,6 +26,7 @@ def prepare(marine, sim, center_xy) -> Daylight:
     marine.set_rain(sim.look.rain.rate_mm_h, sim.seed)
     marine.restore()  # setting uniforms binds programs: MuJoCo's fixed-function pipeline needs none bound
     marine.daylight = light
+    marine.center_xy = (float(center_xy[0]), float(center_xy[1]))
     marine.lamps = lamps(marine.sea_cache, sim, light)
     marine.materials = None
     if sim.look.materials:
@@ -37,11 +38,6 @@ def prepare(marine, sim, center_xy) -> Daylight:
         marine.materials = marine.sea_cache["materials"]
     tracks = getattr(sim, "wakes", None)
     marine.wake = tracks.ribbons(sim.time, sim.look.water.wake_s) if tracks is not None else None
-    marine.shadows = None
-    if sim.look.shadows:
-        from usvsim.rendering.shadows import shadow_triangles
-
-        marine.shadows = shadow_triangles(sim.model, sim.data, light.sun_dir, sim.ocean.level_m, center_xy)
     return light
 
 
@@ -101,11 +97,15 @@ def sea_extras(cache: dict, ocean, look):
     return (cache["detail"] if look.water.short_waves > 0 else None), cache["whitecap"]
 
 
-def apply_lights(scene: mujoco.MjvScene, light: Daylight, materials=None) -> None:
+def apply_lights(scene: mujoco.MjvScene, light: Daylight, materials=None, center_xy=None, far: float = 0.0) -> None:
     """Sun and sky light on MuJoCo's geoms: directional lights follow the sun, the headlight gives sky fill.
     MuJoCo's colours are display values, so the levels are display levels (noon: ambient 0.35, sun 0.6).
     With `materials` (rendering/materials.Materials) the geoms are shaded by `begin_geoms`' program instead;
-    the lights still tell MuJoCo where the sun's shadow map looks from."""
+    the lights still tell MuJoCo where the sun's shadow map looks from: its orthographic view (±shadowclip across,
+    the drawing camera's near..far deep) from the light's position along the sun. With `center_xy` (ENU m) and the
+    camera's `far` (m) the light sits `min(far / 2, 1000)` m up the sun from the still-water point there, so the map
+    covers the geoms around the camera's vessel within far/2 of that point along the sun (at 1000 m up the sun
+    from the origin, as without them, a camera's 400 m depth range held no geom: no shadows)."""
     sky_level = float(light.ambient @ (0.3, 0.6, 0.1))
     tint = 0.75 + 0.25 * light.ambient / max(sky_level, 1e-6)
     ambient = np.clip(min(1.1 * sky_level, 0.4) * tint, 0.0, 1.0)
@@ -116,7 +116,10 @@ def apply_lights(scene: mujoco.MjvScene, light: Daylight, materials=None) -> Non
             lamp.ambient[:], lamp.diffuse[:], lamp.specular[:] = ambient, 0.0, 0.0
         else:
             lamp.dir[:] = -light.sun_dir
-            lamp.pos[:] = light.sun_dir * 1000.0
+            if center_xy is not None and far > 0:
+                lamp.pos[:] = (center_xy[0], center_xy[1], 0.0) + light.sun_dir * min(0.5 * far, 1000.0)
+            else:
+                lamp.pos[:] = light.sun_dir * 1000.0
             lamp.diffuse[:], lamp.ambient[:], lamp.specular[:] = sun, 0.0, (0.8 if materials is not None else 0.3) * sun
 
 
@@ -136,6 +139,16 @@ def begin_geoms(marine, scene: mujoco.MjvScene, shadows: bool) -> bool:
 
 def end_geoms(marine) -> None:
     marine.geom_shading.end()
+
+
+def sun_shadow_map(marine, scene: mujoco.MjvScene, ctx: mujoco.MjrContext) -> None:
+    """After MuJoCo's colour pass: tell the water about the sun's shadow map MuJoCo drew in it (its texture and
+    its world → map transform, `MarinePass.take_shadow_map`), or that there is none this frame."""
+    if marine is None:
+        return
+    drawn = bool(scene.flags[mujoco.mjtRndFlag.mjRND_SHADOW]) and ctx.shadowFBO and any(
+        scene.lights[i].castshadow and not scene.lights[i].headlight for i in range(scene.nlight))  # fmt: skip
+    marine.take_shadow_map(int(ctx.shadowTex) if drawn else None)
 
 
 def water_label(model: mujoco.MjModel) -> int:

@@ -29,7 +29,8 @@ if TYPE_CHECKING:
     import moderngl
 
 GL_DEPTH_CLAMP, GL_GEQUAL = 0x864F, 0x0206
-TEXTURE_UNITS = {"u_geo": 5, "u_slope": 6, "u_depth": 7, "u_sky": 8, "u_noise": 9, "u_wake": 10}  # above MuJoCo's
+TEXTURE_UNITS = {"u_geo": 5, "u_slope": 6, "u_depth": 7, "u_sky": 8, "u_noise": 9, "u_wake": 10,
+                 "u_sun_shadow": 11}  # above MuJoCo's
 FOAM_CHOPPINESS = 2.0  # whitecaps where a surface this choppy would fold (the physics may use less)
 HAZE_HEIGHT_M = 500.0
 SKY_TEXELS = 256  # the sky table with the horizon haze baked in: the haze band above the horizon spans texels
@@ -58,7 +59,7 @@ class MarinePass:
             ctx.program(vertex_shader=shaders.FULLSCREEN_VS, fragment_shader=shaders.FOG_FS)
         )
         self.surface = _bind_samplers(ctx.program(vertex_shader=shaders.WATER_VS, varyings=FEEDBACK))
-        self.water = _bind_samplers(  # with the wakes' and shadows' texture; `plain` without: see _water
+        self.water = _bind_samplers(  # with the wakes' texture; `plain` without: see _water
             ctx.program(vertex_shader=shaders.WATER_DRAW_VS, fragment_shader=shaders.WATER_MARKS_FS)
         )
         self.plain = _bind_samplers(
@@ -66,9 +67,13 @@ class MarinePass:
         )
         self._waters = (self.water, self.plain)  # every water program made (the rain's too, once made)
         self._water_uniforms: dict = {}  # their uniforms' last values (a program made later gets them all)
-        self._rain = None  # (water, plain) programs with the rain's rings (WATER_MARKS_RAIN_FS, ...), made on first use
-        self._rain_vaos: dict[tuple[int, int], tuple] = {}  # viewport size → their vertex arrays
-        self._raining = False  # this frame draws the rain programs
+        # the water's programs with optional parts compiled in (shaders.water_fs): (rain rings, the sun's shadow map)
+        # → (with marks, plain), made on first use; (False, False) is (self.water, self.plain)
+        self._variants: dict[tuple[bool, bool], tuple] = {(False, False): (self.water, self.plain)}
+        self._variant_vaos: dict[tuple, tuple] = {}  # (width, height, rain, shadow) → their vertex arrays
+        self._raining = False  # this frame draws the programs with the rain's rings
+        self._shadow_tex: int | None = None  # MuJoCo's shadow map of the sun this frame (GL texture), or none
+        self.center_xy = (0.0, 0.0)  # where the frame is centred (frame.prepare): the sun's shadow map looks there
         self._set_waters(u_pierce_taps=PIERCE_TAPS)
         self.label = ctx.program(vertex_shader=shaders.LABEL_VS, fragment_shader=shaders.LABEL_FS)
         self.fullscreen = {p: ctx.vertex_array(p, []) for p in (self.sky, self.fog)}
@@ -101,7 +106,6 @@ class MarinePass:
         self.mip_ratio = None  # rms slope of the shortest band per mip level / level 0 (detail.mip_slope_ratio)
         self._lights = None
         self.wake = None  # the wakes' ribbons of this frame (frame.prepare), drawn by `self._wakes`
-        self.shadows = None  # the geoms' shadow triangles on the water (rendering/shadows.py), drawn by it too
         self._wakes = None
         self._whitecap_slope, self._short_waves = 1e6, 0.0
 
@@ -143,7 +147,7 @@ class MarinePass:
         """Runs [start, stop) of quads (their index in the grid's storage: row by row, top first) that may hold a
         pixel where the wakes' texture is not clear (WakePass.extent), from the labels of their corners as WATER_VS computes them (the
         still-water point of the vertex's ray, capped at FAR_M): a fragment's label interpolates its triangle's, so
-        it lies in their bounding box. One run per quad row at most, (n, 2) int; empty without wakes or shadows."""
+        it lies in their bounding box. One run per quad row at most, (n, 2) int; empty without wakes."""
         if self._region[3] <= 0.0:
             return np.zeros((0, 2), np.int64)
         ndc = self._grid_ndc[size]
@@ -234,16 +238,26 @@ class MarinePass:
         from usvsim.rendering.rain import RING_STRENGTH, ring_chance
 
         self._raining = rate_mm_h > 0
-        if not self._raining:
-            return
-        if self._rain is None:
-            ctx = self.ctx
-            self._rain = tuple(_bind_samplers(ctx.program(vertex_shader=shaders.WATER_DRAW_VS, fragment_shader=fs))
-                               for fs in (shaders.WATER_MARKS_RAIN_FS, shaders.WATER_RAIN_FS))  # fmt: skip
-            self._waters = (self.water, self.plain, *self._rain)
-            for prog in self._rain:
+        if self._raining:
+            self._set_waters(u_rain=(ring_chance(rate_mm_h), float(int(seed) % 65521), RING_STRENGTH))
+
+    def take_shadow_map(self, texture: int | None) -> None:
+        """MuJoCo's shadow map of the sun drawn in this frame's colour pass (its GL texture id; None: none): the
+        water shades by it (frame.sun_shadow_map calls this after `mjr_render`). Its world → map transform is the one
+        MuJoCo's texture generation used, read back in `draw`."""
+        self._shadow_tex = texture
+
+    def _programs(self, rain: bool, shadow: bool) -> tuple:
+        """(with marks, plain) water programs with the rain's rings and/or the sun's shadow map compiled in."""
+        if (rain, shadow) not in self._variants:
+            made = tuple(_bind_samplers(self.ctx.program(vertex_shader=shaders.WATER_DRAW_VS,
+                                                         fragment_shader=shaders.water_fs(marks, rain, shadow)))
+                         for marks in (True, False))  # fmt: skip
+            for prog in made:
                 _set(prog, **self._water_uniforms)
-        self._set_waters(u_rain=(ring_chance(rate_mm_h), float(int(seed) % 65521), RING_STRENGTH))
+            self._variants[(rain, shadow)] = made
+            self._waters = (*self._waters, *made)
+        return self._variants[(rain, shadow)]
 
     def _set_waters(self, **values) -> None:
         """Uniforms of every water program (those a program lacks are skipped), kept for programs made later."""
@@ -301,8 +315,11 @@ class MarinePass:
             self._fullscreen(self.fog, "<", blend=True)  # only where a geom was drawn (depth > 0)
             GL.glClear(GL.GL_STENCIL_BUFFER_BIT)
             marks, plain = water_vao, self._plain_vaos[(rect.width, rect.height)]
-            if self._raining:
-                marks, plain = self._rain_arrays(rect.width, rect.height)
+            shadow = self._shadow_tex is not None
+            if shadow:
+                self._use_shadow_map(camera)
+            if self._raining or shadow:
+                marks, plain = self._variant_arrays(rect.width, rect.height, self._raining, shadow)
             self._water(marks, stencil=True, blend=True, columns=self._columns[(rect.width, rect.height)],
                         plain=plain)  # fmt: skip
             GL.glStencilFunc(GL.GL_EQUAL, 0, 0xFF)  # the sky where neither geoms nor water were drawn
@@ -336,26 +353,40 @@ class MarinePass:
 
         region = (0.0, 0.0, 1.0, 0.0)
         wake = self.wake if self.wake is not None else np.zeros((0, 6), np.float32)
-        shadows = self.shadows if self.shadows is not None else np.zeros((0, 2), np.float32)
-        if len(wake) or len(shadows):
+        if len(wake):
             if self._wakes is None:
                 self._wakes = WakePass(self.ctx)
-            if self._wakes.draw(wake, shadows):
+            if self._wakes.draw(wake):
                 region = (*self._wakes.region, 1.0)
                 self._extent = self._wakes.extent
                 self._wakes.texture.use(TEXTURE_UNITS["u_wake"])
         self._set_waters(u_wake_region=region)
         self._region = region
 
-    def _rain_arrays(self, width: int, height: int) -> tuple:
-        """The rain programs' vertex arrays over the grid's displaced vertices (`_grid`), made once per size."""
-        if (width, height) not in self._rain_vaos:
-            assert self._rain is not None, "set_rain first"
+    def _variant_arrays(self, width: int, height: int, rain: bool, shadow: bool) -> tuple:
+        """The vertex arrays of `_programs(rain, shadow)` over the grid's displaced vertices, made once per size."""
+        key = (width, height, rain, shadow)
+        if key not in self._variant_vaos:
             _, _, _, _, out, _, ibo = self._grid(width, height)
-            self._rain_vaos[(width, height)] = tuple(
+            self._variant_vaos[key] = tuple(
                 self.ctx.vertex_array(prog, [(out, "3f 2f 1f 4f 2f 3f", *(f"in_{v[2:]}" for v in FEEDBACK))],
-                                      index_buffer=ibo, index_element_size=4) for prog in self._rain)  # fmt: skip
-        return self._rain_vaos[(width, height)]
+                                      index_buffer=ibo, index_element_size=4)
+                for prog in self._programs(rain, shadow))  # fmt: skip
+        return self._variant_vaos[key]
+
+    def _use_shadow_map(self, camera) -> None:
+        """Bind MuJoCo's shadow map for the water and give it the map's transform: MuJoCo set it as the eye planes
+        of texture unit 1's coordinate generation (each plane the row of bias · light projection · light view,
+        stored in eye coordinates of the drawing camera), so world → map = planes · view."""
+        from OpenGL import GL
+
+        GL.glActiveTexture(GL.GL_TEXTURE1)
+        planes = np.array([GL.glGetTexGenfv(c, GL.GL_EYE_PLANE) for c in (GL.GL_S, GL.GL_T, GL.GL_R, GL.GL_Q)],
+                          dtype=np.float64).reshape(4, 4)  # fmt: skip
+        GL.glActiveTexture(int(GL.GL_TEXTURE0) + TEXTURE_UNITS["u_sun_shadow"])
+        GL.glBindTexture(GL.GL_TEXTURE_2D, self._shadow_tex)
+        GL.glActiveTexture(GL.GL_TEXTURE0)
+        self._set_waters(u_shadow_matrix=_mat(planes @ view_matrix(camera)))
 
     def _draw_lamps(self, camera, rect, view_proj, eye) -> None:
         from usvsim.rendering.lights import LightPass
@@ -483,8 +514,8 @@ class MarinePass:
             if extra is not None:
                 extra.release()
         grids = [obj for entry in self._grids.values() for obj in (entry[:2] + entry[3:])]
-        grids += list(self._plain_vaos.values()) + [v for pair in self._rain_vaos.values() for v in pair]
-        grids += list(self._rain or ())
+        grids += list(self._plain_vaos.values()) + [v for pair in self._variant_vaos.values() for v in pair]
+        grids += [p for key, pair in self._variants.items() if key != (False, False) for p in pair]
         self._release_depth()
         for obj in (
             self._geo,
@@ -502,13 +533,9 @@ class MarinePass:
                 obj.release()
 
 
-def camera_matrices(camera, width: int, height: int) -> tuple[np.ndarray, np.ndarray, float, float]:
-    """World → clip matrix (4, 4) of MuJoCo's reversed-Z projection for a GL camera; eye; near; far."""
+def view_matrix(camera) -> np.ndarray:
+    """World → eye matrix (4, 4) of a GL camera (mujoco.MjvGLCamera): x right, y up, looking along -z."""
     eye, fwd, up = (np.array(v, dtype=np.float64) for v in (camera.pos, camera.forward, camera.up))
-    n, f = float(camera.frustum_near), float(camera.frustum_far)
-    top, bottom = float(camera.frustum_top), float(camera.frustum_bottom)
-    half_w = float(camera.frustum_width) or 0.5 * (top - bottom) * width / height
-    left, right = camera.frustum_center - half_w, camera.frustum_center + half_w
     fwd /= np.linalg.norm(fwd)
     right_axis = np.cross(fwd, up)
     right_axis /= np.linalg.norm(right_axis)
@@ -516,6 +543,17 @@ def camera_matrices(camera, width: int, height: int) -> tuple[np.ndarray, np.nda
     view = np.eye(4)
     view[0, :3], view[1, :3], view[2, :3] = right_axis, up_axis, -fwd
     view[:3, 3] = -view[:3, :3] @ eye
+    return view
+
+
+def camera_matrices(camera, width: int, height: int) -> tuple[np.ndarray, np.ndarray, float, float]:
+    """World → clip matrix (4, 4) of MuJoCo's reversed-Z projection for a GL camera; eye; near; far."""
+    eye = np.array(camera.pos, dtype=np.float64)
+    n, f = float(camera.frustum_near), float(camera.frustum_far)
+    top, bottom = float(camera.frustum_top), float(camera.frustum_bottom)
+    half_w = float(camera.frustum_width) or 0.5 * (top - bottom) * width / height
+    left, right = camera.frustum_center - half_w, camera.frustum_center + half_w
+    view = view_matrix(camera)
     proj = np.zeros((4, 4))
     proj[0, 0], proj[0, 2] = 2 * n / (right - left), (right + left) / (right - left)
     proj[1, 1], proj[1, 2] = 2 * n / (top - bottom), (top + bottom) / (top - bottom)

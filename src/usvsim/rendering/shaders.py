@@ -216,6 +216,10 @@ in vec4 v_atm;
 in vec2 v_slope;
 in vec3 v_jac;
 out vec4 f_color;
+#ifdef SUN_SHADOW
+uniform sampler2DShadow u_sun_shadow;  // MuJoCo's shadow map (reversed Z, compare GEQUAL)
+uniform mat4 u_shadow_matrix;  // world → its texture coordinates (marine.MarinePass._use_shadow_map)
+#endif
 #ifdef RAIN
 uniform vec3 u_rain;  // chance that a ring cell holds a drop per cycle (rendering/rain.py), the seed, strength
 const float RING_CELL = 0.2;     // m: a cell holds at most one drop's ring at a time
@@ -314,14 +318,17 @@ void main() {
     float nh2 = max(nh * nh, 1e-4), nh4 = max(nh2 * nh2, 1e-8);
     float t2 = (1.0 - nh2) / nh2;
     float lobe = exp(-t2 / (rough * rough)) / (3.1416 * rough * rough * nh4);
-    vec2 marks = vec2(0.0);  // wake foam, shadow of geoms (the top-down texture of rendering/wakes.py)
+    float wake = 0.0;  // wake foam (the top-down texture of rendering/wakes.py)
 #ifdef MARKS
     if (u_wake_region.w > 0.0) {
         vec2 uv = (v_label - u_wake_region.xy) / u_wake_region.z;
-        if (all(greaterThan(uv, vec2(0.0))) && all(lessThan(uv, vec2(1.0)))) marks = texture(u_wake, uv).rg;
+        if (all(greaterThan(uv, vec2(0.0))) && all(lessThan(uv, vec2(1.0)))) wake = texture(u_wake, uv).r;
     }
 #endif
-    float lit = 1.0 - 0.92 * marks.y;  // in a geom's shadow: no direct sun
+    float lit = 1.0;  // in a geom's shadow: no direct sun
+#ifdef SUN_SHADOW  // MuJoCo's shadow map of the sun (the geoms' meshes as drawn), at the surface point itself
+    lit = 1.0 - 0.92 * (1.0 - textureProj(u_sun_shadow, u_shadow_matrix * vec4(v_world, 1.0)));
+#endif
     vec3 glint = u_sun_color * u_look.y * fresnel * lobe * 0.25 * step(0.0, u_sun_dir.z) * lit;
     // body colour: sky and sun light scattered back from inside, brighter through thin crests toward the sun
     float scatter = 0.5 + 0.5 * max(dot(-v.xy, u_sun_dir.xy), 0.0) * clamp(1.0 - cos_v, 0.0, 1.0);
@@ -352,8 +359,8 @@ void main() {
         contact *= pierce;
     }
 #ifdef MARKS
-    if (marks.x > 0.0)
-        contact = max(contact, marks.x * smoothstep(0.15, 0.65, 0.5 * noise(v_label * 0.9) + 0.5 * grain));
+    if (wake > 0.0)
+        contact = max(contact, wake * smoothstep(0.15, 0.65, 0.5 * noise(v_label * 0.9) + 0.5 * grain));
 #endif
     float foam = clamp(u_look.x * max(whitecap, contact), 0.0, 1.0);
     vec3 foam_light = vec3(0.85) * (u_ambient * 2.5 + u_sun_color * max(u_sun_dir.z, 0.0) * lit);
@@ -367,13 +374,17 @@ void main() {
 """
 )
 
-# The water with the wakes' and shadows' texture (u_wake) compiled in, for the triangles whose labels can fall in its
+# The water with the wakes' texture (u_wake) compiled in, for the triangles whose labels can fall in its
 # region; WATER_FS (no MARKS) for the others. llvmpipe runs an `if` body for every pixel whatever the condition
 # (its shaders are SIMD over a 4 x 4 block, with no branch on a uniform), so code left out is the only code skipped.
 WATER_MARKS_FS = WATER_FS.replace("#version 330\n", "#version 330\n#define MARKS\n", 1)
-# Rain on: the same two with the rings of the drops compiled in (rain off draws the programs above: no cost)
-WATER_RAIN_FS = WATER_FS.replace("#version 330\n", "#version 330\n#define RAIN\n", 1)
-WATER_MARKS_RAIN_FS = WATER_MARKS_FS.replace("#version 330\n", "#version 330\n#define RAIN\n", 1)
+
+
+def water_fs(marks: bool, rain: bool = False, sun_shadow: bool = False) -> str:
+    """WATER_FS with optional parts compiled in: the wakes' and shadows' texture (MARKS), the rings of raindrops
+    (RAIN), MuJoCo's shadow map of the sun (SUN_SHADOW). Without them the programs run none of their code."""
+    defines = "".join(f"#define {name}\n" for name, on in (("MARKS", marks), ("RAIN", rain), ("SUN_SHADOW", sun_shadow)) if on)
+    return WATER_FS.replace("#version 330\n", "#version 330\n" + defines, 1)
 
 LABEL_FS = """
 #version 330

@@ -149,44 +149,26 @@ void main() {
 )
 
 
-SHADOW_VS = """
-#version 330
-uniform vec3 u_region;
-in vec2 in_xy;
-void main() { gl_Position = vec4((in_xy - u_region.xy) / u_region.z * 2.0 - 1.0, 0.0, 1.0); }
-"""
-SHADOW_FS = """
-#version 330
-out vec4 f_color;
-void main() { f_color = vec4(0.0, 1.0, 0.0, 1.0); }
-"""
-
-
 class WakePass:
     """The foam texture of the wakes (R, 0..1) and where it lies (x0, y0, side in m), on the marine context."""
 
     def __init__(self, ctx):
         self.ctx = ctx
         self.prog = ctx.program(vertex_shader=VS, fragment_shader=FS)
-        self.texture = ctx.texture((TEXELS, TEXELS), 2, dtype="f1")  # R: wake foam, G: shadow (rendering/shadows.py)
+        self.texture = ctx.texture((TEXELS, TEXELS), 2, dtype="f1")  # R: wake foam (G: unused, cleared)
         self.texture.repeat_x = self.texture.repeat_y = False
         self.fbo = ctx.framebuffer(color_attachments=[self.texture])
         self.buffer = ctx.buffer(reserve=6 * 4 * 1024)
         self.vao = ctx.vertex_array(self.prog, [(self.buffer, "2f 1f 1f 1f 1f", "in_xy", "in_across", "in_age",
                                                  "in_speed", "in_half")])  # fmt: skip
-        self.shadow_prog = ctx.program(vertex_shader=SHADOW_VS, fragment_shader=SHADOW_FS)
-        self.shadow_buffer = ctx.buffer(reserve=2 * 4 * 1024)
-        self.shadow_vao = ctx.vertex_array(self.shadow_prog, [(self.shadow_buffer, "2f", "in_xy")])
         self.region = (0.0, 0.0, 1.0)
         self.extent = (0.0, 0.0, 0.0, 0.0)  # x0, y0, x1, y1 (m): where the texture is not zero (the rest is clear)
 
-    def draw(self, tris: np.ndarray, shadows: np.ndarray | None = None) -> bool:
-        """Render the ribbons (R) and the shadow triangles (G, `shadows` (n, 2)); False (and nothing drawn)
-        when there is neither."""
-        shadows = np.zeros((0, 2), np.float32) if shadows is None else shadows
-        if not len(tris) and not len(shadows):
+    def draw(self, tris: np.ndarray) -> bool:
+        """Render the ribbons (R); False (and nothing drawn) when there are none."""
+        if not len(tris):
             return False
-        xy = np.concatenate([tris[:, :2], shadows]) if len(tris) else shadows
+        xy = tris[:, :2]
         lo, hi = xy.min(axis=0), xy.max(axis=0)
         side = float(min(max(hi[0] - lo[0], hi[1] - lo[1], 32.0) + 4.0, MAX_REGION_M))
         centre = 0.5 * (lo + hi)
@@ -198,7 +180,7 @@ class WakePass:
             self.buffer.orphan(len(data))
         if len(data):
             self.buffer.write(data)
-        self.prog["u_region"].value = self.shadow_prog["u_region"].value = self.region
+        self.prog["u_region"].value = self.region
         from OpenGL import GL
 
         ctx = self.ctx
@@ -210,14 +192,7 @@ class WakePass:
         ctx.enable(ctx.BLEND)
         ctx.blend_equation = 0x8008  # GL_MAX: overlapping segments do not add up
         ctx.blend_func = ctx.ONE, ctx.ONE
-        if len(tris):
-            self.vao.render(vertices=len(tris))
-        if len(shadows):
-            sdata = np.ascontiguousarray(shadows, np.float32).tobytes()
-            if len(sdata) > self.shadow_buffer.size:
-                self.shadow_buffer.orphan(len(sdata))
-            self.shadow_buffer.write(sdata)
-            self.shadow_vao.render(vertices=len(shadows))
+        self.vao.render(vertices=len(tris))
         ctx.blend_equation = 0x8006  # GL_FUNC_ADD
         ctx.disable(ctx.BLEND)
         GL.glBindFramebuffer(GL.GL_FRAMEBUFFER, bound)
@@ -225,6 +200,5 @@ class WakePass:
         return True
 
     def release(self) -> None:
-        for obj in (self.vao, self.buffer, self.shadow_vao, self.shadow_buffer, self.shadow_prog, self.fbo,
-                    self.texture, self.prog):  # fmt: skip
+        for obj in (self.vao, self.buffer, self.fbo, self.texture, self.prog):
             obj.release()

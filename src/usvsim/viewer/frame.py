@@ -83,13 +83,17 @@ class FrameRenderer:
         if marine is not None and marine.daylight is not None:
             from usvsim.rendering.frame import apply_lights
 
-            apply_lights(self.scene, marine.daylight, marine.materials)
+            apply_lights(self.scene, marine.daylight, marine.materials, marine.center_xy,
+                         float(self.scene.camera[0].frustum_far))
         from usvsim.rendering.frame import begin_geoms, end_geoms
 
         shaded = begin_geoms(marine, self.scene, bool(self.scene.flags[mujoco.mjtRndFlag.mjRND_SHADOW]))
         mujoco.mjr_render(viewport, self.scene, self.context)
         if shaded:
             end_geoms(marine)
+        from usvsim.rendering.frame import sun_shadow_map
+
+        sun_shadow_map(marine, self.scene, self.context)
         if marine is not None:
             marine.draw(self.scene.camera[0], viewport, time_s=sim.time)
         if inset is not None:

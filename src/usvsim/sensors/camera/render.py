@@ -164,7 +164,7 @@ class PinholeRenderer:
         if self.marine is not None and self.marine.daylight is not None:
             from usvsim.rendering.frame import apply_lights
 
-            apply_lights(self.scene, self.marine.daylight, self.marine.materials)
+            apply_lights(self.scene, self.marine.daylight, self.marine.materials, self.marine.center_xy, self.far)
         c, n = self.cam, self.near
         self._up_optical = np.ascontiguousarray(rot_optical[2], dtype=np.float64)  # world z in the optical frame
         left, right = -(c.cx + 0.5) * n / c.fx, (c.width - c.cx - 0.5) * n / c.fx
@@ -189,6 +189,10 @@ class PinholeRenderer:
         mujoco.mjr_render(self.rect, self.scene, self.ctx)
         if shaded:
             end_geoms(self.marine)
+        if not segment:
+            from usvsim.rendering.frame import sun_shadow_map
+
+            sun_shadow_map(self.marine, self.scene, self.ctx)
         if self.marine is not None and (water_label_pass or not segment):
             from usvsim.rendering.frame import id_color
 
