@@ -61,8 +61,12 @@ class TestEndpoint:
         threading.Thread(target=self._accept_loop, daemon=True).start()
 
     # -- test API ---------------------------------------------------------------------------------
-    def send(self, data: bytes) -> None:
-        """Raw bytes to the most recent client."""
+    def send(self, data: bytes, wait_s: float = 30.0) -> None:
+        """Raw bytes to the most recent client. Waits (up to `wait_s`) for the first one to be accepted: a
+        client's connect() completes from the listen backlog, possibly before the accept thread has run."""
+        deadline = time.monotonic() + wait_s
+        while self._client is None and time.monotonic() < deadline:
+            time.sleep(0.005)
         with self._send_lock:
             if self._client is not None:
                 self._client.sendall(data)
