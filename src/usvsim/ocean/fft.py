@@ -185,11 +185,16 @@ class FFTWaveField(WaveField):
     will bring in is started on a worker thread (`core.overlap`; the spectra kernel and scipy's FFT release the
     GIL), so a steadily advancing simulation finds it made and only copies it in; its velocity tiles too where
     the velocity ring snapshots the band at the same times. The same kernels on the same inputs: the sea is
-    bit-identical with or without it (`AHEAD = False`), whatever the timing; the main thread waits where the
-    worker is not done. It moves CPU time to the second core (less wall time per step, the same CPU time)."""
+    bit-identical with or without it (`AHEAD`), whatever the timing; the main thread waits where the worker is
+    not done. It moves CPU time to the second core (less wall time per step where that core is free, a little
+    more CPU time); off by default (see `AHEAD`)."""
 
     CELLS_PER_WAVELENGTH = 8  # a band hands its waves to the next band below this many cells per wavelength
-    AHEAD = True  # make geometry snapshots ahead on a worker thread (only with time interpolation, >= 2 cores)
+    # Make geometry snapshots ahead on a worker thread (only with time interpolation, >= 2 cores). Off unless
+    # USVSIM_FFT_AHEAD=1: it lowers the wall time per step only where a core is free (harbor SS4 at load 2.1:
+    # 95.6 vs 112.5 us) and cost 3-20 us wall and 4-7 us CPU per step at loads 2.6-4.2 on the 2-core machine
+    # (docs/seas.md), as in RL or batch runs with a process per core.
+    AHEAD = os.environ.get("USVSIM_FFT_AHEAD", "0") == "1"
     SPARSE = 0.25  # a band with an amplitude in fewer than this fraction of its pairs loops over those only
     # (SS4 cascade: 5 % in the long bands, 28 -> 6 us per snapshot; the fine band, 97 %, is faster with the full pass)
 
@@ -412,8 +417,8 @@ class FFTWaveField(WaveField):
         if not ready or shared:  # pause, twice as long as last time while it lasts (a loaded machine stays loaded)
             self._ahead_backoff[b] = min(2 * self._ahead_backoff[b], self.AHEAD_PAUSE_MAX)
             self._ahead_pause[b] = self._ahead_backoff[b]
-        else:
-            self._ahead_backoff[b] = self.AHEAD_PAUSE // 2
+        else:  # in time on a core of its own: halve the next pause (a doubling is undone by one success only)
+            self._ahead_backoff[b] = max(self._ahead_backoff[b] // 2, self.AHEAD_PAUSE // 2)
         assert self._ahead_bufs is not None
         out[:] = self._ahead_bufs[0][job[1], b]
         if job[2]:
