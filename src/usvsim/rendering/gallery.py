@@ -34,12 +34,20 @@ LOOKS = {  # name: (sea state, look, view: "viewer" or "camera")
         "camera",
     ),  # fmt: skip
     "shallow_clear": (0, {"sun": {"azimuth_deg": 110.0, "elevation_deg": 55.0}, "water": {"clarity_m": 6.0}}, "shore"),
+    "rain_rings": (
+        1,
+        {"sun": {"azimuth_deg": 250.0, "elevation_deg": 30.0, "intensity": 0.8}, "sky": {"turbidity": 6.0},
+         "fog": {"visibility_m": 2000.0}, "rain": {"rate_mm_h": 5.0}},
+        "camera",
+    ),  # fmt: skip
+    "motion_blur": (3, {"sun": {"azimuth_deg": 200.0, "elevation_deg": 25.0}, "camera": {"motion_blur_ms": 60.0}}, "camera"),
 }
 SHORE = {  # "shore" views: harbor_geo's origin moved onto its western shore (m east), kept extent (m), viewer pose
     "shallow_clear": (-1150.0, 400.0, ((-20.0, -2.0, 0.0), 40.0, 190.0, -45.0)),
 }
 UNDER_WAY = {  # looks drawn with the WAM-V under way: thrust, seconds, start pose (open water west of the buoys)
     "wake": (1.0, 12.0, {"position": [8.0, -30.0, 0.0], "yaw_deg": 180.0}),
+    "motion_blur": (1.0, 8.0, {"position": [-5.0, -45.0, 0.0], "yaw_deg": 90.0}),  # north, toward the buoys
 }
 
 

@@ -9,7 +9,7 @@ than 2 mm (Marshall–Palmer drop sizes N(D) = 8000 e^(-ΛD) per m³ per mm, Λ 
 fall speed v = 3.78 D^0.67 m/s, Atlas & Ulbrich 1977) over the most the cells can hold (1 / (0.2² · 0.4) =
 62.5 per m² per s): 2.5 mm/h: 18 per m² per s (chance 0.29), 5 mm/h: 53 (0.84), 10 mm/h: 136 (1: saturated). The rings change the
 normals only (RGB): the surface that depth and labels hold, and the physics, never see them. They fade out where a
-pixel is wider than about three ring widths (~5 m away from a VGA camera), as the eye loses them too.
+pixel grows from one to three ring widths (5-14 m away from a VGA camera), as the eye loses them too.
 """
 
 from __future__ import annotations
