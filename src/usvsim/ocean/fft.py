@@ -258,7 +258,8 @@ class FFTWaveField(WaveField):
         self._node_heights = np.zeros((len(self.sizes), self.n, self.n))  # see node_cache
         self._node_stamp = np.zeros((len(self.sizes), self.n, self.n), np.int64)
         self._node_key, self._node_now = None, 0
-        self._scratch: dict[str, np.ndarray] = {}  # see scratch
+        self._scratch: dict[tuple[str, int], np.ndarray] = {}  # see scratch
+        self._updated: tuple[float, object] = (math.nan, None)  # see update: its last time and the ring's key then
         self.geometry = self._ring(
             time_tolerance, (0, 1), 2 if self.choppiness else 1, self._geometry_snapshot
         )
@@ -509,16 +510,24 @@ class FFTWaveField(WaveField):
 
     def scratch(self, kind: str, n: int) -> np.ndarray:
         """A float64 scratch array kept between calls for n points: "bands" (n, bands), per-band heights of the
-        cached kernels, or "coords" (3, n). (Made per call, a fleet's arrays would cost page faults every step.)"""
-        shape = (n, len(self.sizes)) if kind == "bands" else (3, n)
-        array = self._scratch.get(kind)
-        if array is None or array.shape != shape:
-            array = self._scratch[kind] = np.empty(shape)
+        cached kernels, or "coords" (3, n). (Made per call, a fleet's arrays would cost page faults every step.)
+        Kept per (kind, n): a step asks for the hull's vertices and for the bodies' centres of mass (one array per
+        kind made them both anew twice a step)."""
+        array = self._scratch.get((kind, n))
+        if array is None:
+            if len(self._scratch) >= 8:  # callers of many sizes: start over
+                self._scratch.clear()
+            array = self._scratch[(kind, n)] = np.empty((n, len(self.sizes)) if kind == "bands" else (3, n))
         return array
 
     def update(self, t: float) -> np.ndarray:
         """Make the geometry snapshots around time t (s) present; returns the blend weights (ramp included)."""
-        return self.geometry.prepare(float(t), self.ramp(t))
+        t = float(t)
+        if t == self._updated[0] and self.geometry._key is self._updated[1]:  # this time's, not re-prepared since
+            return self.geometry.weights
+        weights = self.geometry.prepare(t, self.ramp(t))
+        self._updated = (t, self.geometry._key)
+        return weights
 
     def update_kinematics(self, t: float) -> None:
         """Make the velocity and acceleration snapshots around time t present (only `kinematics` needs them)."""

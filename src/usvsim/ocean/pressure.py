@@ -191,12 +191,16 @@ _HEIGHT_DECAY: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
 
 def height_decay_wavenumbers(waves: FFTWaveField) -> np.ndarray:
     """Per band, the mean k (rad/m) weighted by height variance |c|²: the band's pressure decay rate."""
+    kept = waves.__dict__.get("_height_decay_k")  # (read every wavy step: an attribute, not a weak-dict lookup)
+    if kept is not None:
+        return kept
     if waves not in _HEIGHT_DECAY:
         weight = np.abs(waves._amp) ** 2
         k = waves._omega**2 / G
         total = weight.sum(axis=(1, 2))
         safe = np.where(total > 0, total, 1.0)
         _HEIGHT_DECAY[waves] = np.ascontiguousarray(np.where(total > 0, (weight * k).sum(axis=(1, 2)) / safe, 0.0))
+    waves.__dict__["_height_decay_k"] = _HEIGHT_DECAY[waves]
     return _HEIGHT_DECAY[waves]
 
 

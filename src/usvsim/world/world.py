@@ -146,6 +146,7 @@ class World:
         fk = [i for i, b in enumerate(buoyancy) if getattr(b, "wave_pressure", "") == "froude_krylov"]
         self._fk_vertices = np.isin(self.hulls.vert_body, fk) & self._direct_vertices  # Froude–Krylov heads
         self._fk_all, self._head = bool(self._fk_vertices.all()), np.zeros(len(self.hulls.vertices_body))
+        self._fk_any = bool(self._fk_vertices.any())
         self._eta = np.zeros(len(self.hulls.vertices_body))  # surface heights of the one-call FFT path
         hydro = [v.hydrodynamics or fb.model.drag for v, fb in zip(vessels, floating)]
         hydro += [fb.model.drag for fb in floating[len(vessels) :]]
@@ -269,7 +270,7 @@ class World:
         Froude–Krylov (ocean/pressure.py) at the vertices of bodies that use it, the column eta - z at the others;
         NO_HEAD (all hydrostatic) in calm water or when no body uses it."""
         fk = self._fk_vertices
-        if self.ocean.waves is None or not fk.any():
+        if self.ocean.waves is None or not self._fk_any:
             return self._water_heights(verts, t), NO_HEAD
         level, head = self.ocean.level_m, self._head
         if self._fk_all:  # the common case: every vertex (no masks, no copies)
