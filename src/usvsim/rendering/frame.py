@@ -17,14 +17,16 @@ WATER_GROUP = 2  # MuJoCo's own water (height field, still-water plane): hidden 
 
 def prepare(marine, sim, center_xy) -> Daylight:
     """Upload the ocean at `sim.time` and set the light of `sim.look`; returns the frame's daylight."""
+    light = prepare_light(marine, sim, center_xy)
+    prepare_sea(marine, sim, center_xy)
+    return light
+
+
+def prepare_light(marine, sim, center_xy) -> Daylight:
+    """The daylight of `sim.look`, the geoms' materials and the navigation lights: what MuJoCo's geom pass needs
+    (`center_xy`: where the frame is centred, for the sun's shadow map)."""
     origin = sim.scenario.world.origin
     light = daylight(sim.look, origin.latitude_deg, origin.longitude_deg)
-    detail, whitecap = sea_extras(marine.sea_cache, sim.ocean, sim.look)
-    marine.mip_ratio = marine.sea_cache["mip_ratio"] if detail is not None or whitecap != float("inf") else None
-    marine.upload(surface_data(sim.ocean, sim.time, center_xy, detail, whitecap))
-    marine.set_light(light, sim.look, sim.ocean.level_m)
-    marine.set_rain(sim.look.rain.rate_mm_h, sim.seed)
-    marine.restore()  # setting uniforms binds programs: MuJoCo's fixed-function pipeline needs none bound
     marine.daylight = light
     marine.center_xy = (float(center_xy[0]), float(center_xy[1]))
     marine.lamps = lamps(marine.sea_cache, sim, light)
@@ -36,9 +38,21 @@ def prepare(marine, sim, center_xy) -> Daylight:
             marine.sea_cache["materials_model"] = sim.model
             marine.sea_cache["materials"] = Materials(sim.model, list(sim.vessels), list(sim.bodies))
         marine.materials = marine.sea_cache["materials"]
+    return light
+
+
+def prepare_sea(marine, sim, center_xy) -> None:
+    """After `prepare_light`: upload the ocean at `sim.time`, set the light's uniforms and the wakes. Nothing in it
+    needs MuJoCo's pass, so the viewer runs it while llvmpipe draws the geoms."""
+    light = marine.daylight
+    detail, whitecap = sea_extras(marine.sea_cache, sim.ocean, sim.look)
+    marine.mip_ratio = marine.sea_cache["mip_ratio"] if detail is not None or whitecap != float("inf") else None
+    marine.upload(surface_data(sim.ocean, sim.time, center_xy, detail, whitecap))
+    marine.set_light(light, sim.look, sim.ocean.level_m)
+    marine.set_rain(sim.look.rain.rate_mm_h, sim.seed)
+    marine.restore()  # setting uniforms binds programs: MuJoCo's fixed-function pipeline needs none bound
     tracks = getattr(sim, "wakes", None)
     marine.wake = tracks.ribbons(sim.time, sim.look.water.wake_s) if tracks is not None else None
-    return light
 
 
 def lamps(cache: dict, sim, light: Daylight):

@@ -263,10 +263,10 @@ class LightPass:
         GL.glDepthMask(GL.GL_FALSE)
         ctx.enable(ctx.BLEND)
         ctx.blend_func = ctx.ONE, ctx.ONE
-        # reflections: on the water (stencil 1 from the water pass), whatever the depth
+        # reflections: on the water (stencil bit 1 from the water pass, marine.WATER_BIT), whatever the depth
         ctx.disable(ctx.DEPTH_TEST)
         GL.glEnable(GL.GL_STENCIL_TEST)
-        GL.glStencilFunc(GL.GL_EQUAL, 1, 0xFF)
+        GL.glStencilFunc(GL.GL_EQUAL, 1, 1)
         GL.glStencilOp(GL.GL_KEEP, GL.GL_KEEP, GL.GL_KEEP)
         self.prog["u_reflect"].value = 1
         self.vao.render(mode=0, vertices=len(lamps))

@@ -38,6 +38,7 @@ FEEDBACK = ("v_world", "v_label", "v_spacing", "v_atm", "v_slope", "v_jac")  # p
 FEEDBACK_BYTES = 60
 POINTS = 0x0000
 PIERCE_TAPS = 8  # depth samples around a waterline pixel (WATER_FS: does the geom pierce the surface nearby?)
+WATER_BIT, GEOM_BIT = 1, 2  # stencil: the water is the nearest surface drawn here; a geom was drawn here (fog pass)
 
 
 class MarinePass:
@@ -65,11 +66,14 @@ class MarinePass:
         self.plain = _bind_samplers(
             ctx.program(vertex_shader=shaders.WATER_DRAW_VS, fragment_shader=shaders.WATER_FS)
         )
-        self._waters = (self.water, self.plain)  # every water program made (the rain's too, once made)
+        self.full = _bind_samplers(  # marks and the geoms' depth: where a geom lies behind the water (see _water)
+            ctx.program(vertex_shader=shaders.WATER_DRAW_VS, fragment_shader=shaders.water_fs(True, geom=True))
+        )
+        self._waters = (self.water, self.plain, self.full)  # every water program made (the rain's too, once made)
         self._water_uniforms: dict = {}  # their uniforms' last values (a program made later gets them all)
         # the water's programs with optional parts compiled in (shaders.water_fs): (rain rings, the sun's shadow map)
-        # → (with marks, plain), made on first use; (False, False) is (self.water, self.plain)
-        self._variants: dict[tuple[bool, bool], tuple] = {(False, False): (self.water, self.plain)}
+        # → (with marks, plain, over geoms), made on first use; (False, False) is (self.water, self.plain, self.full)
+        self._variants: dict[tuple[bool, bool], tuple] = {(False, False): (self.water, self.plain, self.full)}
         self._variant_vaos: dict[tuple, tuple] = {}  # (width, height, rain, shadow) → their vertex arrays
         self._raining = False  # this frame draws the programs with the rain's rings
         self._shadow_tex: int | None = None  # MuJoCo's shadow map of the sun this frame (GL texture), or none
@@ -85,6 +89,7 @@ class MarinePass:
         self._grid_rows: dict[tuple[int, int], np.ndarray] = {}  # viewport size → NDC of each row's end vertices
         self._grid_ndc: dict[tuple[int, int], np.ndarray] = {}  # viewport size → NDC of the vertices (rows, cols, 2)
         self._plain_vaos: dict[tuple[int, int], moderngl.VertexArray] = {}  # viewport size → water without marks
+        self._full_vaos: dict[tuple[int, int], moderngl.VertexArray] = {}  # viewport size → water with the depth
         self._region = (0.0, 0.0, 1.0, 0.0)  # the wakes' texture region this frame (w = 0: none)
         self._extent = (0.0, 0.0, 0.0, 0.0)  # x0, y0, x1, y1 (m) of its texels that are not clear
         self._marks = np.zeros((0, 2), np.int64)  # runs of quads whose labels can fall in that region
@@ -93,7 +98,7 @@ class MarinePass:
         self._geo: moderngl.TextureArray | None = None
         self._slope: moderngl.TextureArray | None = None
         self._depth = self._periodic = None
-        self._sky = ctx.texture((SKY_TEXELS, SKY_TEXELS), 3, dtype="f4")
+        self._sky = ctx.texture((SKY_TEXELS, SKY_TEXELS), 4, dtype="f4")  # RGB + 1: llvmpipe fetches 16-byte texels faster
         self._sky.repeat_x = self._sky.repeat_y = False
         noise = foam_noise()  # fixed: same bytes every run
         self._noise = ctx.texture((64, 64), 1, noise.tobytes(), dtype="f4")
@@ -117,9 +122,10 @@ class MarinePass:
             vbo, ibo = ctx.buffer(vertices.tobytes()), ctx.buffer(indices.tobytes())
             out = ctx.buffer(reserve=len(vertices) * FEEDBACK_BYTES)  # the displaced vertices, once per frame
             feedback = ctx.vertex_array(self.surface, [(vbo, "2f", "in_ndc")])
-            water, plain = (ctx.vertex_array(prog, [(out, "3f 2f 1f 4f 2f 3f", *(f"in_{v[2:]}" for v in FEEDBACK))],
-                                             index_buffer=ibo, index_element_size=4) for prog in (self.water, self.plain))  # fmt: skip
-            self._plain_vaos[(width, height)] = plain
+            water, plain, full = (ctx.vertex_array(prog, [(out, "3f 2f 1f 4f 2f 3f", *(f"in_{v[2:]}" for v in FEEDBACK))],
+                                  index_buffer=ibo, index_element_size=4)
+                                  for prog in (self.water, self.plain, self.full))  # fmt: skip
+            self._plain_vaos[(width, height)], self._full_vaos[(width, height)] = plain, full
             label = ctx.vertex_array(self.label, [(out, f"3f {FEEDBACK_BYTES - 12}x", "in_world")],
                                      index_buffer=ibo, index_element_size=4)  # fmt: skip
             self._grids[(width, height)] = (water, label, cell, feedback, out, vbo, ibo)
@@ -195,10 +201,12 @@ class MarinePass:
         self._key, self._data = data.key, data
         surface = (data.height_scale, data.displacement_scale, data.level_m, float(n))
         self._surface_key = None
-        tiles = {"u_tile": tuple(data.tiles_m) + (1.0,) * (5 - len(data.tiles_m)), "u_bands": bands,
-                 "u_detail": data.detail, "u_surface": surface, "u_patch": (*data.patch, 0.0)}  # fmt: skip
+        tiles = tuple(data.tiles_m) + (1.0,) * (5 - len(data.tiles_m))
+        tile_fs = (tiles[max(bands - data.detail - 1, 0)], tiles[bands - 1])  # WATER_FS: the bands it reads per pixel
+        tiles = {"u_tile": tiles, "u_bands": bands, "u_detail": data.detail, "u_surface": surface,
+                 "u_patch": (*data.patch, 0.0)}  # fmt: skip
         _set(self.surface, **tiles)
-        self._set_waters(**tiles)
+        self._set_waters(u_tile_fs=tile_fs, **tiles)
         self._whitecap_slope = min(data.whitecap_slope, 1e6)
 
     def set_light(self, light: Daylight, look, level_m: float) -> None:
@@ -222,9 +230,8 @@ class MarinePass:
             look.haze.visibility_m,
         )
         if sky_key != self._sky_key:
-            self._sky.write(
-                hazy_sky_table(light, 3.912 / look.haze.visibility_m * HAZE_HEIGHT_M, SKY_TEXELS).tobytes()
-            )
+            table = hazy_sky_table(light, 3.912 / look.haze.visibility_m * HAZE_HEIGHT_M, SKY_TEXELS)
+            self._sky.write(np.concatenate([table, np.ones((*table.shape[:2], 1), np.float32)], axis=2).tobytes())
             self._sky_key = sky_key
         self._surface_key = None
         self._look = (look.water.foam, look.water.glint, FOAM_CHOPPINESS)
@@ -248,11 +255,11 @@ class MarinePass:
         self._shadow_tex = texture
 
     def _programs(self, rain: bool, shadow: bool) -> tuple:
-        """(with marks, plain) water programs with the rain's rings and/or the sun's shadow map compiled in."""
+        """(with marks, plain, over geoms) water programs with the rain's rings and/or the sun's shadow map."""
         if (rain, shadow) not in self._variants:
             made = tuple(_bind_samplers(self.ctx.program(vertex_shader=shaders.WATER_DRAW_VS,
-                                                         fragment_shader=shaders.water_fs(marks, rain, shadow)))
-                         for marks in (True, False))  # fmt: skip
+                                                         fragment_shader=shaders.water_fs(marks, rain, shadow, geom)))
+                         for marks, geom in ((True, False), (False, False), (True, True)))  # fmt: skip
             for prog in made:
                 _set(prog, **self._water_uniforms)
             self._variants[(rain, shadow)] = made
@@ -286,6 +293,17 @@ class MarinePass:
             "u_inv_view_proj": inv,
             "u_cell": (cell_tan, FAR_M),
         }
+        size = (rect.width, rect.height)
+        if labels is None:  # the work that needs no pixels first: llvmpipe may still be drawing the geoms
+            self._draw_wakes()
+            self._marks = self._marks_runs(size, view_proj, eye)
+            for prog in (self.sky, self.fog):
+                _set(prog, u_cam=tuple(eye), u_inv_view_proj=inv, u_forward=_forward(camera))
+            _set(self.fog, u_near_far=(near, far), u_viewport=viewport[:2])
+            self._set_waters(u_near_far=(near, far), u_viewport=viewport[:2], u_look=(*self._look, time_s),
+                             u_pixel=pixel_tan, u_sea=(self._short_waves, self._whitecap_slope),
+                             u_mip_ratio=self.mip_ratio or (1.0,) * 8, **grid)  # fmt: skip
+            self._copy_depth(fbo, viewport)  # waits for the geoms
         self.bind_textures()
         key = (grid["u_inv_view_proj"], grid["u_cell"], self._key, viewport)
         if key != self._surface_key:  # the label pass of the same view reuses the colour pass's surface
@@ -293,35 +311,30 @@ class MarinePass:
             for prog in (self.sky, self.fog, self.surface):
                 _set(prog, u_at_eye=at_eye)
             _set(self.surface, **grid)
-            first, count = self._rows = self._visible_rows((rect.width, rect.height), view_proj, eye)
-            columns = self._columns[(rect.width, rect.height)]
-            if count > 1:
+            first, count = self._rows = self._visible_rows(size, view_proj, eye)
+            columns = self._columns[size]
+            if count > 1:  # (llvmpipe waits for the pixels drawn before a transform feedback: after the depth copy)
                 feedback.transform(out, mode=POINTS, vertices=count * columns, first=first * columns,
                                    buffer_offset=first * columns * FEEDBACK_BYTES)  # fmt: skip
             self._surface_key = key
         if labels is not None:
             _set(self.label, u_id_color=labels, **grid)
-            self._water(label_vao, stencil=False, blend=False, columns=self._columns[(rect.width, rect.height)])
+            self._water(label_vao, stencil=False, blend=False, columns=self._columns[size])
         else:
-            self._draw_wakes()
-            self._copy_depth(fbo, viewport)
-            for prog in (self.sky, self.fog):
-                _set(prog, u_cam=tuple(eye), u_inv_view_proj=inv, u_forward=_forward(camera))
-            _set(self.fog, u_near_far=(near, far), u_viewport=viewport[:2])
-            self._set_waters(u_near_far=(near, far), u_viewport=viewport[:2], u_look=(*self._look, time_s),
-                             u_pixel=pixel_tan, u_sea=(self._short_waves, self._whitecap_slope),
-                             u_mip_ratio=self.mip_ratio or (1.0,) * 8, **grid)  # fmt: skip
-            self._marks = self._marks_runs((rect.width, rect.height), view_proj, eye)
-            self._fullscreen(self.fog, "<", blend=True)  # only where a geom was drawn (depth > 0)
+            GL.glStencilMask(0xFF)
             GL.glClear(GL.GL_STENCIL_BUFFER_BIT)
-            marks, plain = water_vao, self._plain_vaos[(rect.width, rect.height)]
+            GL.glEnable(GL.GL_STENCIL_TEST)  # the fog pass marks where a geom was drawn (for the water's programs)
+            GL.glStencilFunc(GL.GL_ALWAYS, GEOM_BIT, GEOM_BIT)
+            GL.glStencilOp(GL.GL_KEEP, GL.GL_KEEP, GL.GL_REPLACE)
+            self._fullscreen(self.fog, "<", blend=True)  # only where a geom was drawn (depth > 0)
+            marks, plain, full = water_vao, self._plain_vaos[size], self._full_vaos[size]
             shadow = self._shadow_tex is not None
             if shadow:
                 self._use_shadow_map(camera)
             if self._raining or shadow:
-                marks, plain = self._variant_arrays(rect.width, rect.height, self._raining, shadow)
-            self._water(marks, stencil=True, blend=True, columns=self._columns[(rect.width, rect.height)],
-                        plain=plain)  # fmt: skip
+                marks, plain, full = self._variant_arrays(rect.width, rect.height, self._raining, shadow)
+            self._water(marks, stencil=True, blend=True, columns=self._columns[size], plain=plain, full=full)
+            GL.glStencilMask(0xFF)
             GL.glStencilFunc(GL.GL_EQUAL, 0, 0xFF)  # the sky where neither geoms nor water were drawn
             GL.glStencilOp(GL.GL_KEEP, GL.GL_KEEP, GL.GL_KEEP)
             low, high = _sky_rows(view_proj, eye, rect.height)  # only rows that can see the sky: llvmpipe pays
@@ -346,6 +359,7 @@ class MarinePass:
         GL.glPixelStorei(GL.GL_PACK_ALIGNMENT, 1)
         GL.glReadPixels(rect.left, rect.bottom, rect.width, rect.height, GL.GL_STENCIL_INDEX, GL.GL_UNSIGNED_BYTE, out)
         GL.glPixelStorei(GL.GL_PACK_ALIGNMENT, self._pixel_store[GL.GL_PACK_ALIGNMENT])
+        np.bitwise_and(out, WATER_BIT, out=out)  # the stencil also marks the geoms (GEOM_BIT)
 
     def _draw_wakes(self) -> None:
         """The wakes' foam texture for the water pass (u_wake_region.w = 0: no wake this frame)."""
@@ -402,9 +416,13 @@ class MarinePass:
         self._lights.prog["u_view_proj"].write(_mat(view_proj))
         self._lights.draw(nav.world(pos, rot, eye, t, intensity), uniforms)
 
-    def _water(self, vao, stencil: bool, blend: bool, columns: int = 0, plain=None) -> None:
+    def _water(self, vao, stencil: bool, blend: bool, columns: int = 0, plain=None, full=None) -> None:
         """Draw the visible rows of the grid with `vao`; with `plain`, the quads that cannot reach the wakes'
-        region with it instead (outside the region both programs compute the same bytes), in the stored order."""
+        region with it instead (outside the region both programs compute the same bytes), in the stored order.
+        `stencil`: mark WATER_BIT where the water passes the depth test. With `full` (the colour pass; the fog pass
+        has marked GEOM_BIT where a geom was drawn), those pixels are drawn by `full` instead, in one call: only
+        there can the water read a geom's depth behind it (hull foam, clear water), and the programs without that
+        code give the same bytes elsewhere. Each pixel sees its fragments in the stored order either way."""
         from OpenGL import GL
 
         ctx = self.ctx
@@ -412,12 +430,11 @@ class MarinePass:
         ctx.depth_func = ">="
         if stencil:
             GL.glEnable(GL.GL_STENCIL_TEST)
-            GL.glStencilFunc(GL.GL_ALWAYS, 1, 0xFF)
             GL.glStencilOp(GL.GL_KEEP, GL.GL_KEEP, GL.GL_REPLACE)
-            GL.glStencilMask(0xFF)
-        if blend:  # over the geoms behind the surface (clear water); alpha 1 where nothing shows through
+            GL.glStencilMask(WATER_BIT)
+        ctx.blend_func = ctx.SRC_ALPHA, ctx.ONE_MINUS_SRC_ALPHA  # over the geoms behind the surface (clear water)
+        if blend and full is None:  # with `full`, only its pixels blend: elsewhere alpha is 1 (nothing behind)
             ctx.enable(ctx.BLEND)
-            ctx.blend_func = ctx.SRC_ALPHA, ctx.ONE_MINUS_SRC_ALPHA
         ctx.enable_direct(GL_DEPTH_CLAMP)
         first, count = self._rows  # vertex rows; the quads between them, 6 indices each, are stored row by row
         if count > 1:
@@ -429,9 +446,16 @@ class MarinePass:
                     runs += [(plain, at, lo), (vao, lo, hi)]
                     at = hi
                 runs.append((plain, at, stop))
+            if stencil:  # no geom behind (or no split: anywhere)
+                GL.glStencilFunc(GL.GL_EQUAL if full is not None else GL.GL_ALWAYS, WATER_BIT, GEOM_BIT)
             for v, lo, hi in runs:
                 if hi > lo:
                     v.render(vertices=(hi - lo) * 6, first=lo * 6)
+            if full is not None:  # a geom behind
+                GL.glStencilFunc(GL.GL_EQUAL, WATER_BIT | GEOM_BIT, GEOM_BIT)
+                if blend:
+                    ctx.enable(ctx.BLEND)
+                full.render(vertices=(stop - start) * 6, first=start * 6)
         ctx.disable_direct(GL_DEPTH_CLAMP)
         ctx.disable(ctx.BLEND)
 
@@ -514,8 +538,9 @@ class MarinePass:
             if extra is not None:
                 extra.release()
         grids = [obj for entry in self._grids.values() for obj in (entry[:2] + entry[3:])]
-        grids += list(self._plain_vaos.values()) + [v for pair in self._variant_vaos.values() for v in pair]
-        grids += [p for key, pair in self._variants.items() if key != (False, False) for p in pair]
+        grids += list(self._plain_vaos.values()) + list(self._full_vaos.values())
+        grids += [v for vaos in self._variant_vaos.values() for v in vaos]
+        grids += [p for key, progs in self._variants.items() if key != (False, False) for p in progs]
         self._release_depth()
         for obj in (
             self._geo,
@@ -526,6 +551,7 @@ class MarinePass:
             self.fog,
             self.water,
             self.plain,
+            self.full,
             self.label,
             self.surface,
         ):

@@ -95,10 +95,11 @@ uniform int u_bands;
 uniform int u_detail;  // 1: the last layer is the unresolved short waves (slopes only, per pixel)
 uniform vec4 u_surface;  // height scale s, displacement scale k, still-water level, texel count N
 uniform vec4 u_patch;    // patch mode: centre x, y, half size (0: periodic tiles), unused
-vec2 tile_uv(vec2 label, int b) {  // texel centres on the tile vertices
+vec2 tile_uv_m(vec2 label, float tile_m) {  // texel centres on the tile vertices
     if (u_patch.z > 0.0) return (label - u_patch.xy) / (2.0 * u_patch.z) + 0.5;
-    return label / u_tile[b] + 0.5 / u_surface.w;
+    return label / tile_m + 0.5 / u_surface.w;
 }
+vec2 tile_uv(vec2 label, int b) { return tile_uv_m(label, u_tile[b]); }
 """
 
 WATER_VS = (  # run once per frame with transform feedback: the displaced grid, shared by the colour and label passes
@@ -201,6 +202,8 @@ uniform vec3 u_water;
 uniform vec4 u_look;     // foam, glint, render choppiness for whitecaps, time (s)
 uniform vec2 u_sea;      // gain on the short-wave slopes, resolved slope above which the surface breaks
 uniform float u_mip_ratio[8];  // the shortest band's rms slope per mip level over level 0's (whitecaps)
+uniform vec2 u_tile_fs;  // u_tile[] of the shortest band drawn per pixel and of the short-wave layer (a uniform array
+                         // indexed by a variable costs llvmpipe a load per pixel)
 uniform sampler2D u_wake;  // wakes' foam, top-down (rendering/wakes.py)
 uniform vec4 u_wake_region;  // its corner x, y, side (m); w = 0: no wake
 uniform float u_pixel;   // view width of one pixel at unit distance
@@ -276,20 +279,22 @@ void main() {
     float resolved = 1.0;  // whitecaps per pixel while a pixel spans few texels; beyond, too small to show
     if (bands > 1) {  // the shortest band per pixel, filtered by the footprint across the ray: distant glitter
         int b = bands - 1;
-        float lod_s = log2(max(footprint * u_surface.w / u_tile[b], 1.0));
+        float lod_s = log2(max(footprint * u_surface.w / u_tile_fs.x, 1.0));
         int level = min(int(lod_s + 0.5), 7);  // LINEAR_MIPMAP_NEAREST: the nearest level
-        filtered = max(u_mip_ratio[level], 0.05);
+        float ratio = u_mip_ratio[0];  // u_mip_ratio[level] by selects: an index that varies costs a load per pixel
+        for (int i = 1; i < 8; i++) ratio = level == i ? u_mip_ratio[i] : ratio;
+        filtered = max(ratio, 0.05);
         resolved = 1.0 - smoothstep(3.0, 5.0, lod_s);
-        vec4 s = textureLod(u_slope, vec3(tile_uv(v_label, b), b), lod_s);
+        vec4 s = textureLod(u_slope, vec3(tile_uv_m(v_label, u_tile_fs.x), b), lod_s);
         zs += s.xy;
         jac += vec3(s.zw, 0.0);
         zr = s.xy;
     }
     if (u_detail == 1) {  // the short waves, where the pixel resolves them (beyond: only the glint's roughness)
         int b = u_bands - 1;
-        float lod = log2(max(footprint * u_surface.w / u_tile[b], 1.0));
+        float lod = log2(max(footprint * u_surface.w / u_tile_fs.y, 1.0));
         if (lod < log2(u_surface.w) - 1.0)
-            zs += u_sea.x * textureLod(u_slope, vec3(tile_uv(v_label, b), b), lod).xy;
+            zs += u_sea.x * textureLod(u_slope, vec3(tile_uv_m(v_label, u_tile_fs.y), b), lod).xy;
     }
     float k = u_surface.y, kf = max(u_look.z, k);
     vec3 tx = vec3(1.0 - k * jac.x, -k * jac.z, u_surface.x * zs.x);
@@ -342,10 +347,15 @@ void main() {
     // over a steep patch near the camera saturated into one flat white polygon
     steep *= smoothstep(0.35, 0.8, noise(v_label * 3.1 + vec2(0.37, 0.61)) * 0.6 + grain * 0.4);
     float whitecap = max(smoothstep(0.6, 0.1, det), steep) * (0.55 + 0.45 * grain);
+#ifdef GEOM
     float raw = texelFetch(u_depth, ivec2(gl_FragCoord.xy - u_viewport), 0).r;
+#else
+    float raw = 0.0;  // no geom behind the water here (the stencil the fog pass marks): the same bytes, no depth reads
+#endif
     float n0 = u_near_far.x, f0 = u_near_far.y;
     float behind = raw > 0.0 ? n0 / (raw + (1.0 - raw) * n0 / f0) - n0 / (gl_FragCoord.z + (1.0 - gl_FragCoord.z) * n0 / f0) : 1e9;
     float contact = (1.0 - smoothstep(0.0, 0.35 + 0.002 * dist, behind)) * (0.6 + 0.4 * grain);
+#ifdef GEOM
     float z_here = n0 / (gl_FragCoord.z + (1.0 - gl_FragCoord.z) * n0 / f0);
     vec2 dz = vec2(dFdx(z_here), dFdy(z_here));  // the water's depth at a neighbour: the surface's plane here
     if (contact > 0.0) {  // only where the geom pierces the surface nearby (a waterline), not over a submerged top
@@ -355,9 +365,11 @@ void main() {
             vec2 d = (i < 4 ? 1.0 : 0.5) * r * vec2(i % 2 == 0 ? 1.0 - float(i & 2) : 0.0, i % 2 == 1 ? 1.0 - float(i & 2) : 0.0);
             float rn = texelFetch(u_depth, clamp(ivec2(gl_FragCoord.xy - u_viewport + d), ivec2(0), textureSize(u_depth, 0) - 1), 0).r;
             if (rn > 0.0 && n0 / (rn + (1.0 - rn) * n0 / f0) < z_here + dot(dz, d)) pierce = 1.0;
+            if (pierce > 0.0) break;  // found: the block leaves the loop once all its pixels have
         }
         contact *= pierce;
     }
+#endif
 #ifdef MARKS
     if (wake > 0.0)
         contact = max(contact, wake * smoothstep(0.15, 0.65, 0.5 * noise(v_label * 0.9) + 0.5 * grain));
@@ -380,10 +392,13 @@ void main() {
 WATER_MARKS_FS = WATER_FS.replace("#version 330\n", "#version 330\n#define MARKS\n", 1)
 
 
-def water_fs(marks: bool, rain: bool = False, sun_shadow: bool = False) -> str:
-    """WATER_FS with optional parts compiled in: the wakes' and shadows' texture (MARKS), the rings of raindrops
-    (RAIN), MuJoCo's shadow map of the sun (SUN_SHADOW). Without them the programs run none of their code."""
-    defines = "".join(f"#define {name}\n" for name, on in (("MARKS", marks), ("RAIN", rain), ("SUN_SHADOW", sun_shadow)) if on)
+def water_fs(marks: bool, rain: bool = False, sun_shadow: bool = False, geom: bool = False) -> str:
+    """WATER_FS with optional parts compiled in: the wakes' texture (MARKS), the rings of raindrops (RAIN), MuJoCo's
+    shadow map of the sun (SUN_SHADOW), the geoms' depth behind the surface (GEOM: hull foam at the waterline, clear
+    water; for the pixels where a geom lies behind the water, the stencil bit GEOM_BIT the fog pass marks). Without
+    them the programs run none of their code."""
+    flags = (("MARKS", marks), ("RAIN", rain), ("SUN_SHADOW", sun_shadow), ("GEOM", geom))
+    defines = "".join(f"#define {name}\n" for name, on in flags if on)
     return WATER_FS.replace("#version 330\n", "#version 330\n" + defines, 1)
 
 LABEL_FS = """

@@ -155,7 +155,7 @@ class WakePass:
     def __init__(self, ctx):
         self.ctx = ctx
         self.prog = ctx.program(vertex_shader=VS, fragment_shader=FS)
-        self.texture = ctx.texture((TEXELS, TEXELS), 2, dtype="f1")  # R: wake foam (G: unused, cleared)
+        self.texture = ctx.texture((TEXELS, TEXELS), 4, dtype="f1")  # R: wake foam (GBA unused; RGBA: fetched faster)
         self.texture.repeat_x = self.texture.repeat_y = False
         self.fbo = ctx.framebuffer(color_attachments=[self.texture])
         self.buffer = ctx.buffer(reserve=6 * 4 * 1024)

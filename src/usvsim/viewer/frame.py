@@ -59,14 +59,14 @@ class FrameRenderer:
         self.scene.flags[mujoco.mjtRndFlag.mjRND_SHADOW] = int(self._shadows or (look is not None and sim.look.shadows))
         if look is None:
             return None
-        from usvsim.rendering.frame import prepare
+        from usvsim.rendering.frame import prepare_light
         from usvsim.rendering.marine import MarinePass
 
         if self.marine is None:
             from usvsim.rendering.grid import view_cell_px
 
             self.marine = MarinePass(cell_px=view_cell_px)  # coarser water cells than cameras: no depth to keep
-        prepare(self.marine, sim, self._center_xy)
+        prepare_light(self.marine, sim, self._center_xy)  # the sea (prepare_sea) while llvmpipe draws the geoms: see draw
         return self.marine
 
     def draw(self, sim, viewport: mujoco.MjrRect, pose: CameraPose, hud_rows=None, points=None, inset=None,
@@ -95,7 +95,14 @@ class FrameRenderer:
 
         sun_shadow_map(marine, self.scene, self.context)
         if marine is not None:
+            from OpenGL import GL
+
+            from usvsim.rendering.frame import prepare_sea
+
+            GL.glFlush()  # llvmpipe's threads draw the geoms while this one prepares the sea
+            prepare_sea(marine, sim, self._center_xy)
             marine.draw(self.scene.camera[0], viewport, time_s=sim.time)
+            GL.glFlush()  # and the water while this one lays out the HUD
         if inset is not None:
             draw_inset(inset, viewport, self.context)
         if hud_rows:
