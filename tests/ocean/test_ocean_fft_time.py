@@ -210,3 +210,12 @@ def test_snapshot_transforms_into_the_ring_are_scipys_ifft2():
     f._ifft2_into(spec, out)
     assert f._c2c is not None  # the fast path is what runs here
     assert out.tobytes() == scipy.fft.ifft2(spec, norm="forward", workers=1).tobytes()
+    # a sparse band's spectra (zero between its column blocks) transformed over those columns first
+    b = 0
+    assert f._columns[b] is not None
+    for worker in (False, True):
+        for t in (0.0, 5 * f.geometry.intervals[b]):
+            band = np.zeros((2, f.n, f.n), np.complex64)
+            f._spectra(b, t, band[:1], band[1:])
+            f._ifft2_into(band, out, b, worker)
+            assert out.tobytes() == scipy.fft.ifft2(band, norm="forward", workers=1).tobytes()

@@ -270,6 +270,8 @@ class FFTWaveField(WaveField):
         self._pairs = [np.argwhere(used[b]) if used[b].sum() < self.SPARSE * canonical else None
                        for b in range(len(self.sizes))]  # fmt: skip
         self._sparse: dict[int, tuple[np.ndarray, np.ndarray]] = {}  # band → (spectra, velocity) kept zero elsewhere
+        self._columns = [self._column_blocks(p) for p in self._pairs]  # sparse bands' nonzero columns (see _ifft2_into)
+        self._pruned: dict[tuple[bool, int, int], np.ndarray] = {}  # their intermediate arrays, zero between blocks
         # Velocity (power 1) at the geometry's times: the geometry bound (powers 0 and 1) is the stricter one, so
         # its interval is never longer, and every velocity spectrum is then made in the geometry pass (and ahead).
         self.velocity_ring = SnapshotRing(self.geometry.intervals, 1, self.n, partial(self._kinematic_snapshot, False))
@@ -390,9 +392,9 @@ class FFTWaveField(WaveField):
         assert self._ahead_bufs is not None
         geo, vel, spec, vspec = self._ahead_bufs
         self._spectra(b, t, spec[b], vspec[b, : 1 if with_vel else 0])
-        self._ifft2_into(spec[b], geo[s, b])
+        self._ifft2_into(spec[b], geo[s, b], b, True)
         if with_vel:
-            self._ifft2_into(vspec[b], vel[s, b])
+            self._ifft2_into(vspec[b], vel[s, b], b, True)
 
     AHEAD_PAUSE = 8  # intervals a band computes its snapshots here after the worker was late with one (then 16, …)
     AHEAD_PAUSE_MAX = 512
@@ -462,17 +464,46 @@ class FFTWaveField(WaveField):
             if len(self._vel_spectra) >= 4 * len(self.sizes):  # a ring's worth per band at most
                 del self._vel_spectra[next(iter(self._vel_spectra))]
             self._vel_spectra[(b, t)] = vel
-        self._ifft2_into(spec, out)
+        self._ifft2_into(spec, out, b)
 
-    def _ifft2_into(self, spec: np.ndarray, out: np.ndarray) -> None:
+    def _ifft2_into(self, spec: np.ndarray, out: np.ndarray, b: int = -1, worker: bool = False) -> None:
         """out[:] = scipy.fft.ifft2(spec, norm="forward", workers=1) for spec and out (slots, N, N) complex64, out
         C-contiguous: the C++ transform that scipy.fft.ifft2 calls (pocketfft c2c over axes 1 and 2, inverse, no
         scaling, one thread) writing into out: the same bytes (tested) without a new array, a copy and the Python
-        argument handling (which holds the GIL: a worker thread preempted there stalls the simulation thread)."""
-        if self._c2c is not None and out.flags.c_contiguous and spec.shape == out.shape:
-            self._c2c(spec, (1, 2), False, 0, out, 1)
-        else:
+        argument handling (which holds the GIL: a worker thread preempted there stalls the simulation thread).
+
+        A sparse band's spectrum b (`_pairs`) is zero outside its columns [0, lo) and [hi, N): its transform along
+        axis 1 (pocketfft's first) runs on those columns only, into an array kept zero between them, then along
+        axis 2 as in the full transform: the same bytes (tested), 49 -> 34 µs at N = 128 in sea state 4. `worker`:
+        the call is the worker thread's (its own intermediate arrays)."""
+        if self._c2c is None or not out.flags.c_contiguous or spec.shape != out.shape:
             out[:] = self._ifft2(spec, norm="forward", workers=1)
+            return
+        cols = self._columns[b] if b >= 0 else None
+        if cols is None:
+            self._c2c(spec, (1, 2), False, 0, out, 1)
+            return
+        lo, hi = cols
+        key = (worker, b, spec.shape[0])
+        tmp = self._pruned.get(key)
+        if tmp is None:
+            tmp = self._pruned[key] = np.zeros(spec.shape, np.complex64)
+        self._c2c(spec[:, :, :lo], (1,), False, 0, tmp[:, :, :lo], 1)
+        if hi < self.n:
+            self._c2c(spec[:, :, hi:], (1,), False, 0, tmp[:, :, hi:], 1)
+        self._c2c(tmp, (2,), False, 0, out, 1)
+
+    def _column_blocks(self, pairs: np.ndarray | None) -> tuple[int, int] | None:
+        """(lo, hi): a sparse band's spectra are zero in the columns lo <= ix < hi (its pairs' columns and their
+        mirrors lie outside); None for a dense band or where the blocks would cover half the columns or more."""
+        if pairs is None:
+            return None
+        n = self.n
+        cols = np.unique(np.concatenate([pairs[:, 1], (n - pairs[:, 1]) % n]))
+        low, high = cols[cols < n // 2], cols[cols >= n // 2]
+        lo = int(low.max()) + 1 if len(low) else 1
+        hi = int(high.min()) if len(high) else n
+        return (lo, hi) if lo + (n - hi) < n // 2 else None
 
     def _spectra(self, b: int, t: float, spec: np.ndarray, vel: np.ndarray) -> None:
         """Band b's geometry spectra (and velocity, if vel has a slot) at t: a sparse band (`_pairs`) writes its
@@ -497,7 +528,7 @@ class FFTWaveField(WaveField):
             kern.kinematic_spectra(
                 self._amp[b], self._omega[b], self._khx[b], self._khy[b], t, acceleration, spec
             )
-        self._ifft2_into(spec, out)
+        self._ifft2_into(spec, out, b)
 
     def node_cache(self) -> tuple[np.ndarray, np.ndarray, int]:
         """(cache, stamp, now) for the cached height kernels (`fft_kernels._corner`): blended heights of the tile
