@@ -191,11 +191,45 @@ def test_motion_blur_of_a_vessel_under_way_changes_rgb_only_and_none_at_rest():
         assert np.array_equal(sharp["segmentation"], blurred["segmentation"])
         assert np.array_equal(sharp["depth"], blurred["depth"], equal_nan=True)
         assert not np.array_equal(sharp["rgb"], blurred["rgb"])
-        own = np.isin(blurred["segmentation"], camera._own_labels(sim.model))  # its pontoons: they move with it
+        model = sim.model
+        root = model.body_rootid[model.body("wamv").id]
+        own = np.isin(blurred["segmentation"], np.flatnonzero(model.body_rootid[model.geom_bodyid] == root) + 1)
+        # its pontoons move with it: their own velocity cancels the camera's (no mask: the motion field's sum)
         assert own.sum() > 100 and np.array_equal(sharp["rgb"][own], blurred["rgb"][own])
         water = ~own & np.isfinite(blurred["depth"]) & (blurred["depth"] < 30.0)  # near water smears
         assert (sharp["rgb"][water] != blurred["rgb"][water]).any(axis=-1).mean() > 0.1
         again = camera.render(sim)
         assert np.array_equal(again["rgb"], blurred["rgb"])  # reproducible
+    finally:
+        sim.close()
+
+
+def test_a_vessel_crossing_a_camera_at_rest_blurs_alone():
+    """The Otter under way in front of the WAM-V's camera at rest: its pixels smear with its own motion; the rest
+    of the scene (at rest, seen from a camera at rest) keeps its bytes."""
+    pytest.importorskip("moderngl")
+    from usvsim.rendering.gallery import load, scenario_dict
+
+    raw = scenario_dict(0, {}, 320, 240)
+    raw["objects"] = []
+    sim = load(raw, seed=2)
+    camera = sim.sensors["wamv/camera"]
+    try:
+        sim.run(6.0)  # both settle on the calm sea (dropped at their poses)
+        sim.vessels["otter"].command(1.0, 0.0)
+        sim.run(1.5)  # the Otter gets under way, westward across the view
+        assert float(np.linalg.norm(sim.state.vcom_world[camera.body])) < 0.01
+        assert float(np.linalg.norm(sim.state.vcom_world[sim.vessels["otter"].index])) > 0.5
+        sim.look = sim.look.updated({"camera": {"motion_blur_ms": 0.0}})
+        sharp = camera.render(sim)
+        sim.look = sim.look.updated({"camera": {"motion_blur_ms": 80.0}})
+        blurred = camera.render(sim)
+        model = sim.model
+        root = model.body_rootid[model.body("otter").id]
+        otter = np.isin(sharp["segmentation"], np.flatnonzero(model.body_rootid[model.geom_bodyid] == root) + 1)
+        assert otter.sum() > 50
+        changed = (sharp["rgb"] != blurred["rgb"]).any(axis=-1)
+        assert changed[otter].mean() > 0.2  # the Otter smears
+        assert not changed[~otter].any()  # nothing else moves: the same bytes
     finally:
         sim.close()

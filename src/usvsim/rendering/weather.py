@@ -17,7 +17,9 @@ the frame's time on the simulation clock, so the same seed and parameters give t
   vessel's rigid-body state, in the optical frame) and the pixel's depth, through the instantaneous motion field
   of a pinhole camera over a static scene (Longuet-Higgins & Prazdny 1980). Translation blurs near things more
   than far ones (the sky, depth NaN, not at all), yaw and pitch shift the whole image, roll turns it about the
-  principal point. Moving objects' own motion is not included. A camera at rest is not touched (same bytes).
+  principal point. Things that move (vessels, buoys: each pixel's rigid body, from the segmentation labels) add
+  their own velocity at the pixel's surface point, so the camera's own vessel, moving with it, stays sharp. A
+  camera at rest over a scene at rest is not touched (same bytes).
 """
 
 from __future__ import annotations
@@ -166,12 +168,14 @@ def _blur_along(out, src, flow_u, flow_v):
 
 
 def motion_field(depth_m: np.ndarray, v_optical, omega_optical, fx: float, fy: float, cx: float, cy: float,
-                 exposure_s: float) -> tuple[np.ndarray, np.ndarray]:  # fmt: skip
-    """Image motion (pixels during the exposure; u right, v down) of each pixel of a static scene seen by a camera
-    moving at `v_optical` (m/s) and turning at `omega_optical` (rad/s), both in its optical frame (x right, y
-    down, z forward), `depth_m` (H, W) the depth along z (m; NaN or inf: at infinity). With x = (u - cx)/fx,
-    y = (v - cy)/fy and a point's velocity relative to the camera -v - ω × P:
-    ẋ = (-v_x + x v_z)/Z + x y ω_x - (1 + x²) ω_y + y ω_z,  ẏ = (-v_y + y v_z)/Z + (1 + y²) ω_x - x y ω_y - x ω_z."""
+                 exposure_s: float, moving: tuple | None = None) -> tuple[np.ndarray, np.ndarray]:  # fmt: skip
+    """Image motion (pixels during the exposure; u right, v down) of each pixel seen by a camera moving at
+    `v_optical` (m/s) and turning at `omega_optical` (rad/s), both in its optical frame (x right, y down,
+    z forward), `depth_m` (H, W) the depth along z (m; NaN or inf: at infinity). With x = (u - cx)/fx,
+    y = (v - cy)/fy and a static point's velocity relative to the camera -v - ω × P:
+    ẋ = (-v_x + x v_z)/Z + x y ω_x - (1 + x²) ω_y + y ω_z,  ẏ = (-v_y + y v_z)/Z + (1 + y²) ω_x - x y ω_y - x ω_z.
+    `moving`: (rows, cols, velocity (n, 3)) the optical-frame velocity (m/s) of the surface points at those
+    pixels, whose own motion adds ((V_x - x V_z)/Z, (V_y - y V_z)/Z)."""
     h, w = depth_m.shape
     x = ((np.arange(w, dtype=np.float64) - cx) / fx)[None, :]
     y = ((np.arange(h, dtype=np.float64) - cy) / fy)[:, None]
@@ -181,6 +185,11 @@ def motion_field(depth_m: np.ndarray, v_optical, omega_optical, fx: float, fy: f
         inv_z = np.where(np.isfinite(depth_m) & (depth_m > 0), 1.0 / depth_m, 0.0)
     dx = (-vx + x * vz) * inv_z + x * y * wx - (1.0 + x * x) * wy + y * wz
     dy = (-vy + y * vz) * inv_z + (1.0 + y * y) * wx - x * y * wy - x * wz
+    if moving is not None and len(moving[0]):
+        r, c, vel = moving
+        xs, ys, iz = x[0, c], y[r, 0], inv_z[r, c]
+        dx[r, c] += (vel[:, 0] - xs * vel[:, 2]) * iz
+        dy[r, c] += (vel[:, 1] - ys * vel[:, 2]) * iz
     return (dx * fx * exposure_s).astype(np.float32), (dy * fy * exposure_s).astype(np.float32)
 
 
@@ -191,19 +200,15 @@ def rotation_flow(omega_optical: np.ndarray, focal_px: float, exposure_s: float)
 
 
 def camera_weather(rgb: np.ndarray, look, intrinsics, seed: int, name: str, time_ns: int, depth_m: np.ndarray | None,
-                   v_optical, omega_optical, riding: np.ndarray | None = None) -> None:  # fmt: skip
+                   v_optical, omega_optical, moving: tuple | None = None) -> None:  # fmt: skip
     """In place, in the order a camera suffers them: motion blur of the scene (`motion_field` from the camera's
-    velocities `v_optical` m/s and `omega_optical` rad/s in its optical frame and the depth image `depth_m`; None:
-    all at infinity; `riding`: (H, W) bool, pixels of things that move with the camera, its own vessel, kept
-    sharp), rain in front of it, drops on the lens (the look's `camera.motion_blur_ms`, `rain`,
-    `camera.droplets`). `intrinsics`: fx, fy, cx, cy (pixels)."""
+    velocities `v_optical` m/s and `omega_optical` rad/s in its optical frame, the depth image `depth_m` (None:
+    all at infinity) and the pixels of moving things, `moving`), rain in front of it, drops on the lens (the
+    look's `camera.motion_blur_ms`, `rain`, `camera.droplets`). `intrinsics`: fx, fy, cx, cy (pixels)."""
     fx, fy, cx, cy = (float(v) for v in intrinsics)
     if look.camera.motion_blur_ms > 0:
         depth = depth_m if depth_m is not None else np.full(rgb.shape[:2], np.inf, np.float32)
-        du, dv = motion_field(depth, v_optical, omega_optical, fx, fy, cx, cy, look.camera.motion_blur_ms * 1e-3)
-        if riding is not None:
-            du[riding] = 0.0
-            dv[riding] = 0.0
-        blur_along(rgb, du, dv)
+        exposure = look.camera.motion_blur_ms * 1e-3
+        blur_along(rgb, *motion_field(depth, v_optical, omega_optical, fx, fy, cx, cy, exposure, moving))
     rain_streaks(rgb, look.rain.rate_mm_h, look.rain.slant_deg, fx, seed, name, time_ns)
     lens_droplets(rgb, look.camera.droplets, seed, name, time_ns * 1e-9)

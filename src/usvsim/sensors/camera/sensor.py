@@ -78,7 +78,7 @@ class Camera(Sensor):
             self.boxes = BoxMaker(cfg.detections, objects, sim.model, self.intrinsics, cfg.near_m)
         self._rgb_normal = np.empty((cfg.height, cfg.width, 3) if cfg.rgb_noise_stddev > 0 else 0, np.float32)
         self._lens: dict = {}  # exposure-vignetting factors of the current look (lens_effects)
-        self._own: np.ndarray | None = None  # labels of this camera's vessel's geoms (motion blur keeps them sharp)
+        self._body_of_label: np.ndarray | None = None  # segmentation label → simulated body (motion blur)
         self._depth_normal = np.empty((cfg.height, cfg.width) if cfg.depth_noise_stddev_m > 0 else 0, np.float32)
 
     def render(self, sim: World, pose=None, streams=None) -> dict[str, np.ndarray]:
@@ -110,8 +110,9 @@ class Camera(Sensor):
     def _weather(self, rgb: np.ndarray, sim, pos: np.ndarray, rot: np.ndarray, depth: np.ndarray | None,
                  labels: np.ndarray | None) -> None:  # fmt: skip
         """Motion blur, rain and lens droplets of the look (usvsim.rendering.weather), when it has any. The camera
-        frame's velocity is its vessel's rigid-body motion at the camera's position `pos` (ENU, m); the pixels of
-        its own vessel (`labels`: the segmentation image) move with it and stay sharp."""
+        frame's velocity is its vessel's rigid-body motion at the camera's position `pos` (ENU, m); pixels of
+        simulated bodies (`labels`: the segmentation image) add their body's motion at their surface point, so
+        the camera's own vessel, moving with it, stays sharp."""
         look = sim.look
         if look.camera.motion_blur_ms <= 0 and look.rain.rate_mm_h <= 0 and look.camera.droplets <= 0:
             return
@@ -122,18 +123,34 @@ class Camera(Sensor):
         v_world = s.vcom_world[b] + np.cross(omega_world, pos - s.com_world[b])
         to_optical = (rot @ OPTICAL_ROT).T
         k = self.intrinsics
-        riding = None
-        if labels is not None and look.camera.motion_blur_ms > 0:
-            riding = np.isin(labels, self._own_labels(sim.model))
+        moving = None
+        if labels is not None and depth is not None and look.camera.motion_blur_ms > 0:
+            moving = self._moving_points(sim, labels, depth, pos, to_optical)
         camera_weather(rgb, look, (k.fx, k.fy, k.cx, k.cy), sim.seed, self.topic, sim.clock.now_ns, depth,
-                       to_optical @ v_world, to_optical @ omega_world, riding)  # fmt: skip
+                       to_optical @ v_world, to_optical @ omega_world, moving)  # fmt: skip
 
-    def _own_labels(self, model) -> np.ndarray:
-        """Segmentation labels (geom id + 1) of the geoms of this camera's vessel (every body under its root)."""
-        if self._own is None:
-            root = model.body_rootid[model.body(self.vessel).id]
-            self._own = np.flatnonzero(model.body_rootid[model.geom_bodyid] == root).astype(np.uint16) + 1
-        return self._own
+    def _moving_points(self, sim, labels: np.ndarray, depth: np.ndarray, pos: np.ndarray, to_optical: np.ndarray):
+        """(rows, cols, velocity (n, 3) in the optical frame, m/s) of the pixels that show a simulated body (its
+        geoms and those of bodies under it): the rigid body's velocity at the pixel's surface point,
+        v_com + ω × (P - com), from the same state as the camera's own motion."""
+        model, s = sim.model, sim.state
+        if self._body_of_label is None:  # label (geom id + 1) → state index of its simulated body, -1: none
+            root_state = np.full(model.nbody, -1, np.int64)
+            for body in sim.bodies.values():
+                root_state[model.body(body.name).id] = body.index
+            self._body_of_label = np.concatenate([[-1], root_state[model.body_rootid[model.geom_bodyid]]])
+        lut = self._body_of_label
+        which = lut[labels.astype(np.int64)]  # labels are geom ids + 1 (0: background)
+        rows, cols = np.nonzero((which >= 0) & np.isfinite(depth))
+        b = which[rows, cols]
+        k = self.intrinsics
+        z = depth[rows, cols].astype(np.float64)
+        p_optical = np.stack([(cols - k.cx) / k.fx * z, (rows - k.cy) / k.fy * z, z], axis=1)
+        omega = s.rot[b] @ s.omega_body[b][..., None]  # (n, 3, 1) world
+        omega = omega[..., 0]
+        point = pos + p_optical @ to_optical  # world (to_optical.T maps optical → world)
+        velocity = s.vcom_world[b] + np.cross(omega, point - s.com_world[b])
+        return rows, cols, velocity @ to_optical.T
 
     def _noisy(self, images: dict[str, np.ndarray], look=None) -> dict[str, np.ndarray]:
         c = self.cfg
