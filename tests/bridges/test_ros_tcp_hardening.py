@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from ros_tcp_endpoint import TestEndpoint, frame, wait_for
-from test_ros_tcp import FAST, make_sim
+from test_ros_tcp import FAST, delivered, make_sim
 
 from usvsim.bridges.ros_tcp import RosTcpBridge
 
@@ -27,14 +27,16 @@ def test_refused_topic_is_no_longer_sent_and_the_last_step_is_drained_at_close()
     sim, endpoint = make_sim(sensors=()), TestEndpoint(refuse={"/tf"})
     emitted = []
     sim.subscribe(lambda env: emitted.append(env.topic))
-    bridge = RosTcpBridge(sim, port=endpoint.port, **FAST)
+    bridge = RosTcpBridge(sim, port=endpoint.port, **FAST, drain_s=30.0)  # the drain ends at the endpoint's EOF
     try:
         assert wait_for(lambda: bridge.connected.is_set(), 10.0)
         sim.run(0.5)
         assert wait_for(lambda: "/tf" in bridge._refused, 10.0)
+        assert wait_for(lambda: delivered(bridge, endpoint, emitted), 30.0)  # frames sent before the refusal
         refused_frames = endpoint.unregistered.count("/tf")
         sim.run(1.0)
-        assert wait_for(lambda: bridge.stats["dropped_refused"] >= 40, 30.0)  # /tf at 50 Hz, no longer sent
+        assert wait_for(lambda: delivered(bridge, endpoint, emitted), 30.0)
+        assert bridge.stats["dropped_refused"] >= 40  # /tf at 50 Hz, no longer sent
         assert endpoint.unregistered.count("/tf") == refused_frames
     finally:
         bridge.close()  # sends what is queued, half-closes and waits for the endpoint's EOF
