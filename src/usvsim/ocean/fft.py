@@ -20,6 +20,7 @@ so a field is bit-identical with or without them.
 
 from __future__ import annotations
 
+import importlib
 import math
 import os
 import time
@@ -218,11 +219,9 @@ class FFTWaveField(WaveField):
         import scipy.fft  # here: ~0.4 s to import, and only FFT seas need it (a process start pays it otherwise)
 
         self._ifft2 = scipy.fft.ifft2
-        try:  # scipy.fft.ifft2's own C++ transform, called into a given array (see _ifft2_into)
-            from scipy.fft._pocketfft import pypocketfft
-
-            self._c2c = pypocketfft.c2c
-        except ImportError:  # another scipy layout: the public function and a copy
+        try:  # scipy.fft.ifft2's own C++ transform (a compiled module), called into a given array (_ifft2_into)
+            self._c2c = importlib.import_module("scipy.fft._pocketfft.pypocketfft").c2c
+        except (ImportError, AttributeError):  # another scipy layout: the public function and a copy
             self._c2c = None
         self.sizes = np.asarray(tile_sizes_m, dtype=float)
         self.n = int(resolution)
