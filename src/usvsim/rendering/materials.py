@@ -178,6 +178,10 @@ out vec4 v_color;
 out vec2 v_uv;
 out vec4 v_shadow;
 flat out vec3 v_material;  // shininess code, mark, emission level
+uniform mat4 u_mark[24];   // world → mark frame (m): forward, up, port
+uniform vec4 u_mark_info[24];  // half lengths (forward, up, side), kind (0 band, n hull number)
+flat out mat4 v_mark;      // this geom's u_mark[mark] and u_mark_info[mark]: picked per vertex, as an index that
+flat out vec4 v_mark_info; // varies per pixel costs llvmpipe a load per pixel and value
 void main() {
     vec4 eye = gl_ModelViewMatrix * gl_Vertex;
     v_eye = eye.xyz;
@@ -190,6 +194,10 @@ void main() {
     v_shadow = gl_TextureMatrix[1] * vec4(dot(gl_EyePlaneS[1], eye), dot(gl_EyePlaneT[1], eye),
                                           dot(gl_EyePlaneR[1], eye), dot(gl_EyePlaneQ[1], eye));
     v_material = vec3(code, floor(gl_FrontMaterial.specular.r * 64.0 + 0.5), 0.0);
+    int mark = int(v_material.y) - 1;
+    bool marked = mark >= 0 && mark < 24;
+    v_mark = marked ? u_mark[mark] : mat4(0.0);
+    v_mark_info = marked ? u_mark_info[mark] : vec4(0.0);
     gl_Position = ftransform();
 }
 """
@@ -205,8 +213,8 @@ uniform vec3 u_sun;        // sun irradiance on a face toward it (linear, displa
 uniform vec3 u_sky;        // sky irradiance on an upward face (linear)
 uniform vec3 u_ground;     // light from below (the sea) on a downward face (linear)
 uniform int u_shadows;     // MuJoCo draws the sun in a second pass with its shadow map
-uniform mat4 u_mark[24];   // world → mark frame (m): forward, up, port
-uniform vec4 u_mark_info[24];  // half lengths (forward, up, side), kind (0 band, n hull number)
+flat in mat4 v_mark;       // world → mark frame (m): forward, up, port (GEOM_VS: u_mark)
+flat in vec4 v_mark_info;  // half lengths (forward, up, side), kind (0 band, n hull number)
 in vec3 v_eye;
 in vec3 v_normal;
 in vec4 v_color;
@@ -265,9 +273,9 @@ void main() {
     else if (cls == 2) rough += 0.12 * (nz - 0.5);
     int mark = int(v_material.y) - 1;
     if (mark >= 0 && mark < 24) {
-        vec3 p = (u_mark[mark] * vec4(world, 1.0)).xyz;  // forward, up, port (m)
-        vec4 info = u_mark_info[mark];
-        vec3 nl = mat3(u_mark[mark]) * n;
+        vec3 p = (v_mark * vec4(world, 1.0)).xyz;  // forward, up, port (m)
+        vec4 info = v_mark_info;
+        vec3 nl = mat3(v_mark) * n;
         float light = dot(base, vec3(0.3, 0.6, 0.1));
         if (info.w > 0.0) {  // hull number on both sides, near the bow, reading from bow to stern as seen
             float h = min(1.1 * info.y, 0.3 * info.x);

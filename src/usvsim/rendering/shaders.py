@@ -354,7 +354,11 @@ void main() {
 #endif
     float n0 = u_near_far.x, f0 = u_near_far.y;
     float behind = raw > 0.0 ? n0 / (raw + (1.0 - raw) * n0 / f0) - n0 / (gl_FragCoord.z + (1.0 - gl_FragCoord.z) * n0 / f0) : 1e9;
+#ifdef GEOM
     float contact = (1.0 - smoothstep(0.0, 0.35 + 0.002 * dist, behind)) * (0.6 + 0.4 * grain);
+#else
+    float contact = 0.0;  // what the line above gives with nothing behind (behind = 1e9: smoothstep 1, exactly)
+#endif
 #ifdef GEOM
     float z_here = n0 / (gl_FragCoord.z + (1.0 - gl_FragCoord.z) * n0 / f0);
     vec2 dz = vec2(dFdx(z_here), dFdy(z_here));  // the water's depth at a neighbour: the surface's plane here
