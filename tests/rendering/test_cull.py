@@ -64,3 +64,25 @@ def test_planes_point_into_the_view():
     left = planes[:, :3] @ np.array([10.0, 7.7, 0.0]) + planes[:, 3]  # inside only by the 5 % widening
     assert (left > 0).all()
     assert (planes[:, :3] @ np.array([10.0, 8.0, 0.0]) + planes[:, 3] < 0).any()
+
+
+def test_a_camera_culls_and_keeps_its_bytes():
+    """The onboard camera (640x480, shader look): RGB, depth and labels the same with and without culling."""
+    import pytest
+
+    pytest.importorskip("moderngl")
+    from usvsim.rendering.gallery import load, scenario_dict
+
+    sim = load(scenario_dict(4, {"fog": {"visibility_m": 2000.0}}, 320, 240))
+    sim.run(3.0)  # the mooring lines are drawn in segments by then
+    camera = sim.sensors["wamv/camera"]
+    culled = camera.render(sim)
+    renderer = camera.renderer
+    scene, none = renderer.scene, int(mujoco.mjtGeom.mjGEOM_NONE)
+    count = sum(int(scene.geoms[i].type) == none for i in range(scene.ngeom))
+    renderer._cull = lambda width, height: 0
+    full = camera.render(sim)
+    sim.close()
+    assert count > 40  # mooring-line segments behind and beside the boat (62 of them)
+    for stream in ("rgb", "depth", "segmentation"):
+        assert np.array_equal(culled[stream], full[stream], equal_nan=True), stream

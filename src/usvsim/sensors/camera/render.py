@@ -124,6 +124,9 @@ class PinholeRenderer:
         self.context.fit(cam.width, cam.height)
         self.rect = mujoco.MjrRect(0, 0, cam.width, cam.height)
         self.scene = mujoco.MjvScene(model, maxgeom=10_000)
+        from usvsim.rendering.cull import FrustumCull
+
+        self._cull = FrustumCull(self.scene)  # geoms outside the view are not drawn (same pixels, less vertex work)
         self.option = mujoco.MjvOption()
         self.option.geomgroup[:] = 0
         self.option.geomgroup[1] = self.option.geomgroup[2] = 1
@@ -183,6 +186,7 @@ class PinholeRenderer:
         if self._look_shadows and not segment:
             self.scene.flags[_R.mjRND_SHADOW] = True
         self.scene.flags[_R.mjRND_SEGMENT] = self.scene.flags[_R.mjRND_IDCOLOR] = segment
+        self._cull(self.rect.width, self.rect.height)  # none while MuJoCo draws the sun's shadows
         from usvsim.rendering.frame import begin_geoms, end_geoms
 
         shaded = not segment and begin_geoms(self.marine, self.scene, bool(self.scene.flags[_R.mjRND_SHADOW]))
