@@ -148,12 +148,13 @@ class Materials:
     def apply(self, scene: mujoco.MjvScene) -> np.ndarray:
         """Write class/texture codes (shininess) and mark indices (specular) into the scene's geoms; returns
         (MAX_MARKS, 4, 4) world → mark-frame matrices (metres) of the marked geoms found in the scene."""
-        geom_type = mujoco.mjtObj.mjOBJ_GEOM
+        geom_type, culled = mujoco.mjtObj.mjOBJ_GEOM, mujoco.mjtGeom.mjGEOM_NONE  # (culled: not drawn, rendering/cull.py)
         world_to_mark = np.zeros((MAX_MARKS, 4, 4), dtype=np.float32)
-        for i in range(scene.ngeom):
-            geom = scene.geoms[i]
+        for geom in scene.geoms[: scene.ngeom]:
+            if geom.type == culled or geom.objtype != geom_type:
+                continue
             g = geom.objid
-            if geom.objtype != geom_type or not 0 <= g < len(self.code) or self.code[g] < 0:
+            if not 0 <= g < len(self.code) or self.code[g] < 0:
                 continue
             texture = self.texture[g]
             if texture and geom.texcoord:
