@@ -52,7 +52,8 @@ class FrustumCull:
         """Mark the geoms outside the view of `scene.camera[0]` (a `width` x `height` viewport); returns how many."""
         scene = self.scene
         flags = scene.flags
-        if (self._size is None or flags[mujoco.mjtRndFlag.mjRND_SHADOW] or flags[mujoco.mjtRndFlag.mjRND_REFLECTION]
+        if (self._size is None or self._pos is None or flags[mujoco.mjtRndFlag.mjRND_SHADOW]
+                or flags[mujoco.mjtRndFlag.mjRND_REFLECTION]
                 or scene.stereo or scene.camera[0].orthographic):  # fmt: skip
             return 0
         n = scene.ngeom
