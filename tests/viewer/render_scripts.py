@@ -93,6 +93,27 @@ def culled(out: str) -> None:
     print(json.dumps(stats))
 
 
+def eye_distance(out: str) -> None:
+    """The shader look's viewer frame with MuJoCo's stereo eye distance (`vis.global.ipd`) at its default and at 0:
+    a mono picture is drawn from the eyes' mean, so both must be the same bytes (the water was drawn from the
+    left eye once, 3.4 cm beside the geoms)."""
+    from usvsim.rendering.gallery import load, scenario_dict
+    from usvsim.viewer.offscreen import OffscreenViewer
+
+    sim = load(scenario_dict(4, {"renderer": "shader", "fog": {"visibility_m": 2000.0}}, 64, 48))
+    sim.run(1.0)
+    viewer = OffscreenViewer(sim, 320, 180)
+    frames = {}
+    for ipd in (float(sim.model.vis.global_.ipd), 0.0):
+        sim.model.vis.global_.ipd = ipd
+        frames[ipd] = viewer.render()
+    viewer.close()
+    sim.close()
+    (a, b) = frames.values()
+    print(json.dumps({"ipds": list(frames), "same": bool(np.array_equal(a, b)), "differing": int((a != b).any(2).sum())}))
+
+
 if __name__ == "__main__":
-    kinds = {"offscreen": offscreen, "lap": lap, "shader_window": shader_window, "culled": culled}
+    kinds = {"offscreen": offscreen, "lap": lap, "shader_window": shader_window, "culled": culled,
+             "eye_distance": eye_distance}
     kinds[sys.argv[1]](sys.argv[2])

@@ -62,6 +62,13 @@ def test_geoms_out_of_view_are_culled_without_changing_a_pixel(tmp_path):
         assert stats[renderer]["culled"] > 100, stats  # most of the 252 mooring-line segments lie out of view
 
 
+def test_the_mono_water_is_drawn_from_the_eye_the_geoms_are(tmp_path):
+    env = dict(os.environ, MUJOCO_GL="egl")
+    env.pop("PYOPENGL_PLATFORM", None)
+    stats = run_script("eye_distance", tmp_path / "unused.png", env)
+    assert stats["ipds"][0] > 0.0 and stats["same"], stats
+
+
 def start_xvfb():
     if shutil.which("Xvfb") is None:
         pytest.skip("Xvfb is not installed (apt-get install xvfb)")

@@ -354,7 +354,7 @@ class GeomShading:
         from usvsim.rendering.marine import camera_matrices
 
         marks = materials.apply(scene)
-        cam = scene.camera[0]
+        cam = mujoco.mjv_averageCamera(scene.camera[0], scene.camera[1])  # mono: the eyes' mean, as mjr_render
         _, eye, _, _ = camera_matrices(cam, 4, 3)
         fwd = np.array(cam.forward, dtype=np.float64)
         fwd /= np.linalg.norm(fwd)

@@ -101,7 +101,8 @@ class FrameRenderer:
 
             GL.glFlush()  # llvmpipe's threads draw the geoms while this one prepares the sea
             prepare_sea(marine, sim, self._center_xy)
-            marine.draw(self.scene.camera[0], viewport, time_s=sim.time)
+            view = mujoco.mjv_averageCamera(self.scene.camera[0], self.scene.camera[1])  # what mjr_render drew from
+            marine.draw(view, viewport, time_s=sim.time)
             GL.glFlush()  # and the water while this one lays out the HUD
         if inset is not None:
             draw_inset(inset, viewport, self.context)
