@@ -219,3 +219,16 @@ def test_snapshot_transforms_into_the_ring_are_scipys_ifft2():
             f._spectra(b, t, band[:1], band[1:])
             f._ifft2_into(band, out, b, worker)
             assert out.tobytes() == scipy.fft.ifft2(band, norm="forward", workers=1).tobytes()
+
+
+def test_without_the_private_pocketfft_transform_the_sea_is_the_same():
+    """scipy's private pocketfft module may change in any release: `pocketfft_c2c` checks it once and the field
+    falls back to scipy.fft.ifft2 (plus a copy), with the same heights to the bit."""
+    from usvsim.ocean.fft import pocketfft_c2c
+
+    assert pocketfft_c2c() is not None  # this scipy has it and it passed the check
+    fast, slow = field(1e-3), field(1e-3)
+    slow._c2c = None
+    px, py = np.linspace(0.0, 150.0, 400), np.linspace(-30.0, 60.0, 400)
+    for t in (0.0, 3.3, 17.0):
+        assert fast.elevation(px, py, t).tobytes() == slow.elevation(px, py, t).tobytes()

@@ -179,6 +179,29 @@ def _second_core() -> bool:
         return (os.cpu_count() or 1) > 1
 
 
+_C2C: list = []  # pocketfft_c2c's finding, once per process
+
+
+def pocketfft_c2c():
+    """scipy.fft.ifft2's own C++ transform (pocketfft's c2c in a private compiled module, called into a given array
+    by `FFTWaveField._ifft2_into`), if this scipy has it with the signature used here and it gives ifft2's bytes on
+    a small check; else None. A private module may change in any scipy release: then the sea falls back to the
+    public function (the same bytes, one copy more) instead of failing mid-run."""
+    if not _C2C:
+        import scipy.fft
+
+        x = (np.arange(2 * 8 * 8, dtype=np.float32).reshape(2, 8, 8) * np.complex64(0.3 - 0.7j)).astype(np.complex64)
+        out = np.empty_like(x)
+        try:
+            c2c = importlib.import_module("scipy.fft._pocketfft.pypocketfft").c2c
+            c2c(x, (1, 2), False, 0, out, 1)
+            ok = out.tobytes() == scipy.fft.ifft2(x, norm="forward", workers=1).tobytes()
+        except (ImportError, AttributeError, TypeError, ValueError, RuntimeError):
+            c2c, ok = None, False
+        _C2C.append(c2c if ok else None)
+    return _C2C[0]
+
+
 class FFTWaveField(WaveField):
     """Cascaded FFT tiles; implements `WaterSurface`. Snapshots are transformed lazily when a query needs them.
 
@@ -219,10 +242,7 @@ class FFTWaveField(WaveField):
         import scipy.fft  # here: ~0.4 s to import, and only FFT seas need it (a process start pays it otherwise)
 
         self._ifft2 = scipy.fft.ifft2
-        try:  # scipy.fft.ifft2's own C++ transform (a compiled module), called into a given array (_ifft2_into)
-            self._c2c = importlib.import_module("scipy.fft._pocketfft.pypocketfft").c2c
-        except (ImportError, AttributeError):  # another scipy layout: the public function and a copy
-            self._c2c = None
+        self._c2c = pocketfft_c2c()  # None: the public function and a copy (_ifft2_into)
         self.sizes = np.asarray(tile_sizes_m, dtype=float)
         self.n = int(resolution)
         self.choppiness = float(choppiness)
