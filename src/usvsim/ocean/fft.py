@@ -195,7 +195,7 @@ def pocketfft_c2c():
         try:
             c2c = importlib.import_module("scipy.fft._pocketfft.pypocketfft").c2c
             c2c(x, (1, 2), False, 0, out, 1)
-            ok = out.tobytes() == scipy.fft.ifft2(x, norm="forward", workers=1).tobytes()
+            ok = out.tobytes() == np.asarray(scipy.fft.ifft2(x, norm="forward", workers=1)).tobytes()
         except (ImportError, AttributeError, TypeError, ValueError, RuntimeError):
             c2c, ok = None, False
         _C2C.append(c2c if ok else None)
