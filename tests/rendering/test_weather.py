@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from usvsim.rendering.weather import extinction_per_m, lens_droplets, motion_blur, rain_streaks, rotation_flow
+from usvsim.rendering.weather import blur_along, extinction_per_m, lens_droplets, motion_field, rain_streaks
 
 
 def _scene() -> np.ndarray:
@@ -50,16 +50,18 @@ def test_droplets_persist_between_frames_and_come_and_go():
 def test_motion_blur_spreads_along_the_flow_and_keeps_the_light():
     img = np.zeros((40, 60, 3), np.uint8)
     img[20, 30] = 240
-    motion_blur(img, (8.0, 0.0))
+    h, w = img.shape[:2]
+    blur_along(img, np.full((h, w), 8.0, np.float32), np.zeros((h, w), np.float32))
     row = img[20, :, 0].astype(int)
     assert (row > 0).sum() == 8 and img[:, :, 0].sum() == pytest.approx(240, abs=8)
     assert img[19].sum() == 0 and img[21].sum() == 0  # horizontal flow: no vertical smear
     still = _scene()
-    motion_blur(still, rotation_flow(np.zeros(3), 500.0, 0.03))
+    far = np.full(still.shape[:2], np.inf)  # the sky: at infinity
+    blur_along(still, *motion_field(far, np.zeros(3), np.zeros(3), 500.0, 500.0, 0.0, 0.0, 0.03))
     assert np.array_equal(still, _scene())
-    assert rotation_flow(np.array([0.0, 0.5, 0.0]), 400.0, 0.02) == pytest.approx(
-        (-4.0, 0.0)
-    )  # yawing: sideways
+    du, dv = motion_field(np.full((1, 1), np.inf), np.zeros(3), np.array([0.0, 0.5, 0.0]), 400.0, 400.0, 0.0, 0.0,
+                          0.02)  # fmt: skip
+    assert (float(du[0, 0]), float(dv[0, 0])) == pytest.approx((-4.0, 0.0))  # yawing: sideways at the centre
 
 
 def test_camera_weather_changes_rgb_only():

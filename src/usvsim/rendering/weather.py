@@ -129,12 +129,6 @@ def lens_droplets(rgb: np.ndarray, amount: float, seed: int, name: str, time_s: 
     rgb[:] = np.clip(out, 0, 255).astype(np.uint8)
 
 
-def motion_blur(rgb: np.ndarray, flow_px: tuple[float, float]) -> None:
-    """In place: the average of the image shifted along `flow_px` (pixels during the exposure), centred."""
-    h, w = rgb.shape[:2]
-    blur_along(rgb, np.full((h, w), flow_px[0], np.float32), np.full((h, w), flow_px[1], np.float32))
-
-
 def blur_along(rgb: np.ndarray, flow_u: np.ndarray, flow_v: np.ndarray) -> None:
     """In place: each pixel of an RGB image the mean of ceil(|flow|) samples (at most 32) of the image on the
     segment of its flow (pixels during the exposure, u right, v down), centred on it, nearest pixel, clamped at the
@@ -191,12 +185,6 @@ def motion_field(depth_m: np.ndarray, v_optical, omega_optical, fx: float, fy: f
         dx[r, c] += (vel[:, 0] - xs * vel[:, 2]) * iz
         dy[r, c] += (vel[:, 1] - ys * vel[:, 2]) * iz
     return (dx * fx * exposure_s).astype(np.float32), (dy * fy * exposure_s).astype(np.float32)
-
-
-def rotation_flow(omega_optical: np.ndarray, focal_px: float, exposure_s: float) -> tuple[float, float]:
-    """Image flow (pixels) at the image centre during the exposure for the camera turning at `omega_optical`
-    (rad/s, optical frame: x right, y down, z forward): a fixed direction moves by (-ω_y, ω_x)·f·t."""
-    return -float(omega_optical[1]) * focal_px * exposure_s, float(omega_optical[0]) * focal_px * exposure_s
 
 
 def camera_weather(rgb: np.ndarray, look, intrinsics, seed: int, name: str, time_ns: int, depth_m: np.ndarray | None,
