@@ -105,6 +105,10 @@ class Simulation:
         """World-frame velocity of body i's frame origin (m/s)."""
         return self.world.origin_velocity(i)
 
+    def point_velocity(self, i, point: np.ndarray) -> np.ndarray:
+        """World-frame velocity (m/s) of `point` (ENU m) moving with body i (see `World.point_velocity`)."""
+        return self.world.point_velocity(i, point)
+
     def contacts(self) -> list[tuple[str, str, float]]:
         """Active contacts as (body name, other body name or 'world', penetration depth m >= 0)."""
         return self.world.contacts()

@@ -375,6 +375,13 @@ class World:
         omega_world = s.rot[i] @ s.omega_body[i]
         return s.vcom_world[i] - np.cross(omega_world, s.com_world[i] - s.pos[i])
 
+    def point_velocity(self, i, point: np.ndarray) -> np.ndarray:
+        """World-frame velocity (m/s) of `point` (ENU m) moving with body i: v_com + ω × (point - com). `i` an index
+        and `point` (3,), or indices (n,) and points (n, 3)."""
+        s = self.state
+        omega_world = (s.rot[i] @ s.omega_body[i][..., None])[..., 0]
+        return s.vcom_world[i] + np.cross(omega_world, point - s.com_world[i])
+
     def depth_at(self, x_m, y_m) -> np.ndarray:
         """Water depth (m, positive down from still water) at ENU points: the place's seabed (geo/; minus the
         land height on land), else the environment's `water_depth_m` (inf: deep water)."""

@@ -120,7 +120,7 @@ class Camera(Sensor):
 
         s, b = sim.state, self.body
         omega_world = s.rot[b] @ s.omega_body[b]
-        v_world = s.vcom_world[b] + np.cross(omega_world, pos - s.com_world[b])
+        v_world = sim.point_velocity(b, pos)
         to_optical = (rot @ OPTICAL_ROT).T
         k = self.intrinsics
         moving = None
@@ -133,7 +133,7 @@ class Camera(Sensor):
         """(rows, cols, velocity (n, 3) in the optical frame, m/s) of the pixels that show a simulated body (its
         geoms and those of bodies under it): the rigid body's velocity at the pixel's surface point,
         v_com + ω × (P - com), from the same state as the camera's own motion."""
-        model, s = sim.model, sim.state
+        model = sim.model
         if self._body_of_label is None:  # label (geom id + 1) → state index of its simulated body, -1: none
             root_state = np.full(model.nbody, -1, np.int64)
             for body in sim.bodies.values():
@@ -146,11 +146,8 @@ class Camera(Sensor):
         k = self.intrinsics
         z = depth[rows, cols].astype(np.float64)
         p_optical = np.stack([(cols - k.cx) / k.fx * z, (rows - k.cy) / k.fy * z, z], axis=1)
-        omega = s.rot[b] @ s.omega_body[b][..., None]  # (n, 3, 1) world
-        omega = omega[..., 0]
         point = pos + p_optical @ to_optical  # world (to_optical.T maps optical → world)
-        velocity = s.vcom_world[b] + np.cross(omega, point - s.com_world[b])
-        return rows, cols, velocity @ to_optical.T
+        return rows, cols, sim.point_velocity(b, point) @ to_optical.T
 
     def _noisy(self, images: dict[str, np.ndarray], look=None) -> dict[str, np.ndarray]:
         c = self.cfg
