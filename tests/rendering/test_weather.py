@@ -207,8 +207,11 @@ def test_motion_blur_of_a_vessel_under_way_changes_rgb_only_and_none_at_rest():
 
 
 def test_a_vessel_crossing_a_camera_at_rest_blurs_alone():
-    """The Otter under way in front of the WAM-V's camera at rest: its pixels smear with its own motion; the rest
+    """The Otter under way in front of the WAM-V's camera at rest: its pixels smear with its own motion and it
+    sweeps over the still scene beside it, no farther than half its image motion during the exposure; the rest
     of the scene (at rest, seen from a camera at rest) keeps its bytes."""
+    from scipy import ndimage
+
     pytest.importorskip("moderngl")
     from usvsim.rendering.gallery import load, scenario_dict
 
@@ -232,6 +235,42 @@ def test_a_vessel_crossing_a_camera_at_rest_blurs_alone():
         assert otter.sum() > 50
         changed = (sharp["rgb"] != blurred["rgb"]).any(axis=-1)
         assert changed[otter].mean() > 0.2  # the Otter smears
-        assert not changed[~otter].any()  # nothing else moves: the same bytes
+        speed = float(np.linalg.norm(sim.state.vcom_world[sim.vessels["otter"].index]))
+        reach = 0.5 * speed * 0.080 * camera.intrinsics.fx / float(np.nanmin(sharp["depth"][otter]))  # px
+        spill = changed & ~otter
+        assert spill.sum() > 10  # it sweeps over the water beside it
+        distance = ndimage.distance_transform_edt(~otter)  # px to the nearest Otter pixel
+        assert distance[spill].max() <= reach + 1.5  # and nowhere farther: the rest keeps its bytes
     finally:
         sim.close()
+
+
+def test_a_moving_box_gives_its_exposure_ramps_and_a_still_one_stays_sharp():
+    """Closed form: a box (grey 200, 5 m away) moving L = 16 px right during the exposure over a still background
+    (grey 40, 50 m): at a pixel x (frame at mid-exposure, box on [a, b]) the box is seen for the part of the
+    exposure s in [-L/2, L/2] with a + s <= x <= b + s, so the row is 40 + 160 * |[x - b, x - a] ∩ [-L/2, L/2]| / L:
+    ramps of width L centred on both edges, on the box and beside it. The other way round (the box still, the
+    background moving): the box keeps its bytes and its colour does not bleed into the background."""
+    h, w, a, b, length = 24, 96, 40, 55, 16.0
+    box = np.zeros((h, w), bool)
+    box[6:18, a : b + 1] = True
+    img = np.where(box[..., None], 200, 40).astype(np.uint8).repeat(3, axis=2)
+    depth = np.where(box, 5.0, 50.0).astype(np.float32)
+    moving = img.copy()
+    ids = box.astype(np.int32)  # the box one label, the background another
+    blur_along(moving, np.where(box, length, 0.0).astype(np.float32), np.zeros((h, w), np.float32), depth, ids)
+    x = np.arange(w, dtype=float)
+    # pixel x spans [x - 0.5, x + 0.5]: the box's edges at a - 0.5 and b + 0.5
+    seen = np.clip(np.minimum(x - (a - 0.5), length / 2) - np.maximum(x - (b + 0.5), -length / 2), 0, None) / length
+    expected = 40 + 160 * seen
+    row = moving[12, :, 0].astype(float)
+    assert np.abs(row - expected).max() <= 160 / length + 1  # within one pixel's share of the ramp
+    assert np.abs(row - expected).mean() < 2.0
+    assert np.array_equal(moving[:5], img[:5])  # rows the box does not cross keep their bytes
+    still = img.copy()
+    blur_along(still, np.where(box, 0.0, length).astype(np.float32), np.zeros((h, w), np.float32), depth, ids)
+    assert np.array_equal(still[box], img[box])  # the still box is sharp
+    assert (still[~box][:, 0] == 40).all()  # the background passing behind it takes none of its colour
+    old = img.copy()  # without depth and labels (the blur along each pixel's flow): the background is untouched
+    blur_along(old, np.where(box, length, 0.0).astype(np.float32), np.zeros((h, w), np.float32))
+    assert (old[~box][:, 0] == 40).all()

@@ -129,29 +129,121 @@ def lens_droplets(rgb: np.ndarray, amount: float, seed: int, name: str, time_s: 
     rgb[:] = np.clip(out, 0, 255).astype(np.uint8)
 
 
-def blur_along(rgb: np.ndarray, flow_u: np.ndarray, flow_v: np.ndarray) -> None:
-    """In place: each pixel of an RGB image the mean of ceil(|flow|) samples (at most 32) of the image on the
-    segment of its flow (pixels during the exposure, u right, v down), centred on it, nearest pixel, clamped at the
-    border. Pixels whose flow is under one pixel are left as they are."""
-    if rgb.size == 0 or float(np.max(np.hypot(flow_u, flow_v))) < 1.0:
+def blur_along(rgb: np.ndarray, flow_u: np.ndarray, flow_v: np.ndarray, depth_m: np.ndarray | None = None,
+               labels: np.ndarray | None = None) -> None:  # fmt: skip
+    """In place: motion blur from each pixel's image motion during the exposure (`flow_u`, `flow_v`: pixels, u right,
+    v down, the segment centred on the pixel's place in the frame). Without `depth_m` (m; NaN or inf: far) and
+    `labels` (the segmentation image: one id per object part, 0 the water and sky): each pixel the mean of
+    ceil(|flow|) samples (at most 32) of the image on its flow's segment, nearest pixel, clamped at the border.
+    With them, two layers per pixel, where another labelled thing lies nearer (2 % of the depth):
+    - its own: that mean, leaving out the samples of such nearer things (they hid the scene passing through the
+      pixel, whose colour the frame does not hold);
+    - the nearer things that sweep over it: a nearer pixel Y whose own segment passes through this pixel covers it
+      for 1/|flow_Y| of the exposure (one pixel of its path); those shares, searched along the largest flow of a
+      labelled thing (label > 0) in the neighbourhood (tiles of the image's largest half flow, 4-32 px, and their
+      3 x 3 neighbours; after McGuire et al. 2012's reconstruction filter), add up to the part of
+      the exposure the near layer hides this one (at most all of it), and its colours come in by them.
+    So a vessel crossing a still scene smears over the background beside it (a moving box's edges become the ramps
+    of its exposure: tests/rendering/test_weather.py), while a still thing in front of a moving background (the
+    camera's own pontoons) keeps its bytes and does not bleed into the water. Pixels whose neighbourhood moves less
+    than a pixel are left as they are."""
+    if rgb.size == 0:
         return
-    _blur_along(rgb, rgb.copy(), flow_u.astype(np.float32), flow_v.astype(np.float32))
+    fu, fv = np.ascontiguousarray(flow_u, np.float32), np.ascontiguousarray(flow_v, np.float32)
+    top = math.sqrt(_max_speed2(fu, fv))
+    if top < 1.0:
+        return
+    layered = depth_m is not None and labels is not None
+    depth = np.ascontiguousarray(depth_m, np.float32) if layered else np.ones((1, 1), np.float32)
+    ids = np.ascontiguousarray(labels) if layered else np.zeros((1, 1), np.int32)
+    tile = int(min(max(math.ceil(top / 2.0), 4), 32))
+    _blur_layers(rgb, rgb.copy(), fu, fv, depth, ids, tile, layered)
 
 
 @njit(cache=True, nogil=True)
-def _blur_along(out, src, flow_u, flow_v):
-    h, w = src.shape[0], src.shape[1]
+def _max_speed2(flow_u, flow_v):
+    top = 0.0
+    for i in range(flow_u.shape[0]):
+        for j in range(flow_u.shape[1]):
+            top = max(top, flow_u[i, j] * flow_u[i, j] + flow_v[i, j] * flow_v[i, j])
+    return top
+
+
+@njit(cache=True, nogil=True)
+def _depth(depth, r, c):
+    """The depth (m) at a pixel, far (inf) where none (NaN, inf, <= 0)."""
+    z = depth[r, c]
+    return z if z > 0.0 and z < math.inf else math.inf
+
+
+NEAR = 0.98  # a pixel is in front of another when its depth is under this share of the other's
+ACROSS_PX = 0.75  # how far (px) a pixel may lie beside a segment and be on it: the search's rounding (up to 1/√2)
+
+
+@njit(cache=True, nogil=True)
+def _neighbourhood(flow_u, flow_v, labels, tile, layered):
+    """Per tile of `tile` px, over it and its 3 x 3 neighbours: the largest flow (u, v); the largest flow of a
+    labelled thing (label > 0; 0 is the water and sky), along which a pixel looks for things sweeping over it; and
+    whether more than one label is seen (never without `layered`)."""
+    h, w = flow_u.shape
+    th, tw = (h + tile - 1) // tile, (w + tile - 1) // tile
+    most = np.zeros((th, tw, 6))  # largest flow u, v, |.|²; largest of labelled things u, v, |.|²
+    first = np.full((th, tw), -1, np.int64)
+    mixed = np.zeros((th, tw), np.bool_)
     for r in range(h):
+        t = r // tile
+        for c in range(w):
+            s = c // tile
+            u, v = flow_u[r, c], flow_v[r, c]
+            f2 = u * u + v * v
+            if f2 > most[t, s, 2]:
+                most[t, s, 0], most[t, s, 1], most[t, s, 2] = u, v, f2
+            if not layered:
+                continue
+            if labels[r, c] > 0 and f2 > most[t, s, 5]:
+                most[t, s, 3], most[t, s, 4], most[t, s, 5] = u, v, f2
+            if first[t, s] < 0:
+                first[t, s] = labels[r, c]
+            elif labels[r, c] != first[t, s]:
+                mixed[t, s] = True
+    near = np.zeros((th, tw, 4))  # the same over the 3 x 3 tiles: u, v of the largest; u, v of things' largest
+    nmixed = np.zeros((th, tw), np.bool_)
+    for t in range(th):
+        for s in range(tw):
+            best = best_thing = -1.0
+            for a in range(max(t - 1, 0), min(t + 2, th)):
+                for b in range(max(s - 1, 0), min(s + 2, tw)):
+                    if most[a, b, 2] > best:
+                        best, near[t, s, 0], near[t, s, 1] = most[a, b, 2], most[a, b, 0], most[a, b, 1]
+                    if most[a, b, 5] > best_thing:
+                        best_thing, near[t, s, 2], near[t, s, 3] = most[a, b, 5], most[a, b, 3], most[a, b, 4]
+                    if mixed[a, b] or first[a, b] != first[t, s]:
+                        nmixed[t, s] = True
+    return near, nmixed
+
+
+@njit(cache=True, nogil=True)
+def _blur_layers(out, src, flow_u, flow_v, depth, labels, tile, layered):
+    h, w = src.shape[0], src.shape[1]
+    near, nmixed = _neighbourhood(flow_u, flow_v, labels, tile, layered)
+    for r in range(h):
+        t = r // tile
         for col in range(w):
+            s = col // tile
+            if near[t, s, 0] * near[t, s, 0] + near[t, s, 1] * near[t, s, 1] < 1.0:
+                continue
+            if nmixed[t, s]:  # another thing in the neighbourhood
+                _layered_pixel(out, src, flow_u, flow_v, depth, labels, r, col, near[t, s, 2], near[t, s, 3], tile)
+                continue
             fu, fv = flow_u[r, col], flow_v[r, col]
             steps = int(min(math.ceil(math.sqrt(fu * fu + fv * fv)), 32.0))
             if steps < 2:
                 continue
             a0 = a1 = a2 = 0
             for k in range(steps):
-                s = -0.5 + k / (steps - 1)
-                rr = min(max(r + int(math.floor(fv * s + 0.5)), 0), h - 1)
-                cc = min(max(col + int(math.floor(fu * s + 0.5)), 0), w - 1)
+                q = -0.5 + k / (steps - 1)
+                rr = min(max(r + int(math.floor(fv * q + 0.5)), 0), h - 1)
+                cc = min(max(col + int(math.floor(fu * q + 0.5)), 0), w - 1)
                 a0 += src[rr, cc, 0]
                 a1 += src[rr, cc, 1]
                 a2 += src[rr, cc, 2]
@@ -159,6 +251,66 @@ def _blur_along(out, src, flow_u, flow_v):
             out[r, col, 0] = (a0 + half) // steps
             out[r, col, 1] = (a1 + half) // steps
             out[r, col, 2] = (a2 + half) // steps
+
+
+@njit(cache=True, nogil=True)
+def _layered_pixel(out, src, flow_u, flow_v, depth, labels, r, col, search_u, search_v, tile):
+    """One pixel of `_blur_layers` where more than one label is near: its own layer without the nearer things'
+    samples, and the share of the exposure nearer things sweeping over it hide it (see `blur_along`)."""
+    h, w = src.shape[0], src.shape[1]
+    zx, lx = _depth(depth, r, col), labels[r, col]
+    fu, fv = flow_u[r, col], flow_v[r, col]
+    steps = int(min(math.ceil(math.sqrt(fu * fu + fv * fv)), 32.0))
+    a0 = a1 = a2 = n = 0
+    if steps >= 2:
+        for k in range(steps):
+            q = -0.5 + k / (steps - 1)
+            rr = min(max(r + int(math.floor(fv * q + 0.5)), 0), h - 1)
+            cc = min(max(col + int(math.floor(fu * q + 0.5)), 0), w - 1)
+            if labels[rr, cc] != lx and _depth(depth, rr, cc) < NEAR * zx:
+                continue
+            a0 += src[rr, cc, 0]
+            a1 += src[rr, cc, 1]
+            a2 += src[rr, cc, 2]
+            n += 1
+    if n == 0:
+        a0, a1, a2, n = src[r, col, 0], src[r, col, 1], src[r, col, 2], 1
+    cover = f0 = f1 = f2 = 0.0
+    norm = math.sqrt(search_u * search_u + search_v * search_v)
+    du, dv = search_u / max(norm, 1e-9), search_v / max(norm, 1e-9)
+    reach = int(math.ceil(min(0.5 * norm, tile))) if norm >= 1.0 else 0
+    for j in range(-reach, reach + 1):
+        yr = r + int(math.floor(dv * j + 0.5))
+        yc = col + int(math.floor(du * j + 0.5))
+        if j == 0 or yr < 0 or yr >= h or yc < 0 or yc >= w:
+            continue
+        if labels[yr, yc] == lx or not _depth(depth, yr, yc) < NEAR * zx:
+            continue
+        vu, vv = flow_u[yr, yc], flow_v[yr, yc]
+        len2 = vu * vu + vv * vv
+        if len2 < 1.0:
+            continue
+        dx, dy = col - yc, r - yr
+        if abs(dx * vu + dy * vv) > 0.5 * len2 or abs(dx * vv - dy * vu) > ACROSS_PX * math.sqrt(len2):
+            continue  # this pixel is not on Y's segment (along it, or across it)
+        share = 1.0 / math.sqrt(len2)
+        cover += share
+        f0 += share * src[yr, yc, 0]
+        f1 += share * src[yr, yc, 1]
+        f2 += share * src[yr, yc, 2]
+    if cover == 0.0:
+        if steps >= 2:
+            half = n // 2
+            out[r, col, 0] = (a0 + half) // n
+            out[r, col, 1] = (a1 + half) // n
+            out[r, col, 2] = (a2 + half) // n
+        return
+    if cover > 1.0:
+        f0, f1, f2, cover = f0 / cover, f1 / cover, f2 / cover, 1.0
+    rest = (1.0 - cover) / n
+    out[r, col, 0] = int(f0 + rest * a0 + 0.5)
+    out[r, col, 1] = int(f1 + rest * a1 + 0.5)
+    out[r, col, 2] = int(f2 + rest * a2 + 0.5)
 
 
 def motion_field(depth_m: np.ndarray, v_optical, omega_optical, fx: float, fy: float, cx: float, cy: float,
@@ -188,15 +340,16 @@ def motion_field(depth_m: np.ndarray, v_optical, omega_optical, fx: float, fy: f
 
 
 def camera_weather(rgb: np.ndarray, look, intrinsics, seed: int, name: str, time_ns: int, depth_m: np.ndarray | None,
-                   v_optical, omega_optical, moving: tuple | None = None) -> None:  # fmt: skip
+                   v_optical, omega_optical, moving: tuple | None = None, labels: np.ndarray | None = None) -> None:  # fmt: skip
     """In place, in the order a camera suffers them: motion blur of the scene (`motion_field` from the camera's
     velocities `v_optical` m/s and `omega_optical` rad/s in its optical frame, the depth image `depth_m` (None:
-    all at infinity) and the pixels of moving things, `moving`), rain in front of it, drops on the lens (the
+    all at infinity), the pixels of moving things, `moving`, and the segmentation `labels`, which let
+    near things sweep over what lies behind them), rain in front of it, drops on the lens (the
     look's `camera.motion_blur_ms`, `rain`, `camera.droplets`). `intrinsics`: fx, fy, cx, cy (pixels)."""
     fx, fy, cx, cy = (float(v) for v in intrinsics)
     if look.camera.motion_blur_ms > 0:
         depth = depth_m if depth_m is not None else np.full(rgb.shape[:2], np.inf, np.float32)
         exposure = look.camera.motion_blur_ms * 1e-3
-        blur_along(rgb, *motion_field(depth, v_optical, omega_optical, fx, fy, cx, cy, exposure, moving))
+        blur_along(rgb, *motion_field(depth, v_optical, omega_optical, fx, fy, cx, cy, exposure, moving), depth, labels)
     rain_streaks(rgb, look.rain.rate_mm_h, look.rain.slant_deg, fx, seed, name, time_ns)
     lens_droplets(rgb, look.camera.droplets, seed, name, time_ns * 1e-9)

@@ -126,8 +126,12 @@ class Camera(Sensor):
         moving = None
         if labels is not None and depth is not None and look.camera.motion_blur_ms > 0:
             moving = self._moving_points(sim, labels, depth, pos, to_optical)
+        if labels is not None:  # for the blur's layers: the water, like the sky, is the background (label 0)
+            from usvsim.rendering.frame import water_label
+
+            labels = np.where(labels == water_label(sim.model), 0, labels)
         camera_weather(rgb, look, (k.fx, k.fy, k.cx, k.cy), sim.seed, self.topic, sim.clock.now_ns, depth,
-                       to_optical @ v_world, to_optical @ omega_world, moving)  # fmt: skip
+                       to_optical @ v_world, to_optical @ omega_world, moving, labels)  # fmt: skip
 
     def _moving_points(self, sim, labels: np.ndarray, depth: np.ndarray, pos: np.ndarray, to_optical: np.ndarray):
         """(rows, cols, velocity (n, 3) in the optical frame, m/s) of the pixels that show a simulated body (its
