@@ -87,3 +87,29 @@ def test_water_labels_from_the_colour_pass_equal_the_label_pass(sea_state, mount
         assert water.sum() > 500 and (labels != water_label(sim.model)).sum() > 0
         assert np.array_equal(labels, alone)
     sim.close()
+
+
+def test_a_new_sea_at_the_same_time_is_drawn_anew():
+    """A reset with another seed (a new wave field) that reaches a time already drawn shows the new sea: the
+    ocean's textures are keyed on the wave field as well as the time (they were on the time alone: every frame of
+    a data set with an episode per frame, all drawn at the same settle time, showed the first episode's waves)."""
+    sim = load(scenario_dict(4, {}, 160, 120), seed=1)
+    fresh = load(scenario_dict(4, {}, 160, 120), seed=2)
+    camera, other = sim.sensors["wamv/camera"], fresh.sensors["wamv/camera"]
+
+    def at_half_a_second(s) -> None:  # the clock set as datasets/rerender.py does: no camera renders on the way
+        s.world.clock.steps = 50
+        s.world.clock.now_ns = 50 * s.world.clock.step_ns
+
+    try:
+        at_half_a_second(sim)
+        first = camera.render(sim)["rgb"]
+        sim.reset(seed=2)
+        at_half_a_second(sim)
+        at_half_a_second(fresh)
+        again, expected = camera.render(sim)["rgb"], other.render(fresh)["rgb"]
+        assert np.array_equal(again, expected)
+        assert (again != first).any(axis=-1).mean() > 0.1  # another sea
+    finally:
+        sim.close()
+        fresh.close()

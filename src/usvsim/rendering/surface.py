@@ -25,7 +25,7 @@ class SurfaceData:
     displacement_scale: float  # k = s · choppiness
     level_m: float
     patch: tuple[float, float, float]  # centre x, y, half side; half side 0 = periodic tiles
-    key: tuple  # what the data depends on: equal keys → no upload
+    key: tuple  # what the data depends on (the wave field itself, time, ...): equal keys → no upload
     detail: int = 0  # 1: the last layer is the unresolved short waves (rendering/detail.py), slopes only
     whitecap_slope: float = float("inf")  # resolved slope above which the surface breaks (rendering/detail.py)
 
@@ -52,7 +52,7 @@ def surface_data(ocean, t: float, center_xy, detail=None, whitecap_slope: float 
         else:
             detail = None
         return SurfaceData(geo, slope, sizes, s, s * waves.choppiness, ocean.level_m, (0.0, 0.0, 0.0),
-                           ("fft", t, detail is not None), int(detail is not None), whitecap_slope)  # fmt: skip
+                           ("fft", waves, t, detail is not None), int(detail is not None), whitecap_slope)  # fmt: skip
     return _patch(ocean, t, center_xy)
 
 
@@ -70,7 +70,7 @@ def _patch(ocean, t: float, center_xy) -> SurfaceData:
     sx, sy = slope[0, ..., 0].astype(np.float64), slope[0, ..., 1].astype(np.float64)
     cov = ((np.mean(sx * sx), np.mean(sx * sy)), (np.mean(sx * sy), np.mean(sy * sy)))
     whitecap = whitecap_threshold(4.0 * float(h.std()), principal(np.array(cov)))
-    return SurfaceData(geo, slope, (size,), 1.0, 1.0, ocean.level_m, (cx, cy, 0.5 * size), ("patch", t, cx, cy),
+    return SurfaceData(geo, slope, (size,), 1.0, 1.0, ocean.level_m, (cx, cy, 0.5 * size), ("patch", ocean.waves, t, cx, cy),
                        0, whitecap)  # fmt: skip
 
 
