@@ -121,6 +121,9 @@ def test_bad_randomization_and_cli_errors(tmp_path):
         app, ["dataset", "buoy_field", "--out", str(tmp_path / "y"), "--randomize", "nope"]
     )
     assert result.exit_code == 2 and "no such file or preset" in result.output
+    result = CliRunner().invoke(app, ["dataset", "buoy_field", "--out", str(tmp_path / "z"), "--renderer", "ogre"])
+    assert result.exit_code == 2 and "--renderer: 'ogre' is not one of shader, mujoco" in result.output
+    assert not (tmp_path / "z").exists()  # nothing written
 
 
 def test_docs_blocks_run(tmp_path, monkeypatch):

@@ -29,6 +29,9 @@ def dataset_command(
     min_visible_fraction: Annotated[
         float, typer.Option(help="leave out objects less visible (box areas)")
     ] = 0.0,
+    renderer: Annotated[
+        str | None, typer.Option(help="shader (the marine look: sky, waves, fog) or mujoco; default: the scenario's")
+    ] = None,
 ) -> None:
     """Render a scenario's cameras with domain randomization and write images, labels and masks."""
     from usvsim.cli.outputs import prepare_folder
@@ -51,7 +54,7 @@ def dataset_command(
         raise typer.Exit(2) from None
     try:
         spec = DatasetSpec(scenario, frames, out, tuple(f.strip() for f in format.split(",")), seed, randomize,
-                           size, fractions, min_visible_pixels, min_visible_fraction)  # fmt: skip
+                           size, fractions, min_visible_pixels, min_visible_fraction, renderer=renderer)  # fmt: skip
         load_scenario(scenario), load_randomization(randomize)  # bad input fails before the folder is made
         prepare_folder(out)
         columns = (TextColumn("dataset"), BarColumn(), MofNCompleteColumn(), TimeRemainingColumn())

@@ -61,6 +61,7 @@ class DatasetSpec:
     workers: int = 2
     horizontal_fov_deg: float | None = None  # for every camera; None: the scenario's
     amodal_masks: bool = True  # visible_fraction from amodal masks (extra passes); False: box area ratio
+    renderer: str | None = None  # "shader" (the marine look) or "mujoco" for every camera; None: the scenario's
 
     def __post_init__(self):
         bad = set(self.formats) - set(FORMATS)
@@ -75,6 +76,8 @@ class DatasetSpec:
             )
         if not 0.0 <= self.min_visible_fraction <= 1.0:  # NaN fails too
             raise UsvsimError(f"--min-visible-fraction must be in [0, 1], got {self.min_visible_fraction}")
+        if self.renderer not in (None, "shader", "mujoco"):
+            raise UsvsimError(f"--renderer: {self.renderer!r} is not one of shader, mujoco")
         if self.min_visible_pixels < 0:
             raise UsvsimError(f"--min-visible-pixels must be >= 0, got {self.min_visible_pixels}")
 
@@ -88,6 +91,8 @@ def _scenario(spec: DatasetSpec, environment: dict):
         env[key] = (
             {**env[key], **value} if isinstance(value, dict) and key in env and "type" not in value else value
         )
+    if spec.renderer:
+        data["rendering"] = {**(data.get("rendering") or {}), "renderer": spec.renderer}
     cameras = []
     for v in data.get("vessels", []):
         for s in v.pop("sensors", []) or []:

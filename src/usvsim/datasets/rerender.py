@@ -28,7 +28,7 @@ def rerender(root: Path, stem: str) -> dict:
     spec = DatasetSpec(run["scenario"], 1, root, tuple(run["formats"]), run["seed"], None,
                        tuple(run["resolution"]) if run["resolution"] else None, min_visible_pixels=run["min_visible_pixels"],
                        min_visible_fraction=run["min_visible_fraction"], horizontal_fov_deg=run["horizontal_fov_deg"],
-                       amodal_masks=run["amodal_masks"])  # fmt: skip
+                       amodal_masks=run["amodal_masks"], renderer=run.get("renderer"))  # fmt: skip
     gen = DatasetGenerator(spec, environment=run["environment"])
     try:
         names = [f"{vessel}/{cam.cfg.name}" for vessel, cam in gen.cameras]
