@@ -124,3 +124,80 @@ def test_waterline_taps_from_a_uniform_give_the_same_bytes_as_a_fixed_count(monk
         monkeypatch.setattr(shaders, name, getattr(shaders, name).replace(" i < 8;", " i < u_pierce_taps;"))
     none, _, _ = _run(30.0, 1.0)
     assert not np.array_equal(uniform["rgb"], none["rgb"])
+
+
+def _tracks(speeds: list[float], seconds: float = 30.0):
+    """WakeTracks of two hulls 40 m apart sailing east at `speeds` (m/s), sampled every 0.25 s for `seconds`."""
+    from usvsim.rendering.wakes import SAMPLE_S, WakeTracks
+
+    tracks = WakeTracks.__new__(WakeTracks)
+    tracks.half_beams = [1.2, 0.5]
+    tracks.reset()
+    for i in range(int(seconds / SAMPLE_S) + 1):
+        t = i * SAMPLE_S
+        tracks.samples.append(np.array([[v * t, 40.0 * k, 0.0, v, t] for k, v in enumerate(speeds)]))
+    return tracks, seconds
+
+
+@pytest.mark.parametrize("speeds, faded", [((0.36, 0.5), True), ((2.5, 0.32), True), ((1.2, 0.0), False)])
+def test_wake_cells_hold_every_texel_the_foam_leaves(speeds, faded):
+    """WakePass.occupied marks the cells where a triangle can leave foam in the 8-bit texture (wakes.foam_bound, an
+    upper bound of the shader's value): every texel above 0, and its bilinear neighbours, lie in marked cells. A slow
+    hull's old track fades out of them, so the water draws its quads without the wake code."""
+    from usvsim.rendering.gl import attach_current
+    from usvsim.rendering.wakes import CELLS, TEXELS, WakePass, foam_bound
+    from usvsim.sensors.camera.render import gl_context
+
+    tracks, now = _tracks(list(speeds))
+    tris = tracks.ribbons(now, 30.0)
+    gl = gl_context(64, 64)
+    gl.make_current()
+    try:
+        ctx = attach_current()
+        wakes = WakePass(ctx)
+        assert wakes.draw(tris)
+        foam = np.frombuffer(wakes.texture.read(), np.uint8).reshape(TEXELS, TEXELS, 4)[..., 0]
+        wakes.release()
+    finally:
+        gl.free()
+    assert foam.any()
+    rows, cols = np.nonzero(foam)
+    for dy in (-1, 0, 1):  # the texel and its bilinear neighbours
+        for dx in (-1, 0, 1):
+            r, c = np.clip(rows + dy, 0, TEXELS - 1), np.clip(cols + dx, 0, TEXELS - 1)
+            assert wakes.occupied[r * CELLS // TEXELS, c * CELLS // TEXELS].all()
+    kept = int((foam_bound(tris) >= 0.25 / 255).sum())
+    assert 0 < kept and (kept < len(tris) // 3) == faded  # a slow hull's old track is left out (1.2 m/s: 30 s kept)
+    assert wakes.occupied.sum() < CELLS * CELLS
+
+
+def test_slow_hull_water_drawn_with_fewer_wake_quads_gives_the_same_bytes(monkeypatch):
+    """A hull under 1 m/s leaves foam only near its stern (the rest of its track rounds to 0 in the texture): the
+    water draws the wake code over fewer quads than the track's ribbons cover, and the picture is byte for byte the
+    one drawn with the wake code everywhere."""
+    from usvsim.rendering.marine import MarinePass
+    from usvsim.rendering.wakes import CLEAR, foam_bound
+
+    seen = []
+    split = MarinePass._marks_runs
+
+    def recorded(self, *args):
+        runs = split(self, *args)
+        seen.append(int(np.diff(runs, axis=1).sum()))
+        return runs
+
+    monkeypatch.setattr(MarinePass, "_marks_runs", recorded)
+    slow, _, ribbons = _run(30.0, 0.3)
+    speed = ribbons[:, 4].max()
+    assert 0.3 < speed < 1.0, speed  # slow, with a track
+    bound = foam_bound(ribbons)
+    assert 0 < (bound >= CLEAR).sum() < len(bound)  # its older part leaves no foam
+    from usvsim.rendering import wakes
+
+    monkeypatch.setattr(wakes, "foam_bound", lambda tris: np.ones(len(tris) // 3))  # every triangle's cells
+    loose, _, _ = _run(30.0, 0.3)
+    assert seen[0] < seen[-1]  # fewer quads drawn with the wake code (here none: its foam is out of view)
+    assert np.array_equal(slow["rgb"], loose["rgb"])
+    monkeypatch.setattr(MarinePass, "_marks_runs", lambda self, *args: np.array([[0, 10**9]]))
+    whole, _, _ = _run(30.0, 0.3)
+    assert np.array_equal(slow["rgb"], whole["rgb"])

@@ -91,7 +91,7 @@ class MarinePass:
         self._plain_vaos: dict[tuple[int, int], moderngl.VertexArray] = {}  # viewport size → water without marks
         self._full_vaos: dict[tuple[int, int], moderngl.VertexArray] = {}  # viewport size → water with the depth
         self._region = (0.0, 0.0, 1.0, 0.0)  # the wakes' texture region this frame (w = 0: none)
-        self._extent = (0.0, 0.0, 0.0, 0.0)  # x0, y0, x1, y1 (m) of its texels that are not clear
+        self._occupied = np.zeros((1, 1), bool)  # cells of that region where its texels may not be clear (WakePass)
         self._marks = np.zeros((0, 2), np.int64)  # runs of quads whose labels can fall in that region
         self._columns: dict[tuple[int, int], int] = {}  # viewport size → vertices per grid row
         self._rows = (0, 0)  # the grid's vertex rows displaced and drawn this frame (first, count)
@@ -151,10 +151,12 @@ class MarinePass:
 
     def _marks_runs(self, size: tuple[int, int], view_proj: np.ndarray, eye: np.ndarray) -> np.ndarray:
         """Runs [start, stop) of quads (their index in the grid's storage: row by row, top first) that may hold a
-        pixel where the wakes' texture is not clear (WakePass.extent), from the labels of their corners as WATER_VS computes them (the
-        still-water point of the vertex's ray, capped at FAR_M): a fragment's label interpolates its triangle's, so
-        it lies in their bounding box. One run per quad row at most, (n, 2) int; empty without wakes."""
-        if self._region[3] <= 0.0:
+        pixel where the wakes' texture is not clear (the cells of WakePass.occupied), from the labels of their corners
+        as WATER_VS computes them (the still-water point of the vertex's ray, capped at FAR_M): a fragment's label
+        interpolates its triangle's, so it lies in their bounding box. (n, 2) int, in the stored order; empty without
+        wakes, or when none shows (wakes.foam_bound: a hull too slow, or its track too old)."""
+        occupied = self._occupied
+        if self._region[3] <= 0.0 or not occupied.any():
             return np.zeros((0, 2), np.int64)
         ndc = self._grid_ndc[size]
         inv = np.linalg.inv(view_proj)
@@ -168,15 +170,22 @@ class MarinePass:
         corners = (label[:-1, :-1], label[1:, :-1], label[:-1, 1:], label[1:, 1:])
         lo, hi = np.minimum.reduce(corners), np.maximum.reduce(corners)  # per quad (rows - 1, cols - 1, 2)
         margin = 1.0  # m: float32 on the GPU, and more than enough
-        x0, y0, x1, y1 = self._extent
-        hit = np.all((hi > np.array([x0, y0]) - margin) & (lo < np.array([x1, y1]) + margin), axis=-1)
-        rows = np.flatnonzero(hit.any(axis=1))
-        if len(rows) == 0:
-            return np.zeros((0, 2), np.int64)
+        cells = occupied.shape[0]
+        corner, cell = np.array(self._region[:2]), self._region[2] / cells
+        first = np.floor((lo - margin - corner) / cell)  # the cells each quad's box (and margin) overlaps
+        last = np.floor((hi + margin - corner) / cell)
+        inside = np.all((last >= 0) & (first < cells), axis=-1)  # labels outside the region read no wake
+        first, last = np.clip(first, 0, cells - 1).astype(np.intp), np.clip(last, 0, cells - 1).astype(np.intp)
+        total = np.zeros((cells + 1, cells + 1), np.int64)  # occupied cells below and left of each corner
+        total[1:, 1:] = occupied.cumsum(axis=0).cumsum(axis=1)
+        x0, y0, x1, y1 = first[..., 0], first[..., 1], last[..., 0] + 1, last[..., 1] + 1
+        hit = inside & (total[y1, x1] - total[y0, x1] - total[y1, x0] + total[y0, x0] > 0)
+        flat = np.concatenate([np.zeros((hit.shape[0], 1), bool), hit, np.zeros((hit.shape[0], 1), bool)], axis=1)
+        edges = np.flatnonzero(np.diff(flat.ravel().astype(np.int8)))  # runs of hits, row by row (padded rows)
+        starts, stops = edges[::2], edges[1::2]
+        row = starts // flat.shape[1]
         per_row = hit.shape[1]
-        first = np.argmax(hit[rows], axis=1)
-        last = per_row - np.argmax(hit[rows, ::-1], axis=1)
-        return np.stack([rows * per_row + first, rows * per_row + last], axis=1)
+        return np.stack([starts - row * flat.shape[1] + row * per_row, stops - row * flat.shape[1] + row * per_row], axis=1)
 
     def upload(self, data: SurfaceData) -> None:
         """Send the ocean's textures (skipped when the same data is already there)."""
@@ -372,7 +381,7 @@ class MarinePass:
                 self._wakes = WakePass(self.ctx)
             if self._wakes.draw(wake):
                 region = (*self._wakes.region, 1.0)
-                self._extent = self._wakes.extent
+                self._occupied = self._wakes.occupied
                 self._wakes.texture.use(TEXTURE_UNITS["u_wake"])
         self._set_waters(u_wake_region=region)
         self._region = region

@@ -22,6 +22,8 @@ SAMPLE_S, KEEP_S = 0.25, 60.0
 TURBULENT_S, KELVIN_S = 20.0, 6.0
 KELVIN_TAN = math.tan(math.radians(19.47))
 MAX_REGION_M, TEXELS = 2000.0, 512
+CLEAR = 0.25 / 255.0  # a foam value below this is stored as 0 in the 8-bit texture (rounded: 0.5 / 255), with margin
+CELLS = 32  # `WakePass.occupied`: the region in CELLS x CELLS cells
 
 
 class WakeTracks:
@@ -117,6 +119,24 @@ class WakeTracks:
         return np.concatenate(tris).astype(np.float32) if tris else np.zeros((0, 6), np.float32)
 
 
+def foam_bound(tris: np.ndarray) -> np.ndarray:
+    """Per triangle of `tris` (n, 6 as `WakeTracks.ribbons`; n / 3 triangles): an upper bound of the foam FS draws
+    anywhere in it. Its speed and age interpolate between its vertices', so FS's value is at most
+    go(highest speed) · max(0.7 exp(-lowest age / TURBULENT_S), 0.4 exp(-lowest age / KELVIN_S) [speed >= 1]) (the
+    across-track factors and `fresh` are at most 1). A hull slower than 0.3 m/s leaves none; a slow one's old track
+    fades below `CLEAR`: such triangles leave the texture clear, and the water needs no wake code over them."""
+    t = tris.reshape(-1, 3, 6).astype(np.float64)
+    speed = t[..., 4].max(axis=1)
+    speed = speed + 1e-5 * np.abs(speed) + 1e-6  # float32 interpolation and rounding: a little more
+    age = t[..., 3].min(axis=1)
+    age = age - 1e-5 * np.abs(age) - 1e-6
+    x = np.clip((speed - 0.3) / (2.0 - 0.3), 0.0, 1.0)
+    go = x * x * (3.0 - 2.0 * x)
+    centre = 0.7 * np.exp(-age / TURBULENT_S)
+    arm = 0.4 * np.exp(-age / KELVIN_S) * (speed >= 1.0)
+    return go * np.maximum(centre, arm)
+
+
 VS = """
 #version 330
 uniform vec3 u_region;  // x0, y0 of the texture's corner, side (m)
@@ -162,7 +182,7 @@ class WakePass:
         self.vao = ctx.vertex_array(self.prog, [(self.buffer, "2f 1f 1f 1f 1f", "in_xy", "in_across", "in_age",
                                                  "in_speed", "in_half")])  # fmt: skip
         self.region = (0.0, 0.0, 1.0)
-        self.extent = (0.0, 0.0, 0.0, 0.0)  # x0, y0, x1, y1 (m): where the texture is not zero (the rest is clear)
+        self.occupied = np.zeros((CELLS, CELLS), bool)  # [row y, column x] cells of the region where it may not be zero
 
     def draw(self, tris: np.ndarray) -> bool:
         """Render the ribbons (R); False (and nothing drawn) when there are none."""
@@ -174,7 +194,14 @@ class WakePass:
         centre = 0.5 * (lo + hi)
         self.region = (float(centre[0] - 0.5 * side), float(centre[1] - 0.5 * side), side)
         pad = 2.0 * side / TEXELS  # the texels the triangles touch, and their bilinear neighbours
-        self.extent = (float(lo[0] - pad), float(lo[1] - pad), float(hi[0] + pad), float(hi[1] + pad))
+        shown = tris.reshape(-1, 3, 6)[foam_bound(tris) >= CLEAR, :, :2]  # triangles that can leave a texel above 0
+        self.occupied = np.zeros((CELLS, CELLS), bool)
+        if len(shown):  # each one's box and the texels around it, in cells
+            corner, cell = np.array(self.region[:2]), side / CELLS
+            first = np.clip(np.floor((shown.min(axis=1) - pad - corner) / cell), 0, CELLS - 1).astype(int)
+            last = np.clip(np.floor((shown.max(axis=1) + pad - corner) / cell), 0, CELLS - 1).astype(int)
+            for (x0, y0), (x1, y1) in zip(first, last):
+                self.occupied[y0 : y1 + 1, x0 : x1 + 1] = True
         data = np.ascontiguousarray(tris, np.float32).tobytes()
         if len(data) > self.buffer.size:
             self.buffer.orphan(len(data))
