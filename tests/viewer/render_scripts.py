@@ -113,7 +113,41 @@ def eye_distance(out: str) -> None:
     print(json.dumps({"ipds": list(frames), "same": bool(np.array_equal(a, b)), "differing": int((a != b).any(2).sum())}))
 
 
+def over_geoms(out: str) -> None:
+    """The shader viewer's frames (harbour, sea state 4, the benchmark's view and one from low over the buoys) with
+    the water over geoms drawn by the quads that can reach a geom's pixel only (cull.FrustumCull.boxes) and by every
+    quad: the same bytes, and fewer quads."""
+    from usvsim.rendering import cull
+    from usvsim.rendering.gallery import load, scenario_dict
+    from usvsim.viewer.camera import CameraPose
+    from usvsim.viewer.offscreen import OffscreenViewer
+
+    sim = load(scenario_dict(4, {"renderer": "shader", "fog": {"visibility_m": 2000.0}}, 64, 48))
+    sim.run(3.0)
+    viewer = OffscreenViewer(sim, 640, 360)
+    stats = []
+    for pose in (None, CameraPose(np.array([-6.0, -2.0, 0.0]), 25.0, 200.0, -25.0)):
+        if pose is not None:
+            viewer.view.camera_pose = lambda dt=0.0, pose=pose: pose
+        boxes = cull.drawn_boxes
+        selected = viewer.render()
+        marine = viewer.renderer.marine
+        first, count = marine._rows
+        columns = marine._columns[(640, 360)]
+        runs = marine._over_geoms  # None: every quad
+        drawn = -1 if runs is None else int(np.diff(np.clip(runs, first * (columns - 1), (first + count - 1) * (columns - 1)), axis=1).sum())
+        n = len(marine.geom_boxes) if marine.geom_boxes is not None else -1
+        cull.drawn_boxes = lambda scene, model: None
+        every = viewer.render()
+        cull.drawn_boxes = boxes
+        stats.append({"same": bool(np.array_equal(selected, every)), "quads": (count - 1) * (columns - 1),
+                      "over_geoms": drawn, "boxes": n})
+    viewer.close()
+    sim.close()
+    print(json.dumps(stats))
+
+
 if __name__ == "__main__":
     kinds = {"offscreen": offscreen, "lap": lap, "shader_window": shader_window, "culled": culled,
-             "eye_distance": eye_distance}
+             "eye_distance": eye_distance, "over_geoms": over_geoms}
     kinds[sys.argv[1]](sys.argv[2])

@@ -69,6 +69,17 @@ def test_the_mono_water_is_drawn_from_the_eye_the_geoms_are(tmp_path):
     assert stats["ipds"][0] > 0.0 and stats["same"], stats
 
 
+def test_water_over_geoms_drawn_by_the_quads_that_reach_them_gives_the_same_bytes(tmp_path):
+    """The water's program for pixels with a geom behind runs over the quads whose displaced corners' box meets a
+    geom's box only (MarinePass._over_geoms_runs); the viewer's picture is the one drawn with every quad."""
+    env = dict(os.environ, MUJOCO_GL="egl")
+    env.pop("PYOPENGL_PLATFORM", None)
+    stats = run_script("over_geoms", tmp_path / "unused.png", env)
+    for view in stats:
+        assert view["same"], stats
+        assert view["boxes"] > 0 and 0 < view["over_geoms"] < view["quads"], stats
+
+
 def start_xvfb():
     if shutil.which("Xvfb") is None:
         pytest.skip("Xvfb is not installed (apt-get install xvfb)")

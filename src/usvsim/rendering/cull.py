@@ -23,6 +23,7 @@ MARGIN_M = 0.05  # ... and a bounding sphere must clear a plane by this much plu
 _G = mujoco.mjtGeom
 _ROUND = (int(_G.mjGEOM_SPHERE), int(_G.mjGEOM_ELLIPSOID))
 _CAPSULE, _CYLINDER, _BOX, _NONE = (int(t) for t in (_G.mjGEOM_CAPSULE, _G.mjGEOM_CYLINDER, _G.mjGEOM_BOX, _G.mjGEOM_NONE))
+_MESH, _HFIELD = int(_G.mjGEOM_MESH), int(_G.mjGEOM_HFIELD)
 
 
 class FrustumCull:
@@ -72,6 +73,41 @@ class FrustumCull:
         for i in culled:
             geoms[i].type = _NONE
         return len(culled)
+
+
+def drawn_boxes(scene: mujoco.MjvScene, model: mujoco.MjModel) -> np.ndarray | None:
+    """(n, 8, 3) the corners (world, m) of boxes that hold every geom `scene` draws (not `mjGEOM_NONE`: after
+    `FrustumCull`, not the culled ones): the primitive shapes from their sizes and frames, meshes and height fields of
+    the model from `geom_aabb` (in the geom's frame), each widened by 2 % and MARGIN_M. None where a geom has no such
+    box (a plane, a line, a label) or MuJoCo draws more than the geoms (shadows, reflections, the skybox, skins).
+    The water's program for pixels with a geom behind runs only over quads that can reach these boxes' images
+    (marine.MarinePass._over_geoms_runs)."""
+    flags = scene.flags
+    if (flags[mujoco.mjtRndFlag.mjRND_SHADOW] or flags[mujoco.mjtRndFlag.mjRND_REFLECTION]
+            or flags[mujoco.mjtRndFlag.mjRND_SKYBOX] or getattr(scene, "nskin", 0) or getattr(scene, "nflex", 0)):  # fmt: skip
+        return None
+    corners = []
+    signs = np.array([[x, y, z] for x in (-1, 1) for y in (-1, 1) for z in (-1, 1)], dtype=np.float64)
+    for g in scene.geoms[: scene.ngeom]:
+        kind = int(g.type)
+        if kind == _NONE:
+            continue
+        size = np.array(g.size, dtype=np.float64)
+        centre = np.zeros(3)
+        if kind in _ROUND or kind == _BOX:
+            half = size
+        elif kind == _CAPSULE:
+            half = np.array([size[0], size[0], size[2] + size[0]])
+        elif kind == _CYLINDER:
+            half = np.array([size[0], size[0], size[2]])
+        elif kind in (_MESH, _HFIELD) and int(g.objtype) == int(mujoco.mjtObj.mjOBJ_GEOM) and 0 <= g.objid < model.ngeom:
+            centre, half = model.geom_aabb[g.objid, :3].astype(np.float64), model.geom_aabb[g.objid, 3:].astype(np.float64)
+        else:
+            return None
+        half = 1.02 * np.abs(half) + MARGIN_M
+        rot = np.array(g.mat, dtype=np.float64).reshape(3, 3)
+        corners.append(np.array(g.pos, dtype=np.float64) + (centre + signs * half) @ rot.T)
+    return np.array(corners) if corners else np.zeros((0, 8, 3))
 
 
 def frustum_planes(camera, width: int, height: int) -> np.ndarray:

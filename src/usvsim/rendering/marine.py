@@ -93,6 +93,10 @@ class MarinePass:
         self._region = (0.0, 0.0, 1.0, 0.0)  # the wakes' texture region this frame (w = 0: none)
         self._occupied = np.zeros((1, 1), bool)  # cells of that region where its texels may not be clear (WakePass)
         self._marks = np.zeros((0, 2), np.int64)  # runs of quads whose labels can fall in that region
+        # (n, 8, 3) corners of boxes that hold every geom MuJoCo drew this frame (cull.FrustumCull.boxes), set by the
+        # caller before `draw`; None: unknown (the water over geoms is drawn with every quad)
+        self.geom_boxes: np.ndarray | None = None
+        self._over_geoms: np.ndarray | None = None  # runs of quads that may cover a geom's pixel (None: all)
         self._columns: dict[tuple[int, int], int] = {}  # viewport size → vertices per grid row
         self._rows = (0, 0)  # the grid's vertex rows displaced and drawn this frame (first, count)
         self._geo: moderngl.TextureArray | None = None
@@ -158,15 +162,7 @@ class MarinePass:
         occupied = self._occupied
         if self._region[3] <= 0.0 or not occupied.any():
             return np.zeros((0, 2), np.int64)
-        ndc = self._grid_ndc[size]
-        inv = np.linalg.inv(view_proj)
-        p = ndc[..., :1] * inv[:, 0] + ndc[..., 1:] * inv[:, 1] + 0.5 * inv[:, 2] + inv[:, 3]
-        d = p[..., :3] / p[..., 3:] - eye
-        d /= np.linalg.norm(d, axis=-1, keepdims=True)
-        h = max(eye[2] - self._level_m, 0.05)
-        horiz = np.maximum(np.hypot(d[..., 0], d[..., 1]), 1e-6)
-        reach = np.where(d[..., 2] < -1e-6, np.minimum(h / np.maximum(-d[..., 2], 1e-6) * horiz, FAR_M), FAR_M)
-        label = eye[:2] + d[..., :2] / horiz[..., None] * reach[..., None]  # (rows, cols, 2)
+        label = self._labels(size, view_proj, eye)
         corners = (label[:-1, :-1], label[1:, :-1], label[:-1, 1:], label[1:, 1:])
         lo, hi = np.minimum.reduce(corners), np.maximum.reduce(corners)  # per quad (rows - 1, cols - 1, 2)
         margin = 1.0  # m: float32 on the GPU, and more than enough
@@ -180,12 +176,70 @@ class MarinePass:
         total[1:, 1:] = occupied.cumsum(axis=0).cumsum(axis=1)
         x0, y0, x1, y1 = first[..., 0], first[..., 1], last[..., 0] + 1, last[..., 1] + 1
         hit = inside & (total[y1, x1] - total[y0, x1] - total[y1, x0] + total[y0, x0] > 0)
-        flat = np.concatenate([np.zeros((hit.shape[0], 1), bool), hit, np.zeros((hit.shape[0], 1), bool)], axis=1)
-        edges = np.flatnonzero(np.diff(flat.ravel().astype(np.int8)))  # runs of hits, row by row (padded rows)
-        starts, stops = edges[::2], edges[1::2]
-        row = starts // flat.shape[1]
-        per_row = hit.shape[1]
-        return np.stack([starts - row * flat.shape[1] + row * per_row, stops - row * flat.shape[1] + row * per_row], axis=1)
+        return _runs(hit)
+
+    def _labels(self, size: tuple[int, int], view_proj: np.ndarray, eye: np.ndarray) -> np.ndarray:
+        """(rows, cols, 2) the grid vertices' labels as WATER_VS computes them: the still-water point of the vertex's
+        ray, capped at FAR_M (m, world)."""
+        ndc = self._grid_ndc[size]
+        inv = np.linalg.inv(view_proj)
+        p = ndc[..., :1] * inv[:, 0] + ndc[..., 1:] * inv[:, 1] + 0.5 * inv[:, 2] + inv[:, 3]
+        d = p[..., :3] / p[..., 3:] - eye
+        d /= np.linalg.norm(d, axis=-1, keepdims=True)
+        h = max(eye[2] - self._level_m, 0.05)
+        horiz = np.maximum(np.hypot(d[..., 0], d[..., 1]), 1e-6)
+        reach = np.where(d[..., 2] < -1e-6, np.minimum(h / np.maximum(-d[..., 2], 1e-6) * horiz, FAR_M), FAR_M)
+        return eye[:2] + d[..., :2] / horiz[..., None] * reach[..., None]
+
+    def _over_geoms_runs(self, size: tuple[int, int], view_proj: np.ndarray, near: float, out) -> np.ndarray | None:
+        """Runs [start, stop) of quads (as `_marks_runs`) that may cover a pixel of a geom (`geom_boxes`), for the
+        water program over geoms (see `_water`); None: every quad. From the displaced grid this frame (the transform
+        feedback's `out`, read back) and the geoms' boxes: a triangle (or a box) wholly in front of the eye covers
+        only pixels inside the box around its corners' images; quads whose box meets no geom's box (in cells of
+        8 pixels, a pixel of margin) cannot reach a geom's pixel, and the stencil keeps them off all others."""
+        if self.geom_boxes is None:
+            return None
+        width, height = size
+        cell = 8
+        cols, rows = -(-width // cell), -(-height // cell)
+
+        def image(points: np.ndarray):  # window pixels of world points, and whether they lie well in front
+            clip = points @ view_proj[:, :3].T + view_proj[:, 3]
+            w = clip[..., 3]
+            front = w > 0.5 * near
+            w = np.where(front, w, 1.0)
+            return (clip[..., 0] / w + 1.0) * 0.5 * width, (clip[..., 1] / w + 1.0) * 0.5 * height, front
+
+        occupied = np.zeros((rows, cols), bool)
+        if len(self.geom_boxes):
+            x, y, front = image(self.geom_boxes)
+            if not front.all():
+                return None  # a geom reaches behind the eye: its image is not bounded
+            x0 = np.clip(np.floor((x.min(axis=1) - 1.0) / cell), 0, cols).astype(int)
+            x1 = np.clip(np.floor((x.max(axis=1) + 1.0) / cell), -1, cols - 1).astype(int)
+            y0 = np.clip(np.floor((y.min(axis=1) - 1.0) / cell), 0, rows).astype(int)
+            y1 = np.clip(np.floor((y.max(axis=1) + 1.0) / cell), -1, rows - 1).astype(int)
+            for a, b, c, d in zip(x0, y0, x1, y1):
+                if c >= a and d >= b:
+                    occupied[b : d + 1, a : c + 1] = True
+        first, count = self._rows
+        columns = self._columns[size]
+        if count < 2:
+            return np.zeros((0, 2), np.int64)
+        floats = FEEDBACK_BYTES // 4
+        data = np.frombuffer(out.read(count * columns * FEEDBACK_BYTES, offset=first * columns * FEEDBACK_BYTES),
+                             np.float32).reshape(count, columns, floats)  # fmt: skip
+        x, y, front = image(data[..., :3].astype(np.float64))
+        quad = lambda v, f: f.reduce((v[:-1, :-1], v[1:, :-1], v[:-1, 1:], v[1:, 1:]))  # noqa: E731
+        bounded = quad(front, np.logical_and)
+        total = np.zeros((rows + 1, cols + 1), np.int64)
+        total[1:, 1:] = occupied.cumsum(axis=0).cumsum(axis=1)
+        a = np.clip(np.floor((quad(x, np.minimum) - 1.0) / cell), 0, cols).astype(np.intp)
+        b = np.clip(np.floor((quad(y, np.minimum) - 1.0) / cell), 0, rows).astype(np.intp)
+        c = np.clip(np.floor((quad(x, np.maximum) + 1.0) / cell) + 1, 0, cols).astype(np.intp)
+        d = np.clip(np.floor((quad(y, np.maximum) + 1.0) / cell) + 1, 0, rows).astype(np.intp)
+        meets = (c > a) & (d > b) & (total[d, c] - total[b, c] - total[d, a] + total[b, a] > 0)
+        return _runs(~bounded | meets) + first * (columns - 1)
 
     def upload(self, data: SurfaceData) -> None:
         """Send the ocean's textures (skipped when the same data is already there)."""
@@ -337,6 +391,7 @@ class MarinePass:
             GL.glStencilOp(GL.GL_KEEP, GL.GL_KEEP, GL.GL_REPLACE)
             self._fullscreen(self.fog, "<", blend=True)  # only where a geom was drawn (depth > 0)
             marks, plain, full = water_vao, self._plain_vaos[size], self._full_vaos[size]
+            self._over_geoms = self._over_geoms_runs(size, view_proj, near, out)
             shadow = self._shadow_tex is not None
             if shadow:
                 self._use_shadow_map(camera)
@@ -464,7 +519,10 @@ class MarinePass:
                 GL.glStencilFunc(GL.GL_EQUAL, WATER_BIT | GEOM_BIT, GEOM_BIT)
                 if blend:
                     ctx.enable(ctx.BLEND)
-                full.render(vertices=(stop - start) * 6, first=start * 6)
+                over = [(start, stop)] if self._over_geoms is None else np.clip(self._over_geoms, start, stop)
+                for lo, hi in over:  # only quads that can reach a geom's pixel (`_over_geoms_runs`), in stored order
+                    if hi > lo:
+                        full.render(vertices=(hi - lo) * 6, first=lo * 6)
         ctx.disable_direct(GL_DEPTH_CLAMP)
         ctx.disable(ctx.BLEND)
 
@@ -594,6 +652,16 @@ def camera_matrices(camera, width: int, height: int) -> tuple[np.ndarray, np.nda
     proj[1, 1], proj[1, 2] = 2 * n / (top - bottom), (top + bottom) / (top - bottom)
     proj[2, 2], proj[2, 3], proj[3, 2] = n / (f - n), n * f / (f - n), -1.0
     return proj @ view, eye, n, f
+
+
+def _runs(hit: np.ndarray) -> np.ndarray:
+    """(n, 2) runs [start, stop) of True in `hit` (quad rows, quads per row), as indices of quads stored row by row."""
+    flat = np.concatenate([np.zeros((hit.shape[0], 1), bool), hit, np.zeros((hit.shape[0], 1), bool)], axis=1)
+    edges = np.flatnonzero(np.diff(flat.ravel().astype(np.int8)))  # runs of hits, row by row (padded rows)
+    starts, stops = edges[::2], edges[1::2]
+    row = starts // flat.shape[1]
+    shift = row * (flat.shape[1] - hit.shape[1])
+    return np.stack([starts - shift, stops - shift], axis=1).astype(np.int64)
 
 
 def _sky_rows(view_proj: np.ndarray, eye: np.ndarray, height: int, margin_px: int = 2) -> tuple[int, int]:

@@ -101,6 +101,9 @@ class FrameRenderer:
 
             GL.glFlush()  # llvmpipe's threads draw the geoms while this one prepares the sea
             prepare_sea(marine, sim, self._center_xy)
+            from usvsim.rendering import cull
+
+            marine.geom_boxes = cull.drawn_boxes(self.scene, sim.model)  # what mjr_render drew: the water over them
             view = mujoco.mjv_averageCamera(self.scene.camera[0], self.scene.camera[1])  # what mjr_render drew from
             marine.draw(view, viewport, time_s=sim.time)
             GL.glFlush()  # and the water while this one lays out the HUD

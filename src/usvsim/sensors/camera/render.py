@@ -201,6 +201,10 @@ class PinholeRenderer:
             from usvsim.rendering.frame import id_color
 
             labels = id_color(self.scene.ngeom + 1) if segment else None
+            if not segment:  # what mjr_render drew: the water over geoms needs no more quads (same bytes)
+                from usvsim.rendering import cull
+
+                self.marine.geom_boxes = cull.drawn_boxes(self.scene, self.model)
             self.marine.draw(self.scene.camera[0], self.rect, labels, self._time_s)
 
     def capture(self, rgb_depth: bool = True, segmentation: bool = True) -> dict[str, np.ndarray]:
