@@ -197,10 +197,13 @@ def _store_body(b, sums, c, rho_g, force, torque, volume, cob, wetted_area, wate
     waterplane_area[b] = 0.5 * awp
 
 
+FACE_UNKNOWN, FACE_DRY, FACE_WET, FACE_CUT = 0, 1, 2, 3  # hull_hydrostatics' face_state: what a face's rows hold
+
+
 @njit(cache=True, nogil=True)  # nogil: the simulation may run it beside the Kerner kernel (core/overlap.py)
 def hull_hydrostatics(vertices, faces, face_area, face_offsets, eta, head, com, rho, g,
                       force, torque, volume, cob, wetted_area, waterplane_area,
-                      face_area_sub, seg, seg_count):  # fmt: skip
+                      face_area_sub, seg, seg_count, face_state):  # fmt: skip
     """Hydrostatic wrench, displaced volume and waterline of every body, in one call.
 
     Inputs (world ENU, SI): vertices (Nv,3) m; faces (Nf,3) uint32 global vertex indices, outward
@@ -214,6 +217,11 @@ def hull_hydrostatics(vertices, faces, face_area, face_offsets, eta, head, com, 
     m², horizontal projection of the area inside the waterline (= -Σ submerged projected area,
     exact for closed hulls); face_area_sub (Nf,) m²; seg (Nf,2,3) m oriented waterline segment
     of each face and seg_count (Nf,) its count (0 or 1; rows with count 0 are zero).
+    face_state (Nf,) int8, kept between calls: what the per-face rows of each face hold (FACE_DRY: no submerged
+    area and a zero segment row, FACE_WET: the whole face submerged and a zero row, FACE_CUT / FACE_UNKNOWN: to be
+    written). A dry or submerged face whose rows already say so is not written again: at 200 WAM-Vs the per-face
+    rows (2.7 MB) were rewritten every step and fell out of the caches between steps. Whoever writes the per-face
+    rows otherwise (hydro/flat.py) sets every state back to FACE_UNKNOWN (HullSet does).
     The face loop is kept in one body on purpose: splitting it costs numba ~1.5x in speed.
     Volume, centre of buoyancy and areas are geometric (the depth below the local surface) in both cases.
     """
@@ -228,11 +236,13 @@ def hull_hydrostatics(vertices, faces, face_area, face_offsets, eta, head, com, 
             h2 = vertices[i2, 2] - eta[i2]
             n_below = (h0 <= 0.0) + (h1 <= 0.0) + (h2 <= 0.0)
             if n_below == 0 or (n_below == 1 and min(h0, h1, h2) == 0.0):  # dry, or touching at one vertex
-                face_area_sub[f] = 0.0
-                if seg_count[f] != 0:  # a row with count 0 is already zero: most dry faces write nothing there
-                    for i in range(6):  # (written out: a helper with this branch is not inlined, ~4x slower)
-                        seg[f, i // 3, i % 3] = 0.0
-                    seg_count[f] = 0
+                if face_state[f] != FACE_DRY:  # rows already dry are left alone
+                    face_area_sub[f] = 0.0
+                    if seg_count[f] != 0:  # a row with count 0 is already zero: most dry faces write nothing there
+                        for i in range(6):  # (written out: a helper with this branch is not inlined, ~4x slower)
+                            seg[f, i // 3, i % 3] = 0.0
+                        seg_count[f] = 0
+                    face_state[f] = FACE_DRY
                 continue
             r0 = (vertices[i0, 0] - cx, vertices[i0, 1] - cy, vertices[i0, 2] - cz)
             r1 = (vertices[i1, 0] - cx, vertices[i1, 1] - cy, vertices[i1, 2] - cz)
@@ -240,10 +250,11 @@ def hull_hydrostatics(vertices, faces, face_area, face_offsets, eta, head, com, 
             if n_below == 3:
                 w, qx, qy, qz, e = _depth_moments(r0, r1, r2, -h0, -h1, -h2)
                 frac = 1.0
-                if seg_count[f] != 0:  # as for dry faces above
-                    for i in range(6):
-                        seg[f, i // 3, i % 3] = 0.0
-                    seg_count[f] = 0
+                if face_state[f] != FACE_WET:  # as for dry faces above (the area, frac * face_area, below)
+                    if seg_count[f] != 0:
+                        for i in range(6):
+                            seg[f, i // 3, i % 3] = 0.0
+                        seg_count[f] = 0
                 if fk:
                     wp, qxp, qyp, qzp, _ = _depth_moments(r0, r1, r2, head[i0], head[i1], head[i2])
             else:
@@ -255,6 +266,7 @@ def hull_hydrostatics(vertices, faces, face_area, face_offsets, eta, head, com, 
                     terms, p, q = _cut_face(r0, r1, r2, h0, h1, h2, -h0, -h1, -h2, n_below)
                 w, qx, qy, qz, e, frac = terms
                 _store_segment(seg, seg_count, f, p, q, cx, cy, cz)
+                face_state[f] = FACE_CUT
             if not fk:
                 wp, qxp, qyp, qzp = w, qx, qy, qz
             # C = 2 A n, twice the parent's area vector; sub-triangles share its normal
@@ -274,7 +286,10 @@ def hull_hydrostatics(vertices, faces, face_area, face_offsets, eta, head, com, 
             my -= qy * sz
             mz -= (qz + e) * sz
             a_sub = frac * face_area[f]
-            face_area_sub[f] = a_sub
+            if face_state[f] != FACE_WET:  # (a wet face's row holds 1.0 * face_area already)
+                face_area_sub[f] = a_sub
+                if n_below == 3:
+                    face_state[f] = FACE_WET
             wet += a_sub
             awp -= frac * sz
         sums = (fx, fy, fz, tx, ty, tz, vol, mx, my, mz, wet, awp)
@@ -324,13 +339,42 @@ class HullSet:
         self.face_body = np.repeat(np.arange(self.n_bodies, dtype=np.int32), n_f)
         tri = self.vertices_body[self.faces.astype(np.intp)]
         self.face_area = 0.5 * np.linalg.norm(np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0]), axis=1)
+        self._share_meshes(verts, faces)
         nb, nf = self.n_bodies, len(self.faces)
         self._world = np.zeros_like(self.vertices_body)
         # force, torque, volume, cob, areas (two), then the per-face buffers
         self._out = (np.zeros((nb, 3)), np.zeros((nb, 3)), np.zeros(nb), np.zeros((nb, 3)), np.zeros(nb), np.zeros(nb),
                      np.zeros(nf), np.zeros((nf, 2, 3)), np.zeros(nf, dtype=np.int8))  # fmt: skip
         self._result = HydrostaticsResult(*self._out)
+        self._face_state = np.zeros(nf, dtype=np.int8)  # hull_hydrostatics' record of the per-face rows (FACE_*)
+        self._rows_flat = False  # True when compute_flat wrote the per-face rows last (face_state then unknown)
         self._flat = None  # FlatClusters (hydro/flat.py), made by `use_flat`
+
+    def _share_meshes(self, verts: list[np.ndarray], faces: list[np.ndarray]) -> None:
+        """One copy of each distinct hull (vertices and faces byte for byte, face areas bit for bit), for the pass a
+        body at a time (hydro/fused.py): a fleet of one model reads one mesh, which stays in the core's caches.
+        mesh_of (nb,) int64: body → mesh; mesh_vertices (body frame, m), mesh_faces (uint32, indices into the mesh's
+        own vertices) and mesh_face_area (m², the same bits as `face_area` of the bodies using it), with
+        mesh_vert_offsets / mesh_face_offsets (n_meshes + 1,) int64 as the bodies' offsets."""
+        firsts: dict[tuple, list[int]] = {}  # (shape, dtype, bytes) of vertices and faces → meshes (first bodies)
+        mesh_of, bodies = [], []
+        fo = self.face_offsets.astype(np.int64)
+        for b, (v, f) in enumerate(zip(verts, faces)):
+            key = (v.shape, f.shape, f.dtype.str, v.tobytes(), f.tobytes())
+            same = [m for m in firsts.get(key, ())
+                    if np.array_equal(self.face_area[fo[b] : fo[b + 1]], self.face_area[fo[bodies[m]] : fo[bodies[m] + 1]])]  # fmt: skip
+            if same:
+                mesh_of.append(same[0])
+                continue
+            firsts.setdefault(key, []).append(len(bodies))
+            mesh_of.append(len(bodies))
+            bodies.append(b)
+        self.mesh_of = np.array(mesh_of, dtype=np.int64)
+        self.mesh_vert_offsets = np.concatenate([[0], np.cumsum([len(verts[b]) for b in bodies])]).astype(np.int64)
+        self.mesh_face_offsets = np.concatenate([[0], np.cumsum([len(faces[b]) for b in bodies])]).astype(np.int64)
+        self.mesh_vertices = np.ascontiguousarray(np.concatenate([verts[b] for b in bodies]).reshape(-1, 3))
+        self.mesh_faces = np.ascontiguousarray(np.concatenate([faces[b] for b in bodies]).reshape(-1, 3).astype(np.uint32))
+        self.mesh_face_area = np.ascontiguousarray(np.concatenate([self.face_area[fo[b] : fo[b + 1]] for b in bodies]))
 
     def use_flat(self, clusters) -> None:
         """Attach `hydro.flat.FlatClusters` made for this set (`flat.use_flat` does both): `compute_flat` uses them."""
@@ -349,7 +393,13 @@ class HullSet:
         if self._flat is None:
             raise RuntimeError("compute_flat() needs use_flat() first (usvsim.hydro.flat.use_flat)")
         self._flat.compute(self, rot, com_world, level, rho, g, self._out)
+        self._rows_flat = True
         return self._result
+
+    @property
+    def world_buffer(self) -> np.ndarray:
+        """The buffer `world_vertices` fills (Nv,3) m ENU, as its last call (or hydro/fused.py) left it."""
+        return self._world
 
     def world_vertices(self, pos: np.ndarray, rot: np.ndarray) -> np.ndarray:
         """Hull vertices in world ENU (m), (Nv,3), from body positions (nb,3) m and rotations
@@ -362,12 +412,24 @@ class HullSet:
         """Hydrostatics of all bodies. world_vertices (Nv,3) m ENU, eta (Nv,) m water height at
         each vertex's (x, y), com_world (nb,3) m, rho kg/m³, g m/s², head (Nv,) m pressure head at each
         vertex (Froude–Krylov) or empty: eta - z (arrays float64, C-order)."""
-        hull_hydrostatics(
-            world_vertices, self.faces, self.face_area, self.face_offsets, eta, head, com_world, rho, g, *self._out
-        )
-        if self._flat is not None:  # every per-face row was rewritten
-            self._flat.invalidate()
+        hull_hydrostatics(world_vertices, self.faces, self.face_area, self.face_offsets, eta, head, com_world, rho, g,
+                          *self._out, self.face_state())  # fmt: skip
+        self.rows_written()
         return self._result
+
+    def face_state(self) -> np.ndarray:
+        """`hull_hydrostatics`' face_state buffer (Nf,) int8 for a call that writes every per-face row now; reset to
+        FACE_UNKNOWN first if compute_flat wrote the rows last."""
+        if self._rows_flat:
+            self._face_state[:] = FACE_UNKNOWN
+            self._rows_flat = False
+        return self._face_state
+
+    def rows_written(self) -> None:
+        """After a per-face kernel call (`compute`, `compute_split`, hydro/fused.py): compute_flat's clusters must
+        rewrite every row of theirs next time."""
+        if self._flat is not None:
+            self._flat.invalidate()
 
     def compute_split(self, overlap, world_vertices: np.ndarray, eta: np.ndarray, com_world: np.ndarray, rho: float,
                       g: float, head: np.ndarray = NO_HEAD) -> HydrostaticsResult:  # fmt: skip
@@ -378,20 +440,20 @@ class HullSet:
         cut = int(np.searchsorted(self.face_offsets, self.face_offsets[-1] // 2))
         cut = min(max(cut, 1), nb - 1)
         force, torque, volume, cob, wet, awp, sub, seg, count = self._out
+        state = self.face_state()
         parts = [(self.face_offsets[a : b + 1], com_world[a:b], force[a:b], torque[a:b], volume[a:b], cob[a:b],
                   wet[a:b], awp[a:b]) for a, b in ((0, cut), (cut, nb))]  # fmt: skip
 
         def run(offsets, com, f, t, v, c, w, a):
             hull_hydrostatics(world_vertices, self.faces, self.face_area, offsets, eta, head, com, rho, g,
-                              f, t, v, c, w, a, sub, seg, count)  # fmt: skip
+                              f, t, v, c, w, a, sub, seg, count, state)  # fmt: skip
 
         wait = overlap.submit(run, *parts[0])
         try:
             run(*parts[1])
         finally:
             wait()
-        if self._flat is not None:
-            self._flat.invalidate()
+        self.rows_written()
         return self._result
 
     def waterline(self, body_index: int) -> np.ndarray:

@@ -150,15 +150,30 @@ def fft_hull_water_cached(verts, level, geo, wts, inv_cells, decay_k, eta_out, h
     """What world.World._water computes for hull vertices (N,3) world m under an FFT sea without displacement,
     every vertex Froude-Krylov, in one call: eta_out = η + level (surface z) and head_out = ζ + level - z (the
     hull kernel's pressure head), with η, ζ of `fft_surface_and_head_cached` at (x, y, z - level); the same
-    operations as the array code, bit for bit, in one pass over the vertices: each band's height as
-    `fft_kernels.band_heights_cached` makes it (its node cache and last-cell corners), kept for the vertex only
-    (a fleet's per-band heights, 2.7 MB at 200 WAM-Vs, are not written out and read back)."""
+    operations as the array code, bit for bit, in one pass over the vertices (`hull_water_rows` over all rows)."""
+    last, corners, hb = water_scratch(geo.shape[0])
+    hull_water_rows(verts, 0, verts.shape[0], level, geo, wts, inv_cells, decay_k, eta_out, head_out, cache, stamp,
+                    now, last, corners, hb)  # fmt: skip
+
+
+@njit(cache=True, nogil=True)
+def water_scratch(bands):
+    """(last, corners, hb): the per-band state `hull_water_rows` carries from one vertex (and one call) to the next:
+    no cell yet, zero corners, one vertex's band heights."""
+    return np.full((bands, 2), -1, np.int64), np.zeros((bands, 4)), np.empty((1, bands))
+
+
+@njit(cache=True, nogil=True)
+def hull_water_rows(verts, v0, v1, level, geo, wts, inv_cells, decay_k, eta_out, head_out, cache, stamp, now, last,
+                    corners, hb):  # fmt: skip
+    """`fft_hull_water_cached` for vertex rows v0:v1 (rows outside untouched): each band's height as
+    `fft_kernels.band_heights_cached` makes it (its node cache and last-cell corners, `last` and `corners` carried
+    between calls), kept for the vertex only in `hb` (a fleet's per-band heights, 2.7 MB at 200 WAM-Vs, are not
+    written out and read back). The values do not depend on which rows came before: a row range at a time (one
+    body's vertices, hydro/fused.py) gives the bits of one pass over all rows."""
     mask = geo.shape[3] - 1
     nb = geo.shape[0]
-    last = np.full((nb, 2), -1, np.int64)  # per band: the cell (ix0, iy0) whose corners are in `corners`
-    corners = np.zeros((nb, 4))
-    hb = np.empty((1, nb))  # this vertex's band heights
-    for p in range(verts.shape[0]):
+    for p in range(v0, v1):
         x, y = verts[p, 0], verts[p, 1]
         z = 0.0
         for b in range(nb):
@@ -186,13 +201,17 @@ def fft_hull_water_cached(verts, level, geo, wts, inv_cells, decay_k, eta_out, h
         head_out[p] = (zeta + level) - verts[p, 2]
 
 
+def serial_fft(waves: WaveField, n: int) -> bool:
+    """Whether `waves` is an FFT sea without displacement whose queries of n points the serial kernels answer
+    (what `hull_water` and the fused hull pass, hydro/fused.py, need)."""
+    return (isinstance(waves, FFTWaveField) and waves.choppiness == 0.0
+            and pick(FFT_SURFACE_AND_HEAD, n) is FFT_SURFACE_AND_HEAD[0])  # fmt: skip
+
+
 def hull_water(waves: WaveField, verts: np.ndarray, level: float, t: float, eta: np.ndarray, head: np.ndarray) -> bool:
     """Fill eta (surface z, m) and head (ζ + level - z, m) at hull vertices `verts` (N,3) in one compiled call when
     `waves` is an FFT sea without displacement answered by the serial kernels; False (nothing done) otherwise."""
-    if not (isinstance(waves, FFTWaveField) and waves.choppiness == 0.0):
-        return False
-    n = len(verts)
-    if pick(FFT_SURFACE_AND_HEAD, n) is not FFT_SURFACE_AND_HEAD[0]:
+    if not serial_fft(waves, len(verts)):
         return False
     wts = waves.update(t)
     fft_hull_water_cached(verts, float(level), waves.geometry.tiles, wts, waves.inv_cells,

@@ -31,6 +31,7 @@ from usvsim.core.transforms import matrix_from_quat, quat_from_rpy
 from usvsim.geo.parts import GeoParts, geo_parts, set_clip_planes
 from usvsim.geo.resolve import load_place, resolve_geo, with_local_depth
 from usvsim.hydro.flat import use_flat
+from usvsim.hydro.fused import fused_hydrostatics
 from usvsim.hydro.hydrostatics import NO_HEAD, HullSet, HydrostaticsResult
 from usvsim.hydro.models import MarineModels
 from usvsim.hydro.thrusters import ThrusterBank
@@ -320,6 +321,8 @@ class World:
         simple = self.marine.simple
         if flat and simple:  # no world vertices needed
             hydrostatics = self.hulls.compute_flat(s.rot, s.com_world, ocean.level_m, self.rho, self.g)
+        elif (fused := self._fused_hull_pass(t)) is not None:  # an FFT sea: a body at a time (hydro/fused.py)
+            hydrostatics, verts, eta = fused, self.hulls.world_buffer, self._eta
         else:
             verts = self.hulls.world_vertices(s.pos, s.rot)
             eta, head = self._water(verts, t)
@@ -353,6 +356,18 @@ class World:
         self._body_wrenches[0] = self.marine.body_wrench
         self._body_wrenches[1] = self.thrusters.step(self.clock.now_ns, self.clock.dt, self._com_body)
         assemble(s.rot, self._body_wrenches, self.marine.world_force, self.marine.world_torque, self._xfrc)
+
+    def _fused_hull_pass(self, t: float) -> HydrostaticsResult | None:
+        """What the step's world vertices, `_water` and hydrostatics kernel(s) below make, bit for bit, in one pass a
+        body at a time (hydro/fused.py) when every vertex is Froude–Krylov under an FFT sea (no Kerner); else None.
+        With simple models (marine.tail) the world vertices and heights are not written out (nothing reads them)."""
+        waves, s = self.ocean.waves, self.state
+        if waves is None or not self._fk_all or self.marine.has_kerner:
+            return None
+        split = len(self.hulls.faces) >= SPLIT_MIN_FACES and self.hulls.n_bodies > 1  # bodies over two cores
+        keep = not self.marine.simple  # simple models (marine.tail) read no vertices or heights afterwards
+        return fused_hydrostatics(self.hulls, waves, self.ocean.level_m, t, s.pos, s.rot, s.com_world, self.rho,
+                                  self.g, self._eta, self._head, self._overlap if split else None, keep)  # fmt: skip
 
     def _raise_divergence(self) -> None:
         """Name the body whose degree of freedom MuJoCo found non-finite (its warning's info field)."""
