@@ -145,20 +145,19 @@ def test_hydrostatics_split_over_two_cores_gives_identical_motion(scenario_of, m
     assert np.array_equal(trajectory(), serial)
 
 
-@pytest.mark.parametrize("split", [False, True])
-def test_fused_hull_pass_gives_identical_motion(scenario_of, monkeypatch, split):
-    """A wavy fleet's world vertices, FFT water and hydrostatics a body at a time (hydro/fused.py; the world
-    vertices and heights not written out for simple models) move every body exactly as the three separate passes,
-    serial and split over two threads."""
+def test_fused_hull_pass_gives_identical_motion(scenario_of, monkeypatch):
+    """A wavy fleet's world vertices, FFT water and hydrostatics a body at a time over two threads (hydro/fused.py;
+    the world vertices and heights not written out for simple models) move every body exactly as the three
+    separate passes."""
     import usvsim.world.world as world_module
 
-    if split:
-        monkeypatch.setattr(world_module, "SPLIT_MIN_FACES", 0)
+    monkeypatch.setattr(world_module, "SPLIT_MIN_FACES", 0)  # a fleet of four splits
 
     def trajectory(fused: bool) -> np.ndarray:
         vessels = [{"name": f"b{i}", "model": "otter" if i % 2 else "wamv",
                     "pose": {"position": [12.0 * i, 0.0, 0.1], "roll_deg": 3.0 * i}} for i in range(4)]  # fmt: skip
         sim = Simulation(scenario_of({"environment": SEA, "vessels": vessels}))
+        assert sim.world._fused_hull_pass(0.0) is not None  # this sea and these models take the fused pass
         if not fused:
             monkeypatch.setattr(sim.world, "_fused_hull_pass", lambda t: None)
         for i, boat in enumerate(sim.vessels.values()):

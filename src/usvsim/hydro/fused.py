@@ -3,16 +3,18 @@
 A wavy step otherwise makes three passes over every hull of the scene: the world vertices
 (`hydrostatics.transform_vertices`), the surface height and Froude–Krylov head at each of them
 (`ocean.pressure.hull_water`), then the faces (`hydrostatics.hull_hydrostatics`). At 200 WAM-Vs (112,800
-vertices, 224,000 faces) the arrays between the passes (world vertices 2.7 MB, heights and heads 1.8 MB) no
-longer stay in the caches, and each pass reads them back from memory. Here each body's vertices are
-transformed, their water queried and that body's faces integrated before the next body: one WAM-V's rows (about
-60 kB) stay in the core's caches from one stage to the next.
+vertices, 224,000 faces) the arrays between the passes (world vertices 2.7 MB, heights and heads 1.8 MB) and the
+per-body copies of one mesh (7 MB of vertices, faces and areas) are streamed through the caches every step. Here
+each body's vertices are made from its mesh (`HullSet.mesh_*`: bodies with byte-identical hulls share one copy),
+their water queried and that body's faces integrated before the next body, in scratch rows that stay in the
+core's caches; the pass is split over the two cores as `HullSet.compute_split` splits the faces (the worker with
+its own node cache of the sea), so the water query runs on both cores too.
 
-The same compiled code makes the same numbers: the transform is `transform_vertices`' expression per vertex,
-the water `pressure.hull_water_rows` over the body's rows (its node cache and last-cell corners carried from
-body to body, as in one pass), the faces `hull_hydrostatics` over that one body. So the world vertices, heights,
-heads and every output of the HullSet are bit for bit those of the three passes (tests/hydro/test_fused.py), and
-the buffers the passes fill (world vertices, heights, heads) are filled as before for whoever reads them next.
+The same operations make the same numbers: the transform is `transform_vertices`' expression per vertex, the
+water `pressure.hull_water_rows` over the body's rows (its node cache and last-cell corners carried from body to
+body, as in one pass), the faces `hydrostatics._body_faces` (hull_hydrostatics' own loop, inlined) over that
+body. Every output of the HullSet, and the world vertices, heights and heads when they are kept, are bit for bit
+those of the three passes (tests/hydro/test_fused.py, tests/sim/test_marine_models.py).
 
 Frames and units: world ENU (z up), metres, newtons; the FFT sea's heights relative to still water at `level`.
 """
@@ -22,7 +24,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from usvsim.hydro.hydrostatics import HullSet, HydrostaticsResult, hull_hydrostatics
+from usvsim.hydro.hydrostatics import HullSet, HydrostaticsResult, _body_faces, _store_body
 from usvsim.ocean.fft import FFTWaveField
 from usvsim.ocean.pressure import height_decay_wavenumbers, hull_water_rows, serial_fft, water_scratch
 
@@ -31,44 +33,50 @@ from usvsim.ocean.pressure import height_decay_wavenumbers, hull_water_rows, ser
 def fused_hull_pass(b0, b1, mesh_of, mesh_vert_offsets, mesh_face_offsets, mesh_vertices, mesh_faces, mesh_face_area,
                     vert_offsets, face_offsets, pos, rot, keep, world, eta, head, level, geo, wts, inv_cells, decay_k,
                     cache, stamp, now, com, rho, g, force, torque, volume, cob, wetted_area, waterplane_area,
-                    face_area_sub, seg, seg_count, face_state):  # fmt: skip
+                    face_area_sub, seg, seg_count, face_state, own_world, own_eta, own_head, last, corners, hb):  # fmt: skip
     """Bodies b0:b1, each in turn from its mesh (HullSet.mesh_*): its world vertices (m), the surface z and pressure
     head at them (`hull_water_rows`, node cache (cache, stamp, now) of the FFT sea), then its hydrostatics
-    (`hull_hydrostatics` over its faces: outputs in row b and in its face rows). `keep`: the vertices, heights and
-    heads go to their rows of `world`, `eta` and `head` (Nv rows, for whoever reads them next); else into one body's
-    scratch rows, which stay in the caches (the global arrays are then not written)."""
-    bands = geo.shape[0]
-    last, corners, hb = water_scratch(bands)
-    n_max = 0
-    for m in range(mesh_vert_offsets.shape[0] - 1):
-        n_max = max(n_max, mesh_vert_offsets[m + 1] - mesh_vert_offsets[m])
-    own_world, own_eta, own_head = np.empty((n_max, 3)), np.empty(n_max), np.empty(n_max)
-    offsets = np.zeros(2, np.uint64)  # the body's face range in its own mesh's rows: 0, n_faces
+    (`hydrostatics._body_faces`, hull_hydrostatics' face loop, over its faces: outputs in row b and in its face
+    rows). `keep`: the vertices, heights and heads go to their rows of `world`, `eta` and `head` (Nv rows, for
+    whoever reads them next); else into the scratch rows own_world, own_eta, own_head (the largest mesh's vertex
+    count), which stay in the caches. last, corners, hb: `pressure.water_scratch` arrays (any contents)."""
+    for b in range(last.shape[0]):  # no cell's corners held yet (as a fresh `water_scratch`)
+        last[b, 0] = last[b, 1] = -1
+    fk = head.shape[0] > 0
     for b in range(b0, b1):
         m = mesh_of[b]
-        mv0, mf0, mf1 = mesh_vert_offsets[m], mesh_face_offsets[m], mesh_face_offsets[m + 1]
+        mv0, mf0, mf1 = mesh_vert_offsets[m], np.uint64(mesh_face_offsets[m]), np.uint64(mesh_face_offsets[m + 1])
         nv = mesh_vert_offsets[m + 1] - mv0
-        f0, f1 = face_offsets[b], face_offsets[b + 1]
         if keep:
-            v0 = np.int64(vert_offsets[b])
-            wv, we, wh = world[v0 : v0 + nv], eta[v0 : v0 + nv], head[v0 : v0 + nv]
+            verts, h_eta, h_head, v0 = world, eta, head, np.int64(vert_offsets[b])
         else:
-            wv, we, wh = own_world[:nv], own_eta[:nv], own_head[:nv]
+            verts, h_eta, h_head, v0 = own_world, own_eta, own_head, np.int64(0)
         r00, r01, r02 = rot[b, 0, 0], rot[b, 0, 1], rot[b, 0, 2]  # transform_vertices, the same expressions
         r10, r11, r12 = rot[b, 1, 0], rot[b, 1, 1], rot[b, 1, 2]
         r20, r21, r22 = rot[b, 2, 0], rot[b, 2, 1], rot[b, 2, 2]
         px, py, pz = pos[b, 0], pos[b, 1], pos[b, 2]
         for v in range(nv):
             x, y, z = mesh_vertices[mv0 + v, 0], mesh_vertices[mv0 + v, 1], mesh_vertices[mv0 + v, 2]
-            wv[v, 0] = r00 * x + r01 * y + r02 * z + px
-            wv[v, 1] = r10 * x + r11 * y + r12 * z + py
-            wv[v, 2] = r20 * x + r21 * y + r22 * z + pz
-        hull_water_rows(wv, 0, nv, level, geo, wts, inv_cells, decay_k, we, wh, cache, stamp, now, last, corners, hb)
-        offsets[1] = mf1 - mf0
-        hull_hydrostatics(wv, mesh_faces[mf0:mf1], mesh_face_area[mf0:mf1], offsets, we, wh, com[b : b + 1], rho, g,
-                          force[b : b + 1], torque[b : b + 1], volume[b : b + 1], cob[b : b + 1],
-                          wetted_area[b : b + 1], waterplane_area[b : b + 1], face_area_sub[f0:f1], seg[f0:f1],
-                          seg_count[f0:f1], face_state[f0:f1])  # fmt: skip
+            verts[v0 + v, 0] = r00 * x + r01 * y + r02 * z + px
+            verts[v0 + v, 1] = r10 * x + r11 * y + r12 * z + py
+            verts[v0 + v, 2] = r20 * x + r21 * y + r22 * z + pz
+        hull_water_rows(verts, v0, v0 + nv, level, geo, wts, inv_cells, decay_k, h_eta, h_head, cache, stamp, now, last,
+                        corners, hb)  # fmt: skip
+        cx, cy, cz = com[b, 0], com[b, 1], com[b, 2]
+        sums = _body_faces(verts, mesh_faces, mesh_face_area, mf0, mf1, np.uint64(v0), face_offsets[b] - mf0, h_eta,
+                           h_head, fk, cx, cy, cz, face_area_sub, seg, seg_count, face_state)  # fmt: skip
+        _store_body(b, sums, (cx, cy, cz), rho * g, force, torque, volume, cob, wetted_area, waterplane_area)
+
+
+def _scratch(hulls: HullSet, bands: int, worker: bool) -> tuple[np.ndarray, ...]:
+    """The scratch arrays of one thread's `fused_hull_pass` (kept on the HullSet: made per call, they were 7 small
+    allocations a step): one body's vertices, heights and heads (the largest mesh), `water_scratch` for `bands`."""
+    name = "_fused_scratch_worker" if worker else "_fused_scratch"
+    kept = hulls.__dict__.get(name)
+    if kept is None or kept[0] != bands:
+        n = int(np.diff(hulls.mesh_vert_offsets).max())
+        kept = hulls.__dict__[name] = (bands, (np.zeros((n, 3)), np.zeros(n), np.zeros(n), *water_scratch(bands)))
+    return kept[1]
 
 
 def _second_node_cache(waves: FFTWaveField) -> tuple[np.ndarray, np.ndarray]:
@@ -96,7 +104,6 @@ def fused_hydrostatics(hulls: HullSet, waves, level: float, t: float, pos: np.nd
     n = len(hulls.vertices_body)
     if not serial_fft(waves, n) or len(eta) != n or len(head) != n:
         return None
-    assert isinstance(waves, FFTWaveField)
     wts = waves.update(t)
     cache, stamp, now = waves.node_cache()
     sea = (float(level), waves.geometry.tiles, wts, waves.inv_cells, height_decay_wavenumbers(waves))
@@ -104,15 +111,16 @@ def fused_hydrostatics(hulls: HullSet, waves, level: float, t: float, pos: np.nd
             hulls.mesh_face_area, hulls.vert_offsets, hulls.face_offsets, pos, rot, keep, hulls.world_buffer, eta,
             head)  # fmt: skip
     rest = (com_world, rho, g, *hulls._out, hulls.face_state())
-    nb = hulls.n_bodies
+    nb, bands = hulls.n_bodies, len(waves.inv_cells)
     if overlap is None or nb < 2:
-        fused_hull_pass(0, nb, *mesh, *sea, cache, stamp, now, *rest)
+        fused_hull_pass(0, nb, *mesh, *sea, cache, stamp, now, *rest, *_scratch(hulls, bands, False))
     else:
         cut = int(np.searchsorted(hulls.face_offsets, hulls.face_offsets[-1] // 2))
         cut = min(max(cut, 1), nb - 1)
-        wait = overlap.submit(fused_hull_pass, 0, cut, *mesh, *sea, *_second_node_cache(waves), now, *rest)
+        wait = overlap.submit(fused_hull_pass, 0, cut, *mesh, *sea, *_second_node_cache(waves), now, *rest,
+                              *_scratch(hulls, bands, True))  # fmt: skip
         try:
-            fused_hull_pass(cut, nb, *mesh, *sea, cache, stamp, now, *rest)
+            fused_hull_pass(cut, nb, *mesh, *sea, cache, stamp, now, *rest, *_scratch(hulls, bands, False))
         finally:
             wait()
     hulls.rows_written()

@@ -200,6 +200,79 @@ def _store_body(b, sums, c, rho_g, force, torque, volume, cob, wetted_area, wate
 FACE_UNKNOWN, FACE_DRY, FACE_WET, FACE_CUT = 0, 1, 2, 3  # hull_hydrostatics' face_state: what a face's rows hold
 
 
+@njit(cache=True, inline="always")  # inlined: one loop in the caller's body (see hull_hydrostatics)
+def _body_faces(vertices, faces, face_area, f_lo, f_hi, v_off, out_off, eta, head, fk, cx, cy, cz,
+                face_area_sub, seg, seg_count, face_state):  # fmt: skip
+    """One body's face loop: faces rows f_lo:f_hi (their vertex indices + v_off index vertices, eta and head), the
+    per-face outputs of face f in row f + out_off (unsigned offsets). Returns the body's 12 sums (see _store_body)."""
+    fx = fy = fz = tx = ty = tz = vol = mx = my = mz = wet = awp = 0.0
+    for f in range(f_lo, f_hi):
+        i0, i1, i2 = faces[f, 0] + v_off, faces[f, 1] + v_off, faces[f, 2] + v_off
+        o = f + out_off  # the face's row in the outputs
+        h0 = vertices[i0, 2] - eta[i0]
+        h1 = vertices[i1, 2] - eta[i1]
+        h2 = vertices[i2, 2] - eta[i2]
+        n_below = (h0 <= 0.0) + (h1 <= 0.0) + (h2 <= 0.0)
+        if n_below == 0 or (n_below == 1 and min(h0, h1, h2) == 0.0):  # dry, or touching at one vertex
+            if face_state[o] != FACE_DRY:  # rows already dry are left alone
+                face_area_sub[o] = 0.0
+                if seg_count[o] != 0:  # a row with count 0 is already zero: most dry faces write nothing there
+                    for i in range(6):  # (written out: a helper with this branch is not inlined, ~4x slower)
+                        seg[o, i // 3, i % 3] = 0.0
+                    seg_count[o] = 0
+                face_state[o] = FACE_DRY
+            continue
+        r0 = (vertices[i0, 0] - cx, vertices[i0, 1] - cy, vertices[i0, 2] - cz)
+        r1 = (vertices[i1, 0] - cx, vertices[i1, 1] - cy, vertices[i1, 2] - cz)
+        r2 = (vertices[i2, 0] - cx, vertices[i2, 1] - cy, vertices[i2, 2] - cz)
+        if n_below == 3:
+            w, qx, qy, qz, e = _depth_moments(r0, r1, r2, -h0, -h1, -h2)
+            frac = 1.0
+            if face_state[o] != FACE_WET:  # as for dry faces above (the area, frac * face_area, below)
+                if seg_count[o] != 0:
+                    for i in range(6):
+                        seg[o, i // 3, i % 3] = 0.0
+                    seg_count[o] = 0
+            if fk:
+                wp, qxp, qyp, qzp, _ = _depth_moments(r0, r1, r2, head[i0], head[i1], head[i2])
+        else:
+            if fk:
+                terms, p, q, hterms = _cut_face_and_heads(r0, r1, r2, h0, h1, h2, head[i0], head[i1], head[i2],
+                                                          n_below)  # fmt: skip
+                wp, qxp, qyp, qzp = hterms[0], hterms[1], hterms[2], hterms[3]
+            else:
+                terms, p, q = _cut_face(r0, r1, r2, h0, h1, h2, -h0, -h1, -h2, n_below)
+            w, qx, qy, qz, e, frac = terms
+            _store_segment(seg, seg_count, o, p, q, cx, cy, cz)
+            face_state[o] = FACE_CUT
+        if not fk:
+            wp, qxp, qyp, qzp = w, qx, qy, qz
+        # C = 2 A n, twice the parent's area vector; sub-triangles share its normal
+        ux, uy, uz = r1[0] - r0[0], r1[1] - r0[1], r1[2] - r0[2]
+        vx, vy, vz = r2[0] - r0[0], r2[1] - r0[1], r2[2] - r0[2]
+        sx = uy * vz - uz * vy
+        sy = uz * vx - ux * vz
+        sz = ux * vy - uy * vx
+        fx += wp * sx
+        fy += wp * sy
+        fz += wp * sz
+        tx += qyp * sz - qzp * sy
+        ty += qzp * sx - qxp * sz
+        tz += qxp * sy - qyp * sx
+        vol -= w * sz
+        mx -= qx * sz
+        my -= qy * sz
+        mz -= (qz + e) * sz
+        a_sub = frac * face_area[f]
+        if face_state[o] != FACE_WET:  # (a wet face's row holds 1.0 * face_area already)
+            face_area_sub[o] = a_sub
+            if n_below == 3:
+                face_state[o] = FACE_WET
+        wet += a_sub
+        awp -= frac * sz
+    return fx, fy, fz, tx, ty, tz, vol, mx, my, mz, wet, awp
+
+
 @njit(cache=True, nogil=True)  # nogil: the simulation may run it beside the Kerner kernel (core/overlap.py)
 def hull_hydrostatics(vertices, faces, face_area, face_offsets, eta, head, com, rho, g,
                       force, torque, volume, cob, wetted_area, waterplane_area,
@@ -219,80 +292,19 @@ def hull_hydrostatics(vertices, faces, face_area, face_offsets, eta, head, com, 
     of each face and seg_count (Nf,) its count (0 or 1; rows with count 0 are zero).
     face_state (Nf,) int8, kept between calls: what the per-face rows of each face hold (FACE_DRY: no submerged
     area and a zero segment row, FACE_WET: the whole face submerged and a zero row, FACE_CUT / FACE_UNKNOWN: to be
-    written). A dry or submerged face whose rows already say so is not written again: at 200 WAM-Vs the per-face
-    rows (2.7 MB) were rewritten every step and fell out of the caches between steps. Whoever writes the per-face
-    rows otherwise (hydro/flat.py) sets every state back to FACE_UNKNOWN (HullSet does).
-    The face loop is kept in one body on purpose: splitting it costs numba ~1.5x in speed.
+    written). A dry or submerged face whose rows already say so is not written again (at 200 WAM-Vs every face's
+    area row, 1.8 MB, was rewritten every step; now the ~15 % of faces the waterline cuts, and faces that change).
+    Whoever writes the per-face rows otherwise (hydro/flat.py) sets every state back to FACE_UNKNOWN (HullSet does).
+    The face loop is kept in one body on purpose (splitting it into called helpers costs numba ~1.5x in speed):
+    `_body_faces` is inlined into it (and into hydro/fused.py's pass) by numba.
     Volume, centre of buoyancy and areas are geometric (the depth below the local surface) in both cases.
     """
     fk = head.shape[0] > 0
+    zero = np.uint64(0)
     for b in range(face_offsets.shape[0] - 1):
         cx, cy, cz = com[b, 0], com[b, 1], com[b, 2]
-        fx = fy = fz = tx = ty = tz = vol = mx = my = mz = wet = awp = 0.0
-        for f in range(face_offsets[b], face_offsets[b + 1]):
-            i0, i1, i2 = faces[f, 0], faces[f, 1], faces[f, 2]
-            h0 = vertices[i0, 2] - eta[i0]
-            h1 = vertices[i1, 2] - eta[i1]
-            h2 = vertices[i2, 2] - eta[i2]
-            n_below = (h0 <= 0.0) + (h1 <= 0.0) + (h2 <= 0.0)
-            if n_below == 0 or (n_below == 1 and min(h0, h1, h2) == 0.0):  # dry, or touching at one vertex
-                if face_state[f] != FACE_DRY:  # rows already dry are left alone
-                    face_area_sub[f] = 0.0
-                    if seg_count[f] != 0:  # a row with count 0 is already zero: most dry faces write nothing there
-                        for i in range(6):  # (written out: a helper with this branch is not inlined, ~4x slower)
-                            seg[f, i // 3, i % 3] = 0.0
-                        seg_count[f] = 0
-                    face_state[f] = FACE_DRY
-                continue
-            r0 = (vertices[i0, 0] - cx, vertices[i0, 1] - cy, vertices[i0, 2] - cz)
-            r1 = (vertices[i1, 0] - cx, vertices[i1, 1] - cy, vertices[i1, 2] - cz)
-            r2 = (vertices[i2, 0] - cx, vertices[i2, 1] - cy, vertices[i2, 2] - cz)
-            if n_below == 3:
-                w, qx, qy, qz, e = _depth_moments(r0, r1, r2, -h0, -h1, -h2)
-                frac = 1.0
-                if face_state[f] != FACE_WET:  # as for dry faces above (the area, frac * face_area, below)
-                    if seg_count[f] != 0:
-                        for i in range(6):
-                            seg[f, i // 3, i % 3] = 0.0
-                        seg_count[f] = 0
-                if fk:
-                    wp, qxp, qyp, qzp, _ = _depth_moments(r0, r1, r2, head[i0], head[i1], head[i2])
-            else:
-                if fk:
-                    terms, p, q, hterms = _cut_face_and_heads(r0, r1, r2, h0, h1, h2, head[i0], head[i1], head[i2],
-                                                              n_below)  # fmt: skip
-                    wp, qxp, qyp, qzp = hterms[0], hterms[1], hterms[2], hterms[3]
-                else:
-                    terms, p, q = _cut_face(r0, r1, r2, h0, h1, h2, -h0, -h1, -h2, n_below)
-                w, qx, qy, qz, e, frac = terms
-                _store_segment(seg, seg_count, f, p, q, cx, cy, cz)
-                face_state[f] = FACE_CUT
-            if not fk:
-                wp, qxp, qyp, qzp = w, qx, qy, qz
-            # C = 2 A n, twice the parent's area vector; sub-triangles share its normal
-            ux, uy, uz = r1[0] - r0[0], r1[1] - r0[1], r1[2] - r0[2]
-            vx, vy, vz = r2[0] - r0[0], r2[1] - r0[1], r2[2] - r0[2]
-            sx = uy * vz - uz * vy
-            sy = uz * vx - ux * vz
-            sz = ux * vy - uy * vx
-            fx += wp * sx
-            fy += wp * sy
-            fz += wp * sz
-            tx += qyp * sz - qzp * sy
-            ty += qzp * sx - qxp * sz
-            tz += qxp * sy - qyp * sx
-            vol -= w * sz
-            mx -= qx * sz
-            my -= qy * sz
-            mz -= (qz + e) * sz
-            a_sub = frac * face_area[f]
-            if face_state[f] != FACE_WET:  # (a wet face's row holds 1.0 * face_area already)
-                face_area_sub[f] = a_sub
-                if n_below == 3:
-                    face_state[f] = FACE_WET
-            wet += a_sub
-            awp -= frac * sz
-        sums = (fx, fy, fz, tx, ty, tz, vol, mx, my, mz, wet, awp)
+        sums = _body_faces(vertices, faces, face_area, face_offsets[b], face_offsets[b + 1], zero, zero, eta, head, fk,
+                           cx, cy, cz, face_area_sub, seg, seg_count, face_state)  # fmt: skip
         _store_body(b, sums, (cx, cy, cz), rho * g, force, torque, volume, cob, wetted_area, waterplane_area)
 
 

@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import math
 import weakref
+from typing import TypeGuard
 
 import numpy as np
 from numba import njit, prange
@@ -201,7 +202,7 @@ def hull_water_rows(verts, v0, v1, level, geo, wts, inv_cells, decay_k, eta_out,
         head_out[p] = (zeta + level) - verts[p, 2]
 
 
-def serial_fft(waves: WaveField, n: int) -> bool:
+def serial_fft(waves: WaveField | None, n: int) -> TypeGuard[FFTWaveField]:
     """Whether `waves` is an FFT sea without displacement whose queries of n points the serial kernels answer
     (what `hull_water` and the fused hull pass, hydro/fused.py, need)."""
     return (isinstance(waves, FFTWaveField) and waves.choppiness == 0.0

@@ -321,7 +321,7 @@ class World:
         simple = self.marine.simple
         if flat and simple:  # no world vertices needed
             hydrostatics = self.hulls.compute_flat(s.rot, s.com_world, ocean.level_m, self.rho, self.g)
-        elif (fused := self._fused_hull_pass(t)) is not None:  # an FFT sea: a body at a time (hydro/fused.py)
+        elif (fused := self._fused_hull_pass(t)) is not None:  # a wavy fleet: a body at a time (hydro/fused.py)
             hydrostatics, verts, eta = fused, self.hulls.world_buffer, self._eta
         else:
             verts = self.hulls.world_vertices(s.pos, s.rot)
@@ -358,16 +358,19 @@ class World:
         assemble(s.rot, self._body_wrenches, self.marine.world_force, self.marine.world_torque, self._xfrc)
 
     def _fused_hull_pass(self, t: float) -> HydrostaticsResult | None:
-        """What the step's world vertices, `_water` and hydrostatics kernel(s) below make, bit for bit, in one pass a
-        body at a time (hydro/fused.py) when every vertex is Froude–Krylov under an FFT sea (no Kerner); else None.
-        With simple models (marine.tail) the world vertices and heights are not written out (nothing reads them)."""
+        """What the step's world vertices, `_water` and split hydrostatics below make, bit for bit, in one pass a body
+        at a time over the two cores (hydro/fused.py: the water query split too), for hull sets that split (8,000+
+        faces) when every vertex is Froude–Krylov under an FFT sea (no Kerner); else None. Smaller sets keep the
+        three passes (1-3 % faster on one core: 1 to 30 WAM-Vs, sea state 4). With simple models (marine.tail) the
+        world vertices and heights are not written out (nothing reads them)."""
         waves, s = self.ocean.waves, self.state
         if waves is None or not self._fk_all or self.marine.has_kerner:
             return None
-        split = len(self.hulls.faces) >= SPLIT_MIN_FACES and self.hulls.n_bodies > 1  # bodies over two cores
+        if len(self.hulls.faces) < SPLIT_MIN_FACES or self.hulls.n_bodies < 2:
+            return None
         keep = not self.marine.simple  # simple models (marine.tail) read no vertices or heights afterwards
         return fused_hydrostatics(self.hulls, waves, self.ocean.level_m, t, s.pos, s.rot, s.com_world, self.rho,
-                                  self.g, self._eta, self._head, self._overlap if split else None, keep)  # fmt: skip
+                                  self.g, self._eta, self._head, self._overlap, keep)  # fmt: skip
 
     def _raise_divergence(self) -> None:
         """Name the body whose degree of freedom MuJoCo found non-finite (its warning's info field)."""
