@@ -243,8 +243,11 @@ def _body_faces(vertices, faces, face_area, f_lo, f_hi, v_off, out_off, eta, hea
             else:
                 terms, p, q = _cut_face(r0, r1, r2, h0, h1, h2, -h0, -h1, -h2, n_below)
             w, qx, qy, qz, e, frac = terms
-            _store_segment(seg, seg_count, o, p, q, cx, cy, cz)
-            face_state[o] = FACE_CUT
+            seg[o, 0, 0], seg[o, 0, 1], seg[o, 0, 2] = p[0] + cx, p[1] + cy, p[2] + cz  # as _store_segment
+            seg[o, 1, 0], seg[o, 1, 1], seg[o, 1, 2] = q[0] + cx, q[1] + cy, q[2] + cz
+            if face_state[o] != FACE_CUT:  # (a face cut last time holds its count 1)
+                seg_count[o] = 1
+                face_state[o] = FACE_CUT
         if not fk:
             wp, qxp, qyp, qzp = w, qx, qy, qz
         # C = 2 A n, twice the parent's area vector; sub-triangles share its normal
