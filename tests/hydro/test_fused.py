@@ -1,6 +1,6 @@
-"""The pass a body at a time (hydro/fused.py) and the per-face rows kept between calls (hull_hydrostatics'
-face_state) change where the work happens, not a single bit: every output equals the three separate passes
-(world vertices, `pressure.hull_water`, `HullSet.compute` with every per-face row rewritten)."""
+"""The pass a body at a time (hydro/fused.py) and the per-face rows it keeps between calls (HullSet.face_state)
+change where the work happens, not a single bit: every output equals the three separate passes (world vertices,
+`pressure.hull_water`, `HullSet.compute`, which rewrites every per-face row)."""
 
 from __future__ import annotations
 
@@ -9,7 +9,7 @@ import trimesh
 
 from usvsim.core.overlap import Overlap
 from usvsim.hydro.fused import fused_hydrostatics
-from usvsim.hydro.hydrostatics import FACE_UNKNOWN, HullSet
+from usvsim.hydro.hydrostatics import HullSet
 from usvsim.ocean import pressure, spectra
 from usvsim.ocean.fft import FFTWaveField, cascade_sizes, directional_spectrum
 
@@ -42,7 +42,6 @@ def three_passes(hulls, field, level, t, pos, rot, com):
     verts = hulls.world_vertices(pos, rot)
     eta, head = np.empty(len(verts)), np.empty(len(verts))
     assert pressure.hull_water(field, verts, level, t, eta, head)
-    hulls._face_state[:] = FACE_UNKNOWN  # every per-face row written, as before face_state existed
     out = hulls.compute(verts, eta, com, RHO, G, head)
     return verts.copy(), eta, head, out
 
@@ -102,25 +101,35 @@ def test_fused_pass_declines_what_it_cannot_do():
 
 
 def test_rows_kept_between_calls_equal_rows_rewritten():
-    """hull_hydrostatics leaves a dry or submerged face's rows alone when they already say so: over poses that
-    take faces from dry to cut to wet and back, with compute_flat's clustered rows in between (flat water), the
-    results equal a HullSet whose rows are all rewritten every call."""
+    """The pass leaves a dry or submerged face's rows alone when they already say so (HullSet.face_state): over poses
+    that take faces from dry to cut to wet and back, with the other writers of the rows in between (compute_flat's
+    clustered rows under flat water, `compute`, `compute_split`), every result of the pass equals the three passes
+    with all rows rewritten."""
     from usvsim.hydro.flat import use_flat
 
+    field = FFTWaveField(JONSWAP, cascade_sizes(70.0, 3, 64), np.random.default_rng(4), 64)
     rng = np.random.default_rng(3)
-    kept, fresh = HullSet(meshes()), HullSet(meshes())
+    kept, ref_set = HullSet(meshes()), HullSet(meshes())
     use_flat(kept, np.zeros((5, 3)))
     overlap = Overlap()
-    for k in range(40):
-        pos, rot = poses(rng, 5, spread=1.2)
-        verts = kept.world_vertices(pos, rot)
-        eta = 0.3 * np.sin(0.4 * verts[:, 0] + k) + 0.1 * np.cos(0.7 * verts[:, 1])
-        if k % 7 == 3:  # the flat clusters write the rows now and then
-            kept.compute_flat(rot, pos, 0.0, RHO, G)
-            continue
-        out = kept.compute(verts, eta, pos, RHO, G) if k % 2 else kept.compute_split(overlap, verts, eta, pos, RHO, G)
-        fresh._face_state[:] = FACE_UNKNOWN
-        ref = fresh.compute(fresh.world_vertices(pos, rot), eta, pos, RHO, G)
-        for name in ref.__dataclass_fields__:
-            assert np.array_equal(getattr(out, name), getattr(ref, name)), (k, name)
-    overlap.close()
+    try:
+        for k in range(40):
+            pos, rot = poses(rng, 5, spread=1.2)
+            t = 0.3 * k
+            if k % 6 == 2:  # another writer now and then
+                kept.compute_flat(rot, pos, 0.0, RHO, G)
+                continue
+            if k % 6 == 4:
+                verts = kept.world_vertices(pos, rot)
+                eta = 0.3 * np.sin(0.4 * verts[:, 0] + k)
+                kept.compute(verts, eta, pos, RHO, G) if k % 12 == 4 else kept.compute_split(overlap, verts, eta, pos,
+                                                                                             RHO, G)  # fmt: skip
+                continue
+            n = len(kept.vertices_body)
+            out = fused_hydrostatics(kept, field, 0.0, t, pos, rot, pos, RHO, G, np.empty(n), np.empty(n), overlap)
+            ref = three_passes(ref_set, field, 0.0, t, pos, rot, pos)[3]
+            assert out is not None
+            for name in ref.__dataclass_fields__:
+                assert np.array_equal(getattr(out, name), getattr(ref, name)), (k, name)
+    finally:
+        overlap.close()

@@ -123,5 +123,5 @@ def fused_hydrostatics(hulls: HullSet, waves, level: float, t: float, pos: np.nd
             fused_hull_pass(cut, nb, *mesh, *sea, cache, stamp, now, *rest, *_scratch(hulls, bands, False))
         finally:
             wait()
-    hulls.rows_written()
+    hulls.rows_written(tracked=True)
     return hulls._result

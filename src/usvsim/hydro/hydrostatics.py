@@ -197,14 +197,22 @@ def _store_body(b, sums, c, rho_g, force, torque, volume, cob, wetted_area, wate
     waterplane_area[b] = 0.5 * awp
 
 
-FACE_UNKNOWN, FACE_DRY, FACE_WET, FACE_CUT = 0, 1, 2, 3  # hull_hydrostatics' face_state: what a face's rows hold
+# What a face's per-face rows hold, for the pass a body at a time (hydro/fused.py), kept between its calls: FACE_DRY
+# no submerged area and a zero segment row, FACE_WET the whole face submerged and a zero row, FACE_CUT a count of 1;
+# FACE_UNKNOWN: to be written. A dry or submerged face whose rows already say so is not written again (at 200 WAM-Vs
+# every face's area row, 1.8 MB, was rewritten every step; now those of the ~15 % of faces the waterline cuts, and of
+# faces that change). Every other writer of the rows (compute, compute_split, compute_flat) leaves the states to be
+# reset (HullSet.face_state).
+FACE_UNKNOWN, FACE_DRY, FACE_WET, FACE_CUT = 0, 1, 2, 3
 
 
-@njit(cache=True, inline="always")  # inlined: one loop in the caller's body (see hull_hydrostatics)
+@njit(cache=True, inline="always")  # inlined into the caller: one loop in its body (see hull_hydrostatics)
 def _body_faces(vertices, faces, face_area, f_lo, f_hi, v_off, out_off, eta, head, fk, cx, cy, cz,
                 face_area_sub, seg, seg_count, face_state):  # fmt: skip
-    """One body's face loop: faces rows f_lo:f_hi (their vertex indices + v_off index vertices, eta and head), the
-    per-face outputs of face f in row f + out_off (unsigned offsets). Returns the body's 12 sums (see _store_body)."""
+    """`hull_hydrostatics`' loop over one body's faces, the same operations, for hydro/fused.py: faces rows
+    f_lo:f_hi (their vertex indices + v_off index vertices, eta and head), the per-face outputs of face f in row
+    f + out_off (unsigned offsets); a dry or submerged face whose rows already say so (face_state, FACE_*) is not
+    written again. Returns the body's 12 sums (see _store_body)."""
     fx = fy = fz = tx = ty = tz = vol = mx = my = mz = wet = awp = 0.0
     for f in range(f_lo, f_hi):
         i0, i1, i2 = faces[f, 0] + v_off, faces[f, 1] + v_off, faces[f, 2] + v_off
@@ -279,7 +287,7 @@ def _body_faces(vertices, faces, face_area, f_lo, f_hi, v_off, out_off, eta, hea
 @njit(cache=True, nogil=True)  # nogil: the simulation may run it beside the Kerner kernel (core/overlap.py)
 def hull_hydrostatics(vertices, faces, face_area, face_offsets, eta, head, com, rho, g,
                       force, torque, volume, cob, wetted_area, waterplane_area,
-                      face_area_sub, seg, seg_count, face_state):  # fmt: skip
+                      face_area_sub, seg, seg_count):  # fmt: skip
     """Hydrostatic wrench, displaced volume and waterline of every body, in one call.
 
     Inputs (world ENU, SI): vertices (Nv,3) m; faces (Nf,3) uint32 global vertex indices, outward
@@ -293,21 +301,71 @@ def hull_hydrostatics(vertices, faces, face_area, face_offsets, eta, head, com, 
     m², horizontal projection of the area inside the waterline (= -Σ submerged projected area,
     exact for closed hulls); face_area_sub (Nf,) m²; seg (Nf,2,3) m oriented waterline segment
     of each face and seg_count (Nf,) its count (0 or 1; rows with count 0 are zero).
-    face_state (Nf,) int8, kept between calls: what the per-face rows of each face hold (FACE_DRY: no submerged
-    area and a zero segment row, FACE_WET: the whole face submerged and a zero row, FACE_CUT / FACE_UNKNOWN: to be
-    written). A dry or submerged face whose rows already say so is not written again (at 200 WAM-Vs every face's
-    area row, 1.8 MB, was rewritten every step; now the ~15 % of faces the waterline cuts, and faces that change).
-    Whoever writes the per-face rows otherwise (hydro/flat.py) sets every state back to FACE_UNKNOWN (HullSet does).
-    The face loop is kept in one body on purpose (splitting it into called helpers costs numba ~1.5x in speed):
-    `_body_faces` is inlined into it (and into hydro/fused.py's pass) by numba.
+    The face loop is kept in one body on purpose: splitting it costs numba ~1.5x in speed. hydro/fused.py's pass runs
+    the same loop with offsets and face states (`_body_faces`, inlined there; here it measured 2-3 % slower).
     Volume, centre of buoyancy and areas are geometric (the depth below the local surface) in both cases.
     """
     fk = head.shape[0] > 0
-    zero = np.uint64(0)
     for b in range(face_offsets.shape[0] - 1):
         cx, cy, cz = com[b, 0], com[b, 1], com[b, 2]
-        sums = _body_faces(vertices, faces, face_area, face_offsets[b], face_offsets[b + 1], zero, zero, eta, head, fk,
-                           cx, cy, cz, face_area_sub, seg, seg_count, face_state)  # fmt: skip
+        fx = fy = fz = tx = ty = tz = vol = mx = my = mz = wet = awp = 0.0
+        for f in range(face_offsets[b], face_offsets[b + 1]):
+            i0, i1, i2 = faces[f, 0], faces[f, 1], faces[f, 2]
+            h0 = vertices[i0, 2] - eta[i0]
+            h1 = vertices[i1, 2] - eta[i1]
+            h2 = vertices[i2, 2] - eta[i2]
+            n_below = (h0 <= 0.0) + (h1 <= 0.0) + (h2 <= 0.0)
+            if n_below == 0 or (n_below == 1 and min(h0, h1, h2) == 0.0):  # dry, or touching at one vertex
+                face_area_sub[f] = 0.0
+                if seg_count[f] != 0:  # a row with count 0 is already zero: most dry faces write nothing there
+                    for i in range(6):  # (written out: a helper with this branch is not inlined, ~4x slower)
+                        seg[f, i // 3, i % 3] = 0.0
+                    seg_count[f] = 0
+                continue
+            r0 = (vertices[i0, 0] - cx, vertices[i0, 1] - cy, vertices[i0, 2] - cz)
+            r1 = (vertices[i1, 0] - cx, vertices[i1, 1] - cy, vertices[i1, 2] - cz)
+            r2 = (vertices[i2, 0] - cx, vertices[i2, 1] - cy, vertices[i2, 2] - cz)
+            if n_below == 3:
+                w, qx, qy, qz, e = _depth_moments(r0, r1, r2, -h0, -h1, -h2)
+                frac = 1.0
+                if seg_count[f] != 0:  # as for dry faces above
+                    for i in range(6):
+                        seg[f, i // 3, i % 3] = 0.0
+                    seg_count[f] = 0
+                if fk:
+                    wp, qxp, qyp, qzp, _ = _depth_moments(r0, r1, r2, head[i0], head[i1], head[i2])
+            else:
+                if fk:
+                    terms, p, q, hterms = _cut_face_and_heads(r0, r1, r2, h0, h1, h2, head[i0], head[i1], head[i2],
+                                                              n_below)  # fmt: skip
+                    wp, qxp, qyp, qzp = hterms[0], hterms[1], hterms[2], hterms[3]
+                else:
+                    terms, p, q = _cut_face(r0, r1, r2, h0, h1, h2, -h0, -h1, -h2, n_below)
+                w, qx, qy, qz, e, frac = terms
+                _store_segment(seg, seg_count, f, p, q, cx, cy, cz)
+            if not fk:
+                wp, qxp, qyp, qzp = w, qx, qy, qz
+            # C = 2 A n, twice the parent's area vector; sub-triangles share its normal
+            ux, uy, uz = r1[0] - r0[0], r1[1] - r0[1], r1[2] - r0[2]
+            vx, vy, vz = r2[0] - r0[0], r2[1] - r0[1], r2[2] - r0[2]
+            sx = uy * vz - uz * vy
+            sy = uz * vx - ux * vz
+            sz = ux * vy - uy * vx
+            fx += wp * sx
+            fy += wp * sy
+            fz += wp * sz
+            tx += qyp * sz - qzp * sy
+            ty += qzp * sx - qxp * sz
+            tz += qxp * sy - qyp * sx
+            vol -= w * sz
+            mx -= qx * sz
+            my -= qy * sz
+            mz -= (qz + e) * sz
+            a_sub = frac * face_area[f]
+            face_area_sub[f] = a_sub
+            wet += a_sub
+            awp -= frac * sz
+        sums = (fx, fy, fz, tx, ty, tz, vol, mx, my, mz, wet, awp)
         _store_body(b, sums, (cx, cy, cz), rho * g, force, torque, volume, cob, wetted_area, waterplane_area)
 
 
@@ -361,8 +419,8 @@ class HullSet:
         self._out = (np.zeros((nb, 3)), np.zeros((nb, 3)), np.zeros(nb), np.zeros((nb, 3)), np.zeros(nb), np.zeros(nb),
                      np.zeros(nf), np.zeros((nf, 2, 3)), np.zeros(nf, dtype=np.int8))  # fmt: skip
         self._result = HydrostaticsResult(*self._out)
-        self._face_state = np.zeros(nf, dtype=np.int8)  # hull_hydrostatics' record of the per-face rows (FACE_*)
-        self._rows_flat = False  # True when compute_flat wrote the per-face rows last (face_state then unknown)
+        self._face_state = np.zeros(nf, dtype=np.int8)  # the fused pass's record of the per-face rows (FACE_*)
+        self._rows_untracked = False  # True when another writer wrote the per-face rows last (face_state unknown)
         self._flat = None  # FlatClusters (hydro/flat.py), made by `use_flat`
 
     def _share_meshes(self, verts: list[np.ndarray], faces: list[np.ndarray]) -> None:
@@ -408,7 +466,7 @@ class HullSet:
         if self._flat is None:
             raise RuntimeError("compute_flat() needs use_flat() first (usvsim.hydro.flat.use_flat)")
         self._flat.compute(self, rot, com_world, level, rho, g, self._out)
-        self._rows_flat = True
+        self._rows_untracked = True
         return self._result
 
     @property
@@ -427,24 +485,27 @@ class HullSet:
         """Hydrostatics of all bodies. world_vertices (Nv,3) m ENU, eta (Nv,) m water height at
         each vertex's (x, y), com_world (nb,3) m, rho kg/m³, g m/s², head (Nv,) m pressure head at each
         vertex (Froude–Krylov) or empty: eta - z (arrays float64, C-order)."""
-        hull_hydrostatics(world_vertices, self.faces, self.face_area, self.face_offsets, eta, head, com_world, rho, g,
-                          *self._out, self.face_state())  # fmt: skip
+        hull_hydrostatics(
+            world_vertices, self.faces, self.face_area, self.face_offsets, eta, head, com_world, rho, g, *self._out
+        )
         self.rows_written()
         return self._result
 
     def face_state(self) -> np.ndarray:
-        """`hull_hydrostatics`' face_state buffer (Nf,) int8 for a call that writes every per-face row now; reset to
-        FACE_UNKNOWN first if compute_flat wrote the rows last."""
-        if self._rows_flat:
+        """The face states (Nf,) int8 (FACE_*) for a tracking writer of every per-face row (hydro/fused.py); reset to
+        FACE_UNKNOWN first if another writer wrote the rows last."""
+        if self._rows_untracked:
             self._face_state[:] = FACE_UNKNOWN
-            self._rows_flat = False
+            self._rows_untracked = False
         return self._face_state
 
-    def rows_written(self) -> None:
-        """After a per-face kernel call (`compute`, `compute_split`, hydro/fused.py): compute_flat's clusters must
-        rewrite every row of theirs next time."""
+    def rows_written(self, tracked: bool = False) -> None:
+        """After a per-face kernel call (`compute`, `compute_split`, hydro/fused.py: `tracked`): compute_flat's
+        clusters must rewrite every row of theirs next time, and the face states are unknown unless tracked."""
         if self._flat is not None:
             self._flat.invalidate()
+        if not tracked:
+            self._rows_untracked = True
 
     def compute_split(self, overlap, world_vertices: np.ndarray, eta: np.ndarray, com_world: np.ndarray, rho: float,
                       g: float, head: np.ndarray = NO_HEAD) -> HydrostaticsResult:  # fmt: skip
@@ -455,13 +516,12 @@ class HullSet:
         cut = int(np.searchsorted(self.face_offsets, self.face_offsets[-1] // 2))
         cut = min(max(cut, 1), nb - 1)
         force, torque, volume, cob, wet, awp, sub, seg, count = self._out
-        state = self.face_state()
         parts = [(self.face_offsets[a : b + 1], com_world[a:b], force[a:b], torque[a:b], volume[a:b], cob[a:b],
                   wet[a:b], awp[a:b]) for a, b in ((0, cut), (cut, nb))]  # fmt: skip
 
         def run(offsets, com, f, t, v, c, w, a):
             hull_hydrostatics(world_vertices, self.faces, self.face_area, offsets, eta, head, com, rho, g,
-                              f, t, v, c, w, a, sub, seg, count, state)  # fmt: skip
+                              f, t, v, c, w, a, sub, seg, count)  # fmt: skip
 
         wait = overlap.submit(run, *parts[0])
         try:
