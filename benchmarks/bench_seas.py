@@ -150,11 +150,35 @@ def _time(fn) -> float:
     return time.perf_counter() - start
 
 
+def fused_ab(steps: int, repeats: int) -> dict:
+    """100 and 200 WAM-Vs in sea state 4 with the hull pass a body at a time (hydro/fused.py) and with the three
+    separate passes (`World._fused_hull_pass` answering None), the four fleets stepped in turn: same-run ratios
+    200/100 of each (the two give the same motion bit for bit, checked at the end)."""
+    sims = {}
+    for n in (100, 200):
+        for kind in ("fused", "three_passes"):
+            sim = fleet(n, 4)
+            if kind == "three_passes":
+                sim.world._fused_hull_pass = lambda t: None
+            sim.run(0.05)
+            sims[f"{kind}_{n}"] = sim
+    out = compare({k: (sim, False) for k, sim in sims.items()}, steps, repeats)
+    for kind in ("fused", "three_passes"):
+        out[f"{kind}_200_over_100"] = ratio(out, f"{kind}_200", f"{kind}_100")
+    for n in (100, 200):
+        assert np.array_equal(sims[f"fused_{n}"].data.qpos, sims[f"three_passes_{n}"].data.qpos)
+    return out
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--quick", action="store_true", help="fewer steps and repeats (a smoke run)")
+    parser.add_argument("--fused-ab", action="store_true", help="only the fleets with and without the fused hull pass")
     args = parser.parse_args()
     steps, repeats = (50, 3) if args.quick else (300, 7)
+    if args.fused_ab:  # (prints only; results/seas.json is left as it is)
+        print("fused_ab", fused_ab(10, 7 if args.quick else 21), "load", load(), flush=True)
+        return
     calm, wavy, ahead = harbor(0), harbor(4, ahead=False), harbor(4, ahead=True)
     for sim in (calm, wavy, ahead):
         sim.run(0.5)  # JIT and caches
