@@ -145,18 +145,22 @@ def test_hydrostatics_split_over_two_cores_gives_identical_motion(scenario_of, m
     assert np.array_equal(trajectory(), serial)
 
 
-def test_fused_hull_pass_gives_identical_motion(scenario_of, monkeypatch):
-    """A wavy fleet's world vertices, FFT water and hydrostatics a body at a time over two threads (hydro/fused.py;
-    the world vertices and heights not written out for simple models) move every body exactly as the three
-    separate passes."""
+@pytest.mark.parametrize("hydro", [None, MODELS["fossen"]])
+def test_fused_hull_pass_gives_identical_motion(scenario_of, monkeypatch, hydro):
+    """A wavy fleet's world vertices, FFT water and hydrostatics a body at a time over two threads (hydro/fused.py)
+    move every body exactly as the three separate passes: with simple models (the world vertices and heights not
+    written out) and with Fossen's (they are kept for the models, and equal too)."""
     import usvsim.world.world as world_module
 
     monkeypatch.setattr(world_module, "SPLIT_MIN_FACES", 0)  # a fleet of four splits
 
     def trajectory(fused: bool) -> np.ndarray:
-        vessels = [{"name": f"b{i}", "model": "otter" if i % 2 else "wamv",
+        vessels = [{"name": f"b{i}", "model": "otter" if i % 2 and hydro is None else "wamv",
                     "pose": {"position": [12.0 * i, 0.0, 0.1], "roll_deg": 3.0 * i}} for i in range(4)]  # fmt: skip
+        for v in vessels if hydro else ():
+            v["hydrodynamics"] = hydro
         sim = Simulation(scenario_of({"environment": SEA, "vessels": vessels}))
+        assert sim.world.marine.simple == (hydro is None)
         assert sim.world._fused_hull_pass(0.0) is not None  # this sea and these models take the fused pass
         if not fused:
             monkeypatch.setattr(sim.world, "_fused_hull_pass", lambda t: None)
@@ -164,6 +168,7 @@ def test_fused_hull_pass_gives_identical_motion(scenario_of, monkeypatch):
             boat.command(0.2 * i, 0.1)
         sim.run(1.0)
         sim.close()
-        return np.concatenate([sim.data.qpos, sim.data.qvel, sim.hydrostatics.face_submerged_area])
+        kept = [sim.world._eta, sim.world.hulls.world_buffer.ravel()] if hydro else []
+        return np.concatenate([sim.data.qpos, sim.data.qvel, sim.hydrostatics.face_submerged_area, *kept])
 
     assert np.array_equal(trajectory(True), trajectory(False))
