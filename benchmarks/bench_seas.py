@@ -8,7 +8,8 @@ runs twice: with the FFT snapshots all made on the simulation thread (the defaul
 (`USVSIM_FFT_AHEAD=1`; the same sea bit for bit); besides wall and process CPU time (both threads), the simulation
 thread's own CPU time is reported. Also:
 serial vs parallel builds of the wave-query kernels per call (points per call), both real since the
-dispatch fix. Run: python benchmarks/bench_seas.py [--quick]
+dispatch fix. Run: python benchmarks/bench_seas.py [--quick] [--fused-ab] (the latter: only the wavy fleets with and
+without the fused hull pass, hydro/fused.py, in one process)
 
 (Until 2026-11-24 the bare baseline stepped a fresh MjData from the model's reference pose with no forces: the
 bodies fell through the harbour and its cost depended on what they met on the way, 15-75 µs a step.)
