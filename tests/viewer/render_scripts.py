@@ -113,6 +113,30 @@ def eye_distance(out: str) -> None:
     print(json.dumps({"ipds": list(frames), "same": bool(np.array_equal(a, b)), "differing": int((a != b).any(2).sum())}))
 
 
+def geom_pixels_outside_boxes(viewer, boxes) -> int:
+    """How many pixels of the frame just drawn hold a geom (the stencil's GEOM_BIT, marked where MuJoCo wrote depth)
+    outside the image boxes of `boxes` (cull.drawn_boxes)."""
+    import mujoco
+    from OpenGL import GL
+
+    from usvsim.rendering.marine import GEOM_BIT, camera_matrices
+
+    width, height = viewer.viewport.width, viewer.viewport.height
+    scene = viewer.renderer.scene
+    view_proj, _, _, _ = camera_matrices(mujoco.mjv_averageCamera(scene.camera[0], scene.camera[1]), width, height)
+    stencil = np.empty((height, width), np.uint8)
+    GL.glBindFramebuffer(GL.GL_READ_FRAMEBUFFER, viewer.renderer.marine._framebuffer().glo)
+    GL.glPixelStorei(GL.GL_PACK_ALIGNMENT, 1)
+    GL.glReadPixels(0, 0, width, height, GL.GL_STENCIL_INDEX, GL.GL_UNSIGNED_BYTE, stencil)
+    clip = boxes @ view_proj[:, :3].T + view_proj[:, 3]
+    x = (clip[..., 0] / clip[..., 3] + 1.0) * 0.5 * width
+    y = (clip[..., 1] / clip[..., 3] + 1.0) * 0.5 * height
+    inside = np.zeros((height, width), bool)
+    for x0, x1, y0, y1 in zip(x.min(axis=1), x.max(axis=1), y.min(axis=1), y.max(axis=1)):
+        inside[max(int(np.floor(y0)), 0) : max(int(np.ceil(y1)) + 1, 0), max(int(np.floor(x0)), 0) : max(int(np.ceil(x1)) + 1, 0)] = True
+    return int(((stencil & GEOM_BIT) > 0)[~inside].sum())
+
+
 def over_geoms(out: str) -> None:
     """The shader viewer's frames (harbour, sea state 4, the benchmark's view and one from low over the buoys) with
     the water over geoms drawn by the quads that can reach a geom's pixel only (cull.FrustumCull.boxes) and by every
@@ -137,11 +161,12 @@ def over_geoms(out: str) -> None:
         runs = marine._over_geoms  # None: every quad
         drawn = -1 if runs is None else int(np.diff(np.clip(runs, first * (columns - 1), (first + count - 1) * (columns - 1)), axis=1).sum())
         n = len(marine.geom_boxes) if marine.geom_boxes is not None else -1
+        outside = geom_pixels_outside_boxes(viewer, marine.geom_boxes) if n > 0 else -1
         cull.drawn_boxes = lambda scene, model: None
         every = viewer.render()
         cull.drawn_boxes = boxes
         stats.append({"same": bool(np.array_equal(selected, every)), "quads": (count - 1) * (columns - 1),
-                      "over_geoms": drawn, "boxes": n})
+                      "over_geoms": drawn, "boxes": n, "geom_pixels_outside": outside})
     viewer.close()
     sim.close()
     print(json.dumps(stats))

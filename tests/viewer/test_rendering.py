@@ -71,13 +71,15 @@ def test_the_mono_water_is_drawn_from_the_eye_the_geoms_are(tmp_path):
 
 def test_water_over_geoms_drawn_by_the_quads_that_reach_them_gives_the_same_bytes(tmp_path):
     """The water's program for pixels with a geom behind runs over the quads whose displaced corners' box meets a
-    geom's box only (MarinePass._over_geoms_runs); the viewer's picture is the one drawn with every quad."""
+    geom's box only (MarinePass._over_geoms_runs); the viewer's picture is the one drawn with every quad, and every
+    pixel where MuJoCo drew a geom lies in the image of the boxes (cull.drawn_boxes)."""
     env = dict(os.environ, MUJOCO_GL="egl")
     env.pop("PYOPENGL_PLATFORM", None)
     stats = run_script("over_geoms", tmp_path / "unused.png", env)
     for view in stats:
         assert view["same"], stats
         assert view["boxes"] > 0 and 0 < view["over_geoms"] < view["quads"], stats
+        assert view["geom_pixels_outside"] == 0, stats  # every pixel MuJoCo drew lies in its geoms' boxes
 
 
 def start_xvfb():

@@ -79,7 +79,8 @@ def drawn_boxes(scene: mujoco.MjvScene, model: mujoco.MjModel) -> np.ndarray | N
     """(n, 8, 3) the corners (world, m) of boxes that hold every geom `scene` draws (not `mjGEOM_NONE`: after
     `FrustumCull`, not the culled ones): the primitive shapes from their sizes and frames, meshes and height fields of
     the model from `geom_aabb` (in the geom's frame), each widened by 2 % and MARGIN_M. None where a geom has no such
-    box (a plane, a line, a label) or MuJoCo draws more than the geoms (shadows, reflections, the skybox, skins).
+    box (a plane, a line, an arrow) or MuJoCo draws more than the geoms (labels, shadows, reflections, the skybox,
+    skins).
     The water's program for pixels with a geom behind runs only over quads that can reach these boxes' images
     (marine.MarinePass._over_geoms_runs)."""
     flags = scene.flags
@@ -92,6 +93,8 @@ def drawn_boxes(scene: mujoco.MjvScene, model: mujoco.MjModel) -> np.ndarray | N
         kind = int(g.type)
         if kind == _NONE:
             continue
+        if g.label:  # MuJoCo writes the geom's label beside it
+            return None
         size = np.array(g.size, dtype=np.float64)
         centre = np.zeros(3)
         if kind in _ROUND or kind == _BOX:
