@@ -139,7 +139,7 @@ def geom_pixels_outside_boxes(viewer, boxes) -> int:
 
 def over_geoms(out: str) -> None:
     """The shader viewer's frames (harbour, sea state 4, the benchmark's view and one from low over the buoys) with
-    the water over geoms drawn by the quads that can reach a geom's pixel only (cull.FrustumCull.boxes) and by every
+    the water over geoms drawn by the quads that can reach a geom's pixel only (cull.drawn_boxes) and by every
     quad: the same bytes, and fewer quads."""
     from usvsim.rendering import cull
     from usvsim.rendering.gallery import load, scenario_dict
@@ -160,8 +160,9 @@ def over_geoms(out: str) -> None:
         columns = marine._columns[(640, 360)]
         runs = marine._over_geoms  # None: every quad
         drawn = -1 if runs is None else int(np.diff(np.clip(runs, first * (columns - 1), (first + count - 1) * (columns - 1)), axis=1).sum())
-        n = len(marine.geom_boxes) if marine.geom_boxes is not None else -1
-        outside = geom_pixels_outside_boxes(viewer, marine.geom_boxes) if n > 0 else -1
+        frame_boxes = cull.drawn_boxes(viewer.renderer.scene, sim.model)  # the frame's, as the viewer gave them
+        n = len(frame_boxes) if frame_boxes is not None else -1
+        outside = geom_pixels_outside_boxes(viewer, frame_boxes) if n > 0 else -1
         cull.drawn_boxes = lambda scene, model: None
         every = viewer.render()
         cull.drawn_boxes = boxes

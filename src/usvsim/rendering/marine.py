@@ -37,6 +37,7 @@ SKY_TEXELS = 256  # the sky table with the horizon haze baked in: the haze band 
 FEEDBACK = ("v_world", "v_label", "v_spacing", "v_atm", "v_slope", "v_jac")  # per vertex: 3+2+1+4+2+3 floats
 FEEDBACK_BYTES = 60
 POINTS = 0x0000
+FOG_SCISSOR = True
 PIERCE_TAPS = 8  # depth samples around a waterline pixel (WATER_FS: does the geom pierce the surface nearby?)
 WATER_BIT, GEOM_BIT = 1, 2  # stencil: the water is the nearest surface drawn here; a geom was drawn here (fog pass)
 
@@ -191,6 +192,18 @@ class MarinePass:
         reach = np.where(d[..., 2] < -1e-6, np.minimum(h / np.maximum(-d[..., 2], 1e-6) * horiz, FAR_M), FAR_M)
         return eye[:2] + d[..., :2] / horiz[..., None] * reach[..., None]
 
+    def _geom_images(self, size: tuple[int, int], view_proj: np.ndarray, near: float):
+        """(x0, y0, x1, y1) per box of `geom_boxes`: the pixel box (viewport pixels, bottom row 0) of its image, each
+        (n,); None where they are unknown or a box reaches behind the eye (its image is not bounded)."""
+        if self.geom_boxes is None:
+            return None
+        clip = self.geom_boxes @ view_proj[:, :3].T + view_proj[:, 3]
+        if not (clip[..., 3] > 0.5 * near).all():
+            return None
+        x = (clip[..., 0] / clip[..., 3] + 1.0) * 0.5 * size[0]
+        y = (clip[..., 1] / clip[..., 3] + 1.0) * 0.5 * size[1]
+        return x.min(axis=1), y.min(axis=1), x.max(axis=1), y.max(axis=1)
+
     def _over_geoms_runs(self, size: tuple[int, int], view_proj: np.ndarray, near: float, out) -> np.ndarray | None:
         """Runs [start, stop) of quads (as `_marks_runs`) that may cover a pixel of a geom (`geom_boxes`), for the
         water program over geoms (see `_water`); None: every quad. From the displaced grid this frame (the transform
@@ -211,14 +224,14 @@ class MarinePass:
             return (clip[..., 0] / w + 1.0) * 0.5 * width, (clip[..., 1] / w + 1.0) * 0.5 * height, front
 
         occupied = np.zeros((rows, cols), bool)
-        if len(self.geom_boxes):
-            x, y, front = image(self.geom_boxes)
-            if not front.all():
-                return None  # a geom reaches behind the eye: its image is not bounded
-            x0 = np.clip(np.floor((x.min(axis=1) - 1.0) / cell), 0, cols).astype(int)
-            x1 = np.clip(np.floor((x.max(axis=1) + 1.0) / cell), -1, cols - 1).astype(int)
-            y0 = np.clip(np.floor((y.min(axis=1) - 1.0) / cell), 0, rows).astype(int)
-            y1 = np.clip(np.floor((y.max(axis=1) + 1.0) / cell), -1, rows - 1).astype(int)
+        boxes = self._geom_images(size, view_proj, near)
+        if boxes is None:
+            return None  # a geom reaches behind the eye: its image is not bounded
+        if len(boxes[0]):
+            x0 = np.clip(np.floor((boxes[0] - 1.0) / cell), 0, cols).astype(int)
+            x1 = np.clip(np.floor((boxes[2] + 1.0) / cell), -1, cols - 1).astype(int)
+            y0 = np.clip(np.floor((boxes[1] - 1.0) / cell), 0, rows).astype(int)
+            y1 = np.clip(np.floor((boxes[3] + 1.0) / cell), -1, rows - 1).astype(int)
             for a, b, c, d in zip(x0, y0, x1, y1):
                 if c >= a and d >= b:
                     occupied[b : d + 1, a : c + 1] = True
@@ -389,7 +402,15 @@ class MarinePass:
             GL.glEnable(GL.GL_STENCIL_TEST)  # the fog pass marks where a geom was drawn (for the water's programs)
             GL.glStencilFunc(GL.GL_ALWAYS, GEOM_BIT, GEOM_BIT)
             GL.glStencilOp(GL.GL_KEEP, GL.GL_KEEP, GL.GL_REPLACE)
-            self._fullscreen(self.fog, "<", blend=True)  # only where a geom was drawn (depth > 0)
+            boxes = self._geom_images(size, view_proj, near)
+            if boxes is None or len(boxes[0]):  # only where a geom was drawn (depth > 0): within their boxes' images
+                if boxes is not None and FOG_SCISSOR:
+                    x0, y0 = (max(int(np.floor(v.min())) - 1, 0) for v in boxes[:2])
+                    x1, y1 = (min(int(np.ceil(v.max())) + 2, n) for v, n in zip(boxes[2:], size))
+                    GL.glEnable(GL.GL_SCISSOR_TEST)
+                    GL.glScissor(rect.left + x0, rect.bottom + y0, max(x1 - x0, 0), max(y1 - y0, 0))
+                self._fullscreen(self.fog, "<", blend=True)
+                GL.glDisable(GL.GL_SCISSOR_TEST)
             marks, plain, full = water_vao, self._plain_vaos[size], self._full_vaos[size]
             self._over_geoms = self._over_geoms_runs(size, view_proj, near, out)
             shadow = self._shadow_tex is not None
@@ -410,6 +431,7 @@ class MarinePass:
             GL.glDisable(GL.GL_STENCIL_TEST)
             if self.lamps is not None:
                 self._draw_lamps(camera, rect, view_proj, eye)
+            self.geom_boxes = None  # the caller's for this frame only
         self.restore()
 
     def read_water_mask(self, rect, out: np.ndarray) -> None:
