@@ -103,7 +103,8 @@ def drawn_boxes(scene: mujoco.MjvScene, model: mujoco.MjModel) -> np.ndarray | N
             half = np.array([size[0], size[0], size[2] + size[0]])
         elif kind == _CYLINDER:
             half = np.array([size[0], size[0], size[2]])
-        elif kind in (_MESH, _HFIELD) and int(g.objtype) == int(mujoco.mjtObj.mjOBJ_GEOM) and 0 <= g.objid < model.ngeom:
+        elif (kind in (_MESH, _HFIELD) and int(g.objtype) == int(mujoco.mjtObj.mjOBJ_GEOM) and 0 <= g.objid < model.ngeom
+                and hasattr(model, "geom_aabb")):  # fmt: skip
             centre, half = model.geom_aabb[g.objid, :3].astype(np.float64), model.geom_aabb[g.objid, 3:].astype(np.float64)
         else:
             return None
