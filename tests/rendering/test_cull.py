@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import mujoco
 import numpy as np
+import pytest
 
 from usvsim.rendering.cull import FrustumCull, frustum_planes
 
@@ -14,6 +15,7 @@ XML = """
   <visual><global fovy="45"/></visual>
   <worldbody>
     <camera name="eye" pos="0 0 0" xyaxes="0 -1 0 0 0 1"/>
+    <light name="sun" pos="0 0 30" dir="0 0 -1" directional="true" castshadow="false"/>
     <geom name="ahead" type="sphere" pos="10 0 0" size="0.5"/>
     <geom name="behind" type="sphere" pos="-10 0 0" size="0.5"/>
     <geom name="edge" type="sphere" pos="10 7.9 0" size="1"/>
@@ -51,9 +53,31 @@ def test_only_geoms_wholly_outside_the_view_are_culled():
     assert culled_names(model, scene) == {"behind", "beyond", "box_below"}  # planes are never culled
 
 
-def test_nothing_is_culled_while_shadows_are_drawn():
-    _, scene, cull = scene_and_cull(shadows=True)
-    assert cull(1600, 900) == 0  # the sun sees what the camera does not
+def sun_along(scene, direction) -> None:
+    """The scene's one light (after the headlight) directional, casting shadows, shining along `direction`."""
+    lamp = scene.lights[scene.nlight - 1]
+    assert not lamp.headlight
+    lamp.type, lamp.castshadow = mujoco.mjtLightType.mjLIGHT_DIRECTIONAL, 1
+    lamp.dir[:] = np.asarray(direction, float) / np.linalg.norm(direction)
+
+
+def test_with_shadows_only_geoms_whose_shadow_stays_out_of_view_are_culled():
+    """A geom out of view still darkens what the camera sees if the sun's rays carry its shadow into the view."""
+    model, scene, cull = scene_and_cull(shadows=True)
+    sun_along(scene, (1.0, 0.0, -0.2))  # low, from behind the camera: the shadow of "behind" falls ahead, in view
+    assert cull(1600, 900) == 0
+    model, scene, cull = scene_and_cull(shadows=True)
+    sun_along(scene, (1.0, 0.0, -1.0))  # 45° high: it passes under the view (22.5° down at its edge), as box_below's
+    assert cull(1600, 900) == 2
+    assert culled_names(model, scene) == {"behind", "box_below"}
+    model, scene, cull = scene_and_cull(shadows=True)
+    sun_along(scene, (-1.0, 1.0, -1.0))  # from ahead and the right: "behind" and "beyond" shade nothing in view
+    assert cull(1600, 900) == 3
+    assert culled_names(model, scene) == {"behind", "beyond", "box_below"}
+    model, scene, cull = scene_and_cull(shadows=True)
+    sun_along(scene, (-1.0, 1.0, -1.0))
+    scene.lights[scene.nlight - 1].type = mujoco.mjtLightType.mjLIGHT_SPOT  # a spot casting shadows: they spread, nothing is culled
+    assert cull(1600, 900) == 0
 
 
 def test_planes_point_into_the_view():
@@ -66,14 +90,14 @@ def test_planes_point_into_the_view():
     assert (planes[:, :3] @ np.array([10.0, 8.0, 0.0]) + planes[:, 3] < 0).any()
 
 
-def test_a_camera_culls_and_keeps_its_bytes():
-    """The onboard camera (640x480, shader look): RGB, depth and labels the same with and without culling."""
-    import pytest
-
+@pytest.mark.parametrize("shadows", [False, True])
+def test_a_camera_culls_and_keeps_its_bytes(shadows):
+    """The onboard camera (shader look, with and without the sun's shadows): RGB, depth and labels the same with and
+    without culling."""
     pytest.importorskip("moderngl")
     from usvsim.rendering.gallery import load, scenario_dict
 
-    sim = load(scenario_dict(4, {"fog": {"visibility_m": 2000.0}}, 320, 240))
+    sim = load(scenario_dict(4, {"fog": {"visibility_m": 2000.0}, "shadows": shadows}, 320, 240))
     sim.run(3.0)  # the mooring lines are drawn in segments by then
     camera = sim.sensors["wamv/camera"]
     culled = camera.render(sim)
@@ -83,6 +107,6 @@ def test_a_camera_culls_and_keeps_its_bytes():
     renderer._cull = lambda width, height: 0
     full = camera.render(sim)
     sim.close()
-    assert count > 40  # mooring-line segments behind and beside the boat (62 of them)
+    assert count > (20 if shadows else 40)  # mooring-line segments behind and beside the boat (62 of them)
     for stream in ("rgb", "depth", "segmentation"):
         assert np.array_equal(culled[stream], full[stream], equal_nan=True), stream

@@ -7,8 +7,12 @@ rest of the scene, and from most views nearly all of them lie behind or beside t
 scene's primitive geoms (sphere, ellipsoid, capsule, cylinder, box) whose bounding sphere lies wholly outside a
 slightly widened view frustum as `mjGEOM_NONE`, which `mjr_render` skips; meshes, planes, height fields and
 lines are always drawn. A geom outside the frustum covers no pixel, so colour, depth and ids are unchanged
-(tests/rendering/test_cull.py). Not while MuJoCo draws shadows or reflections: from the sun's view or in a
-mirror, a geom behind the camera can still show.
+(tests/rendering/test_cull.py). Not while MuJoCo draws reflections (in a mirror a geom behind the camera can still
+show). While it draws the shadows of directional lights, a geom out of view can still cast a shadow into it: its
+shadow falls along the light's direction d from it, so it is culled only if the whole ray X + s d (s >= 0) from its
+bounding sphere stays outside the view, i.e. outside a frustum plane that the ray cannot cross back (its normal
+toward the inside has n · d <= 0), for every light that casts shadows. Any other light that casts shadows (a spot):
+nothing is culled.
 """
 
 from __future__ import annotations
@@ -53,9 +57,11 @@ class FrustumCull:
         """Mark the geoms outside the view of `scene.camera[0]` (a `width` x `height` viewport); returns how many."""
         scene = self.scene
         flags = scene.flags
-        if (self._size is None or self._pos is None or flags[mujoco.mjtRndFlag.mjRND_SHADOW]
-                or flags[mujoco.mjtRndFlag.mjRND_REFLECTION]
+        if (self._size is None or self._pos is None or flags[mujoco.mjtRndFlag.mjRND_REFLECTION]
                 or scene.stereo or scene.camera[0].orthographic):  # fmt: skip
+            return 0
+        rays = shadow_directions(scene) if flags[mujoco.mjtRndFlag.mjRND_SHADOW] else np.zeros((0, 3))
+        if rays is None:
             return 0
         n = scene.ngeom
         geoms = scene.geoms
@@ -68,7 +74,10 @@ class FrustumCull:
         radius = np.where(types == _BOX, np.linalg.norm(size, axis=1), radius)
         planes = frustum_planes(mujoco.mjv_averageCamera(scene.camera[0], scene.camera[1]), width, height)  # as mjr_render
         dist = self._pos[:n].astype(np.float64) @ planes[:, :3].T + planes[:, 3]  # (n, planes), m
-        out = (radius >= 0.0) & (dist < -(MARGIN_M + 1.02 * radius)[:, None]).any(axis=1)
+        outside = dist < -(MARGIN_M + 1.02 * radius)[:, None]
+        out = (radius >= 0.0) & outside.any(axis=1)
+        for d in rays:  # and its shadow along d stays out of view: outside a plane the ray cannot cross back
+            out &= outside[:, planes[:, :3] @ d <= 0.0].any(axis=1)
         culled = np.flatnonzero(out)
         for i in culled:
             geoms[i].type = _NONE
@@ -112,6 +121,21 @@ def drawn_boxes(scene: mujoco.MjvScene, model: mujoco.MjModel) -> np.ndarray | N
         rot = np.array(g.mat, dtype=np.float64).reshape(3, 3)
         corners.append(np.array(g.pos, dtype=np.float64) + (centre + signs * half) @ rot.T)
     return np.array(corners) if corners else np.zeros((0, 8, 3))
+
+
+def shadow_directions(scene: mujoco.MjvScene) -> np.ndarray | None:
+    """(k, 3) the directions (world, unit) in which the scene's shadow-casting lights shine, all directional; None if
+    one of them is not directional (its shadows spread from a point: `FrustumCull` then culls nothing)."""
+    rays = []
+    for i in range(scene.nlight):
+        lamp = scene.lights[i]
+        if not lamp.castshadow or lamp.headlight:
+            continue
+        if int(lamp.type) != int(mujoco.mjtLightType.mjLIGHT_DIRECTIONAL):
+            return None
+        d = np.array(lamp.dir, dtype=np.float64)
+        rays.append(d / max(float(np.linalg.norm(d)), 1e-12))
+    return np.array(rays).reshape(-1, 3)
 
 
 def frustum_planes(camera, width: int, height: int) -> np.ndarray:

@@ -79,12 +79,12 @@ class FrameRenderer:
                                self.scene)  # fmt: skip
         if points is not None and len(points):
             add_points(self.scene, points, max_points=self.max_points)
-        self.cull(viewport.width, viewport.height)
         if marine is not None and marine.daylight is not None:
             from usvsim.rendering.frame import apply_lights
 
             apply_lights(self.scene, marine.daylight, marine.materials, marine.center_xy,
                          float(self.scene.camera[0].frustum_far))
+        self.cull(viewport.width, viewport.height)  # after the lights: with shadows it culls along the sun's rays
         from usvsim.rendering.frame import begin_geoms, end_geoms
 
         shaded = begin_geoms(marine, self.scene, bool(self.scene.flags[mujoco.mjtRndFlag.mjRND_SHADOW]))

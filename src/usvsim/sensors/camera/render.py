@@ -186,7 +186,7 @@ class PinholeRenderer:
         if self._look_shadows and not segment:
             self.scene.flags[_R.mjRND_SHADOW] = True
         self.scene.flags[_R.mjRND_SEGMENT] = self.scene.flags[_R.mjRND_IDCOLOR] = segment
-        self._cull(self.rect.width, self.rect.height)  # none while MuJoCo draws the sun's shadows
+        self._cull(self.rect.width, self.rect.height)  # with the sun's shadows: only what casts none into view
         from usvsim.rendering.frame import begin_geoms, end_geoms
 
         shaded = not segment and begin_geoms(self.marine, self.scene, bool(self.scene.flags[_R.mjRND_SHADOW]))
