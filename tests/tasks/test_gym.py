@@ -60,3 +60,29 @@ def test_sync_and_async_vector_envs_are_equal():
         envs.close()
         results.append(trace)
     assert all(np.array_equal(x, y) for x, y in zip(*results))
+
+
+def test_the_chase_view_draws_the_sea_of_now():
+    """`render()` shows the waves at the current time of the current episode: the same frame whatever was
+    rendered before (it drew the height field its GL context got when it was made, stale ever after)."""
+
+    def frame(env, before: bool):
+        env.reset(seed=3)
+        if before:
+            env.render()  # the first frame, at t = 0
+        for _ in range(5):
+            env.step(np.zeros(4, np.float32))
+        return env.render()
+
+    make = {"observation": ("state", "camera"), "sea_state": 4, "time_limit_s": 5.0, "render_mode": "rgb_array"}
+    a, b = gymnasium.make("usvsim/StationKeeping-v0", **make), gymnasium.make("usvsim/StationKeeping-v0", **make)
+    try:
+        after_a_first_frame, only = frame(a, True), frame(b, False)
+        assert np.array_equal(after_a_first_frame, only)
+        a.reset(seed=4)  # another sea at the same time
+        for _ in range(5):
+            a.step(np.zeros(4, np.float32))
+        assert (a.render() != only).any(axis=-1).mean() > 0.05
+    finally:
+        a.close()
+        b.close()

@@ -1,4 +1,5 @@
-"""`render_mode="rgb_array"`: a chase view of the vessel from MuJoCo's renderer (EGL unless MUJOCO_GL says)."""
+"""`render_mode="rgb_array"`: a chase view of the vessel from MuJoCo's renderer (EGL unless MUJOCO_GL says), with
+the sea's height field at the current time around the vessel (world/water_visual.py)."""
 
 from __future__ import annotations
 
@@ -6,6 +7,8 @@ import os
 
 import mujoco
 import numpy as np
+
+from usvsim.world.water_visual import WaterUpload, refresh_water_visual
 
 
 class ChaseRenderer:
@@ -15,11 +18,13 @@ class ChaseRenderer:
         self.renderer = mujoco.Renderer(sim.model, height, width)
         self.camera = mujoco.MjvCamera()
         self.camera.distance, self.camera.elevation = 30.0, -25.0
+        self._water = WaterUpload()  # what this renderer's GL context holds of the water surface
 
     def frame(self, body_index: int) -> np.ndarray:
         s = self.sim.state
         self.camera.lookat[:] = s.pos[body_index]
         self.camera.azimuth = float(np.degrees(np.arctan2(s.rot[body_index][1, 0], s.rot[body_index][0, 0]))) + 180.0
+        refresh_water_visual(self.sim, self.renderer, s.pos[body_index][:2], self._water)  # else the field it was made with
         self.renderer.update_scene(self.sim.data, self.camera)
         return self.renderer.render().copy()
 
