@@ -106,6 +106,21 @@ EXTREMES = [  # (name, expectation, dotted path, value)
     ("two_vessels_one_spot", "warn", "vessels",
      [BASE["vessels"][0], {**BASE["vessels"][0], "name": "twin", "sensors": []}]),
     ("dock_on_vessel", "warn", "objects", [{"type": "dock", "name": "dock", "position": [0, 0, 0], "size": [2, 2, 2]}]),
+    # QA round: each was accepted (or a traceback) before its fix
+    ("fossen_added_mass_two", "error", "vessels.0.hydrodynamics", {"type": "fossen", "added_mass": [1.0, 2.0]}),
+    ("fossen_damping_seven", "error", "vessels.0.hydrodynamics", {"type": "fossen", "linear_damping": [1.0] * 7}),
+    ("lidar_elevations_empty", "error", "vessels.0.sensors", [{"type": "lidar", "name": "lidar", "elevations_deg": []}]),
+    ("lidar_range_min_over_max", "error", "vessels.0.sensors",
+     [{"type": "lidar", "name": "lidar", "range_min_m": 50.0, "range_max_m": 10.0}]),
+    ("lidar_range_min_over_preset_max", "error", "vessels.0.sensors",
+     [{"type": "lidar", "name": "lidar", "preset": "vlp16", "range_min_m": 150.0}]),
+    ("camera_near_beyond_far", "error", "vessels.0.sensors",
+     [{"type": "camera", "name": "cam", "near_m": 10.0, "far_m": 1.0}]),
+    ("two_sensors_one_topic", "error", "vessels.0.sensors",
+     [{"type": "imu", "name": "imu", "topic": "/x"}, {"type": "gnss", "name": "gps", "topic": "/x"}]),
+    ("latlon_beyond_100km", "error", "vessels.0.pose", {"latlon": [0.0, 0.0]}),
+    ("heading_and_yaw", "error", "vessels.0.pose", {"heading_deg": 90.0, "yaw_deg": 10.0}),
+    ("heading_only", "ok", "vessels.0.pose", {"heading_deg": 90.0}),
 ]  # fmt: skip
 
 
@@ -136,6 +151,10 @@ def _text_cases() -> list[tuple[str, str, object]]:
         ("too_big", "error", "version: 1\n" + "# padding\n" * 500_000),
         ("duplicate_vessel_names", "error", yaml.safe_dump(_set(BASE, "objects.1.name", "otter"))),
         ("multi_document", "error", "version: 1\n---\nversion: 1\n"),
+        ("duplicate_key", "error", yaml.safe_dump(BASE) + "vessels: []\n"),  # the second silently replaced the first
+        ("duplicate_nested_key", "error", "version: 1\nworld: {physics_rate_hz: 100, physics_rate_hz: 50}\n"),
+        ("merge_key_override", "ok", "version: 1\nvessels:\n  - &v {name: otter, model: otter}\n"
+         "  - {<<: *v, name: twin, pose: {position: [0, 20, 0]}}\n"),  # keys over a merge are no duplicates
     ]  # fmt: skip
 
 

@@ -10,7 +10,7 @@ Frames: body FLU at the centre of mass unless stated; world ENU. Units in the na
 
 from __future__ import annotations
 
-from typing import Literal
+from typing import Annotated, Literal
 
 from pydantic import Field
 
@@ -66,6 +66,9 @@ class KernerHydrodynamics(Section):
     air_scale: NonNegativeFloat = 1.0
 
 
+Six = Annotated[TupleOf[NonNegativeFloat], Field(min_length=6, max_length=6)]  # surge, sway, heave, roll, pitch, yaw
+
+
 class FossenHydrodynamics(Section):
     """Fossen's 6-DOF manoeuvring model: added mass, Coriolis (incl. added mass), damping, cross-flow.
 
@@ -78,9 +81,9 @@ class FossenHydrodynamics(Section):
 
     type: Literal["fossen"] = "fossen"
     parameters: Literal["otter", "wamv_vrx", "wamv_vrx_classic", "custom"] = "custom"
-    added_mass: TupleOf[NonNegativeFloat] = (0.0,) * 6
-    linear_damping: TupleOf[NonNegativeFloat] = (0.0,) * 6
-    quadratic_damping: TupleOf[NonNegativeFloat] = (0.0,) * 6
+    added_mass: Six = (0.0,) * 6
+    linear_damping: Six = (0.0,) * 6
+    quadratic_damping: Six = (0.0,) * 6
     cross_flow_length_m: NonNegativeFloat = 0.0
     cross_flow_draft_m: NonNegativeFloat = 0.0
     cross_flow_beam_m: NonNegativeFloat = 0.0

@@ -27,7 +27,23 @@ _Base: type[yaml.SafeLoader] = getattr(yaml, "CSafeLoader", yaml.SafeLoader)
 
 class _Loader(_Base):
     """The safe loader, reading numbers as YAML 1.2 does: PyYAML (YAML 1.1) takes `1e9` or `5e-2` (an exponent
-    without a decimal point) for the text '1e9', which the schema then refuses as "not a valid number"."""
+    without a decimal point) for the text '1e9', which the schema then refuses as "not a valid number".
+    A key given twice in one mapping is an error (YAML requires unique keys; PyYAML silently keeps the last, so
+    a second `vessels:` or `sensors:` would drop the first); keys over a merge (`<<: *base`) are overrides."""
+
+    def construct_mapping(self, node, deep=False):
+        if isinstance(node, yaml.MappingNode):
+            seen: set = set()
+            for key_node, _ in node.value:
+                if key_node.tag == "tag:yaml.org,2002:merge" or not isinstance(key_node, yaml.ScalarNode):
+                    continue
+                key = self.construct_object(key_node)
+                if key in seen:
+                    raise yaml.constructor.ConstructorError(
+                        None, None, f"key {excerpt(key)} is given twice in one mapping", key_node.start_mark
+                    )
+                seen.add(key)
+        return super().construct_mapping(node, deep=deep)
 
 
 _Loader.add_implicit_resolver(

@@ -137,7 +137,7 @@ class Lidar(SensorBase):
     output: Literal["points", "scan"] | None = None
     channels: Annotated[int, Field(ge=1, le=1024)] | None = None
     columns: Annotated[int, Field(ge=1, le=100_000)] | None = None
-    elevations_deg: TupleOf[float] | None = None
+    elevations_deg: Annotated[TupleOf[float], Field(min_length=1)] | None = None
     vertical_fov_deg: Vec2 | None = Field(default=None, description="(lowest, highest) elevation, evenly spaced")
     horizontal_fov_deg: Annotated[float, Field(gt=0, le=360)] | None = None
     range_min_m: NonNegativeFloat | None = None
@@ -219,6 +219,8 @@ class Camera(SensorBase):
     def _streams(self):
         if not self.streams or len(set(self.streams)) != len(self.streams):
             raise ValueError("streams must list each of rgb, depth, segmentation at most once (at least one)")
+        if self.near_m >= self.far_m:
+            raise ValueError(f"near_m ({self.near_m} m) must be less than far_m ({self.far_m} m)")
         return self
 
 

@@ -8,6 +8,7 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING, Any
 
+from usvsim.config.base import MAX_COORDINATE_M
 from usvsim.config.loader import base_dir, source_of
 from usvsim.config.objects import COLORS, Buoy
 from usvsim.config.scenario import Scenario
@@ -70,8 +71,13 @@ def _place(section, frame: GeoFrame, where: str):
         if not (-90.0 <= lat <= 90.0 and -180.0 <= lon <= 180.0):
             raise ScenarioError(where, "latlon", f"[{lat}, {lon}] is not a latitude and longitude in degrees")
         x, y, _ = frame.to_enu(lat, lon)[0]
+        if max(abs(x), abs(y)) > MAX_COORDINATE_M:  # the limit every position has (docs/limits.md)
+            raise ScenarioError(where, "latlon", f"[{lat}, {lon}] is {max(abs(x), abs(y)) / 1000:.0f} km from the "
+                                f"world origin; positions must be within {MAX_COORDINATE_M / 1000:.0f} km (world.origin)")  # fmt: skip
         update["position"] = (float(x), float(y), section.position[2])
     if getattr(section, "heading_deg", None) is not None:
+        if "yaw_deg" in section.model_fields_set:
+            raise ScenarioError(where, "heading_deg", "give either heading_deg or yaw_deg, not both")
         update["yaw_deg"] = 90.0 - section.heading_deg  # compass (CW from north) → ENU yaw (CCW from east)
     return section.model_copy(update=update)
 

@@ -79,10 +79,14 @@ class SensorSuite:
         if name in self.sensors:
             raise ScenarioError(source, f"{key}.name", f"sensor name {cfg.name!r} is used twice on {vessel!r}")
         try:
-            self.sensors[name] = REGISTRY[cfg.type](cfg, vessel, sim, self.shared)
+            sensor = REGISTRY[cfg.type](cfg, vessel, sim, self.shared)
         except ValueError as exc:  # rates that are not whole multiples of the physics step, bad patterns
             field = "rate_hz" if "Hz" in str(exc) else ""
             raise ScenarioError(source, f"{key}.{field}".rstrip("."), str(exc)) from None
+        other = next((s.name for s in self.sensors.values() if s.topic == sensor.topic), None)
+        if other is not None:  # one topic carries one message type (the recorder and the bridges refuse a second)
+            raise ScenarioError(source, f"{key}.topic", f"topic {sensor.topic} is already the topic of sensor {other!r}")
+        self.sensors[name] = sensor
 
     def __getitem__(self, name: str) -> Sensor:
         return self.sensors[name]

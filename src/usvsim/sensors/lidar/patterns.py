@@ -56,9 +56,12 @@ def resolve(cfg: LidarConfig) -> Pattern:
     output = cfg.output or p.output
     if output == "scan" and len(elevations) != 1:
         raise ValueError("a LaserScan LiDAR (output: scan) needs exactly one channel")
+    range_min, range_max = p.range_min_m if cfg.range_min_m is None else cfg.range_min_m, cfg.range_max_m or p.range_max_m
+    if range_min >= range_max:
+        raise ValueError(f"range_min_m ({range_min} m) must be less than range_max_m ({range_max} m)")
     return Pattern(tuple(sorted(elevations)), cfg.columns or p.columns, cfg.horizontal_fov_deg or p.horizontal_fov_deg,
-                   p.range_min_m if cfg.range_min_m is None else cfg.range_min_m, cfg.range_max_m or p.range_max_m,
-                   output, p.range_stddev_m if cfg.range_stddev_m is None else cfg.range_stddev_m)  # fmt: skip
+                   range_min, range_max, output,
+                   p.range_stddev_m if cfg.range_stddev_m is None else cfg.range_stddev_m)  # fmt: skip
 
 
 def azimuths(p: Pattern) -> tuple[np.ndarray, float]:
