@@ -78,6 +78,7 @@ class Simulation:
     g = property(lambda self: self.world.g)
     rho_air = property(lambda self: self.world.rho_air)
     odom_origin = property(lambda self: self.world.odom_origin)
+    body_teleports = property(lambda self: self.world.body_teleports)
     place = property(lambda self: self.world.place)
 
     @property

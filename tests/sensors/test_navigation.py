@@ -12,6 +12,7 @@ from usvsim.core.transforms import matrix_from_quat, quat_multiply
 from usvsim.messages.ros import time_to_ns
 from usvsim.sensors import SensorSuite
 from usvsim.sensors.base import OPTICAL_QUAT, OPTICAL_ROT
+from usvsim.simulation import Simulation
 
 IMU_MOUNT = {"position": [0.4, -0.3, 1.0], "yaw_deg": 30.0}
 
@@ -143,3 +144,26 @@ def test_bad_rate_is_a_scenario_error():
     sim = make_sim()
     with pytest.raises(ScenarioError, match=r"sensors\[0\]\.rate_hz"):
         SensorSuite(sim.world, {"wamv": sensor_configs({"type": "imu", "name": "imu", "rate_hz": 33})})
+
+
+def test_a_teleport_is_no_acceleration_for_the_imu(scenario_of):
+    """The IMU differences its mount's velocity over each step; a teleport's jump in position and velocity is
+    not motion the vessel made: the step over it reads no acceleration (it read ~20 g for a 2 m/s twist), and
+    another body's teleport changes nothing."""
+    data = {"name": "imu", "vessels": [{"name": "wamv", "model": "wamv",
+                                        "sensors": [{"type": "imu", "name": "imu", "rate_hz": 100}]},
+                                       {"name": "otter", "model": "otter", "pose": {"position": [30.0, 0.0, 0.0]}}]}  # fmt: skip
+    sim, twin = Simulation(scenario_of(data), seed=1), Simulation(scenario_of(data), seed=1)
+    for s in (sim, twin):
+        s.run(1.0)
+    sim.vessels["otter"].teleport((60.0, 0.0, 0.0, 0.0, 0.0, 0.0), twist=(3.0, 0.0, 0.0, 0.0, 0.0, 0.0))
+    for s in (sim, twin):
+        s.run(0.5)
+    imu = sim.sensors["wamv/imu"]
+    assert np.array_equal(imu.true_values(sim.world)[2], twin.sensors["wamv/imu"].true_values(twin.world)[2])
+    sim.vessels["wamv"].teleport((5.0, 0.0, 0.0, 0.0, 0.0, 0.3), twist=(2.0, 0.0, 0.0, 0.0, 0.0, 0.0))
+    sim.step()
+    _, rot = imu.pose_world(sim.world)
+    np.testing.assert_allclose(imu.true_values(sim.world)[2], rot.T @ [0.0, 0.0, sim.world.g], atol=1e-12)
+    sim.run(0.5)
+    assert np.linalg.norm(imu.true_values(sim.world)[2]) < 20.0  # the motion after it is measured again

@@ -9,6 +9,7 @@ physics step and differenced over the last step, a = (v_p,k - v_p,k-1) / dt. Thi
 MuJoCo's integrator actually applied over that step (its velocity update), so it is exact for the
 simulated motion at rest (f = (0, 0, g) to rounding) and includes the lever-arm terms (ω × (ω × r),
 α × r); it is the mean over the last step (dt = 1/physics_rate), not the instantaneous value at its end.
+A `teleport` of the vessel is no motion it made: the step over it reads no acceleration (gravity only).
 It costs two small vector ops per step and needs no extra MuJoCo call (mj_rnePostConstraint/cacc
 would give the pre-step acceleration instead).
 """
@@ -48,6 +49,7 @@ class Imu(Sensor):
         self.gyro = TriadNoise(self.cfg.gyro_noise(), dt_sample, self.rng)  # turn-on biases drawn anew
         self.accel = TriadNoise(self.cfg.accel_noise(), dt_sample, self.rng)
         self._v_prev = self._v_now = self._mount_velocity(sim)
+        self._teleports = int(sim.body_teleports[self.body])
 
     def _mount_velocity(self, sim: World) -> np.ndarray:
         rot = sim.state.rot[self.body]
@@ -55,7 +57,10 @@ class Imu(Sensor):
         return sim.origin_velocity(self.body) + np.cross(omega_world, rot @ self.mount_pos)
 
     def observe(self, sim: World) -> None:
-        self._v_prev, self._v_now = self._v_now, self._mount_velocity(sim)
+        v = self._mount_velocity(sim)
+        if sim.body_teleports[self.body] != self._teleports:  # moved by `teleport` before this step: the
+            self._teleports, self._v_now = int(sim.body_teleports[self.body]), v  # jump is not its motion
+        self._v_prev, self._v_now = self._v_now, v
 
     def true_values(self, sim: World) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Exact (quaternion w,x,y,z w.r.t. ENU, gyro rad/s, specific force m/s^2), sensor frame."""

@@ -96,6 +96,7 @@ class World:
         self._guard = DivergenceGuard(world.divergence, list(self.bodies), self.clock.dt)
         self.unwatched = False  # True inside `Simulation.run` for steps nobody looks at between (traffic/fleet.py)
         self.teleports = 0  # bodies put somewhere by `teleport` (traffic/fleet.py: far ships may have come near)
+        self.body_teleports = np.zeros(len(self.qpos_adr), np.int64)  # per body (the IMU: a jump is no motion)
         self.odom_origin: dict[str, tuple[np.ndarray, np.ndarray]] = {}  # each vessel's pose at the episode start
         self._mark_odom_origin()
 
@@ -221,6 +222,7 @@ class World:
         marine models' histories restart (as after a model switch)."""
         pos, quat = pose_arrays(pose)
         self.teleports += 1
+        self.body_teleports[index] += 1
         self._place(index, pos, quat, twist_array(twist))
         self.marine.reset()
         self._guard.reset()
