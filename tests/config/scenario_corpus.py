@@ -121,6 +121,16 @@ EXTREMES = [  # (name, expectation, dotted path, value)
     ("latlon_beyond_100km", "error", "vessels.0.pose", {"latlon": [0.0, 0.0]}),
     ("heading_and_yaw", "error", "vessels.0.pose", {"heading_deg": 90.0, "yaw_deg": 10.0}),
     ("heading_only", "ok", "vessels.0.pose", {"heading_deg": 90.0}),
+    # FFT seas whose tiles cannot cascade were a ValueError traceback from ocean/fft.py
+    ("sea_fft_32_three_bands", "error", "environment.sea",
+     {"type": "sea_state", "code": 3, "realization": {"method": "fft", "resolution": 32}}),
+    ("sea_fft_32_one_band", "ok", "environment.sea",
+     {"type": "sea_state", "code": 3, "realization": {"method": "fft", "resolution": 32, "bands": 1}}),
+    ("sea_fft_tiles_increasing", "error", "environment.sea",
+     {"type": "sea_state", "code": 3, "realization": {"method": "fft", "resolution": 64, "tile_sizes_m": [10, 20]}}),
+    ("sea_phillips_128", "error", "environment.sea", {"type": "phillips", "resolution": 128}),
+    ("sea_phillips_5000m_1024", "ok", "environment.sea",
+     {"type": "phillips", "repetition_size_m": 5000, "resolution": 1024}),
 ]  # fmt: skip
 
 

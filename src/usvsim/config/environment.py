@@ -50,6 +50,13 @@ class FFTRealization(Section):
     bands: Annotated[int, Field(ge=1, le=6)] = 3
     gaussian_amplitudes: bool = False
 
+    @model_validator(mode="after")
+    def _bands_fit(self):
+        # neighbouring tiles differ at most N/32 times (ocean/fft.py): below N = 64 the default cascade cannot step down
+        if self.tile_sizes_m is None and self.bands > 1 and self.resolution < 64:
+            raise ValueError(f"resolution {self.resolution} allows one band only: set bands: 1, or resolution >= 64")
+        return self
+
 
 class DirectRealization(Section):
     """Direct sum of `components` components, one per frequency bin (exact and unbounded, cost ∝ components)."""
@@ -144,6 +151,15 @@ class PhillipsSea(Directed):
     resolution: Resolution = 256
     choppiness: Choppiness = 0.6
     from_wind: bool = False
+
+    @model_validator(mode="after")
+    def _bands_fit(self):
+        need = 32.0 * math.sqrt(self.repetition_size_m / 10.0)  # tiles L0 → middle → 10 m, each step at most N/32
+        if self.resolution < need:
+            least = 1 << math.ceil(math.log2(need))
+            raise ValueError(f"resolution {self.resolution} is too coarse for repetition_size_m {self.repetition_size_m:g}: "
+                             f"its three bands down to 10 m need resolution >= {least}")  # fmt: skip
+        return self
 
 
 class WaveComponentConfig(Directed):

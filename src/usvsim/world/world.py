@@ -79,7 +79,10 @@ class World:
         self.look = scenario.rendering  # the current look (config/rendering.py); cameras read it every frame
         self.wakes: Any = None  # the vessels' recent tracks (rendering/wakes.WakeTracks), set by the Simulation
         self.traffic: Any = None  # the Simulation's traffic (other ships' tracks for the renderer), set by it
-        self.ocean = build_ocean(scenario.environment, self.rng.get("ocean"), dt_s=self.clock.dt)
+        try:
+            self.ocean = build_ocean(scenario.environment, self.rng.get("ocean"), dt_s=self.clock.dt)
+        except ValueError as exc:  # tile sizes the FFT cascade cannot use (ocean/fft.py)
+            raise ScenarioError(source_of(scenario), "environment.sea", str(exc)) from None
         floating = self._floating_bodies()
         if not floating:
             raise ScenarioError(source_of(scenario), "vessels", "nothing floats: add a vessel or a buoy")
