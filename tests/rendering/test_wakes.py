@@ -201,3 +201,26 @@ def test_slow_hull_water_drawn_with_fewer_wake_quads_gives_the_same_bytes(monkey
     monkeypatch.setattr(MarinePass, "_marks_runs", lambda self, *args: np.array([[0, 10**9]]))
     whole, _, _ = _run(30.0, 0.3)
     assert np.array_equal(slow["rgb"], whole["rgb"])
+
+
+def test_a_teleport_cuts_the_track():
+    """A teleported hull did not sail from where it was: its track restarts at the new place, the wake it left
+    before stays, and no ribbon joins the two (one did: a streak of foam 40 m across open water)."""
+    from usvsim.simulation import Simulation
+
+    sim = Simulation.from_scenario("harbor")
+    boat = sim.vessels["wamv"]
+    boat.command(1.0)
+    sim.run(6.0)
+    x, y, _ = boat.position
+    boat.teleport((x, y + 40.0, 0.0, 0.0, 0.0, 0.0), twist=(2.0, 0.0, 0.0, 0.0, 0.0, 0.0))
+    sim.run(3.0)
+    tris = sim.wakes.ribbons(sim.time, 30.0).reshape(-1, 3, 6)
+    a, b = tris[:, [0, 1, 2]], tris[:, [1, 2, 0]]
+    along = a[..., 2] == b[..., 2]  # edges along one side of a ribbon: samples 0.25 s apart
+    assert np.linalg.norm(a[..., :2] - b[..., :2], axis=2)[along].max() < 5.0
+    north = tris[..., 1].mean(axis=1) > y + 20.0
+    assert north.any() and (~north).any()  # the new track and the old one
+    sim.reset()
+    assert not any(sim.wakes.cuts) and len(sim.wakes.ribbons(0.0, 30.0)) == 0
+    sim.close()

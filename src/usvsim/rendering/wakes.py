@@ -51,6 +51,8 @@ class WakeTracks:
 
     def reset(self) -> None:
         self.samples: list[np.ndarray] = []  # per sample (vessels, 5): stern x, y, heading, speed, time
+        self.cuts: list[list[float]] = [[] for _ in self.half_beams]  # per track: times (s) where it restarts
+        self._teleports: np.ndarray | None = None  # the vessels' `teleport` counts at the last sample
 
     def record(self, world) -> None:
         """Called after every physics step; samples every `every` steps."""
@@ -69,6 +71,11 @@ class WakeTracks:
             row[:n, 2] = np.arctan2(fwd[:, 1], fwd[:, 0])
             row[:n, 3] = np.hypot(vel[:, 0], vel[:, 1])
             row[:n, 4] = t
+            counts = world.body_teleports[i]  # a teleported hull did not sail from where it was: cut its track
+            if self._teleports is not None:
+                for v in np.flatnonzero(counts != self._teleports):
+                    self.cuts[v].append(t)
+            self._teleports = counts.copy()
         if self.ships:
             from usvsim.rendering.lights import kinematic_ships
 
@@ -85,6 +92,10 @@ class WakeTracks:
         self.samples.append(row)
         if len(self.samples) > self.keep:
             del self.samples[0]
+            oldest = self.samples[0][0, 4]
+            for cuts in self.cuts:  # a cut at or before the oldest sample splits nothing
+                while cuts and cuts[0] <= oldest:
+                    del cuts[0]
 
     def ribbons(self, now_s: float, length_s: float) -> np.ndarray:
         """Triangles of the tracks' ribbons for `WakePass`, (n, 6) float32 per vertex: x, y (m), across the
@@ -96,27 +107,35 @@ class WakeTracks:
         track = track[age <= length_s]
         age = age[age <= length_s]
         tris = []
-        for v, half_beam in enumerate(self.half_beams):
-            pts, speed = track[:, v, :2], track[:, v, 3]
-            if len(pts) < 2 or speed.max() < 0.3:
-                continue
-            d = np.gradient(pts, axis=0)
-            norm = np.linalg.norm(d, axis=1, keepdims=True)
-            heading = track[:, v, 2]
-            d = np.where(
-                norm > 1e-6, d / np.maximum(norm, 1e-9), np.stack([-np.cos(heading), -np.sin(heading)], 1)
-            )
-            side = np.stack([-d[:, 1], d[:, 0]], axis=1)
-            half = half_beam + speed * age * KELVIN_TAN + 1.0
-            left, right = pts + side * half[:, None], pts - side * half[:, None]
-            edge = np.stack([np.c_[left, np.ones(len(pts))], np.c_[right, -np.ones(len(pts))]])  # (2, n, 3)
-            attrs = np.c_[age, speed, half]  # per sample
-            a = np.arange(len(pts) - 1)
-            # per segment two triangles: left a, right a, left b; left b, right a, right b
-            sides, samples = np.array([0, 1, 0, 0, 1, 1]), np.stack([a, a, a + 1, a + 1, a, a + 1], axis=1)
-            corners = edge[sides[None, :], samples]  # (segments, 6, 3)
-            tris.append(np.concatenate([corners, attrs[samples]], axis=2).reshape(-1, 6))
+        for v, half_beam in enumerate(self.half_beams):  # a vessel's track is cut where it was teleported
+            piece = np.searchsorted(np.array(self.cuts[v]), track[:, v, 4], side="right") if self.cuts[v] else None
+            for k in [None] if piece is None else np.unique(piece):
+                mine = slice(None) if k is None else piece == k
+                tris += self._ribbon(track[mine, v], age[mine], half_beam)
         return np.concatenate(tris).astype(np.float32) if tris else np.zeros((0, 6), np.float32)
+
+    @staticmethod
+    def _ribbon(track: np.ndarray, age: np.ndarray, half_beam: float) -> list[np.ndarray]:
+        """The triangles of one stretch of a track (samples, 5), newest first; [] when it leaves no foam."""
+        pts, speed = track[:, :2], track[:, 3]
+        if len(pts) < 2 or speed.max() < 0.3:
+            return []
+        d = np.gradient(pts, axis=0)
+        norm = np.linalg.norm(d, axis=1, keepdims=True)
+        heading = track[:, 2]
+        d = np.where(
+            norm > 1e-6, d / np.maximum(norm, 1e-9), np.stack([-np.cos(heading), -np.sin(heading)], 1)
+        )
+        side = np.stack([-d[:, 1], d[:, 0]], axis=1)
+        half = half_beam + speed * age * KELVIN_TAN + 1.0
+        left, right = pts + side * half[:, None], pts - side * half[:, None]
+        edge = np.stack([np.c_[left, np.ones(len(pts))], np.c_[right, -np.ones(len(pts))]])  # (2, n, 3)
+        attrs = np.c_[age, speed, half]  # per sample
+        a = np.arange(len(pts) - 1)
+        # per segment two triangles: left a, right a, left b; left b, right a, right b
+        sides, samples = np.array([0, 1, 0, 0, 1, 1]), np.stack([a, a, a + 1, a + 1, a, a + 1], axis=1)
+        corners = edge[sides[None, :], samples]  # (segments, 6, 3)
+        return [np.concatenate([corners, attrs[samples]], axis=2).reshape(-1, 6)]
 
 
 def foam_bound(tris: np.ndarray) -> np.ndarray:
