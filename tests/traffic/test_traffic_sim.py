@@ -131,6 +131,28 @@ def test_reset_equals_fresh_start(crossing):
     np.testing.assert_array_equal(a.data.qpos, b.data.qpos)
 
 
+def test_reset_restarts_the_ais_sentences(scenario_of):
+    """After `reset` the AIS sentences are the bytes of a fresh start, the multi-sentence message id included (it
+    went on from the earlier episode's count of sentences)."""
+
+    def ais(sim):
+        out = []
+        unsubscribe = sim.subscribe(lambda env: out.append(bytes(env.cdr)) if env.topic == "/ais" else None)
+        sim.run(20.0)
+        unsubscribe()
+        return out
+
+    sc = scenario_of({"vessels": [OWN], "traffic": {"ships": [
+        ship("ferry", 257000001, {"type": "constant", "position": [20, 200], "course_deg": 180, "speed_mps": 5}),
+        ship("tug", 257000002, {"type": "constant", "position": [300, 100], "course_deg": 270, "speed_mps": 3})]}})  # fmt: skip
+    a = Simulation(sc)
+    a.run(20.0)
+    a.reset()
+    again, fresh = ais(a), ais(Simulation(sc))
+    assert len(fresh) > 4 and any(b"AIVDM,2,1," in s for s in fresh)  # a two-sentence static report among them
+    assert again == fresh
+
+
 def test_a_ship_that_runs_into_the_own_ship_collides(scenario_of):
     sc = scenario_of({"vessels": [OWN], "traffic": {"ships": [
         ship("ferry", 257000001, {"type": "constant", "position": [0, 30], "course_deg": 180, "speed_mps": 4},

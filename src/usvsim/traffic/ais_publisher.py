@@ -79,6 +79,7 @@ class AisPublisher:
             t.last_yaw, t.last_t = math.nan, 0.0
         heapq.heapify(self._queue)
         self._earliest = self._queue[0][0] if self._queue else math.inf
+        self._episode_sent = 0  # sentences sent this episode: the multi-sentence message ids count from 0
 
     @property
     def next_due_s(self) -> float:
@@ -109,7 +110,7 @@ class AisPublisher:
                 t = self.tx[k]
                 interval, out = ais.STATIC_INTERVAL_S, ais.static_sentences(
                     t.mmsi, t.name, t.ship_type, t.callsign, t.length_m, t.beam_m, t.draft_m, t.ais_class,
-                    (self.sent + len(sentences)) % 10)  # fmt: skip
+                    (self._episode_sent + len(sentences)) % 10)  # fmt: skip
             sentences += out
             heapq.heappush(queue, (now + interval, kind, k))
         self._earliest = queue[0][0]
@@ -140,6 +141,7 @@ class AisPublisher:
 
     def _publish(self, world: World, sentences: list[str], publish: bool) -> list[Envelope]:
         self.sent += len(sentences)
+        self._episode_sent += len(sentences)
         if self.sock is not None:
             for s in sentences:
                 self.sock.sendto((s + "\r\n").encode("ascii"), ("127.0.0.1", self.cfg.udp_port))
