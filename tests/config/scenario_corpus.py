@@ -121,6 +121,16 @@ EXTREMES = [  # (name, expectation, dotted path, value)
     ("latlon_beyond_100km", "error", "vessels.0.pose", {"latlon": [0.0, 0.0]}),
     ("heading_and_yaw", "error", "vessels.0.pose", {"heading_deg": 90.0, "yaw_deg": 10.0}),
     ("heading_only", "ok", "vessels.0.pose", {"heading_deg": 90.0}),
+    # a topic of the simulation's own, or of another part, as a sensor's or traffic's topic (was a ValueError
+    # from the recorder mid-run); traffic topics that are no ROS names (were accepted)
+    ("sensor_on_clock", "error", "vessels.0.sensors", [{"type": "imu", "name": "imu", "topic": "/clock"}]),
+    ("sensor_on_ground_truth", "error", "vessels.0.sensors",
+     [{"type": "imu", "name": "imu", "topic": "/otter/ground_truth/odometry"}]),
+    ("sensor_on_cmd_vel", "error", "vessels.0.sensors", [{"type": "ground_truth", "name": "cmd_vel"}]),
+    ("ais_topic_empty", "error", "traffic", {"ais": {"topic": ""}}),
+    ("ais_topic_on_awareness", "error", "traffic", {"awareness": {"topic": "/ais"}}),
+    ("awareness_on_tf", "error", "traffic", {"awareness": {"topic": "/tf"}}),
+    ("ais_topic_own", "ok", "traffic", {"ais": {"topic": "/my/ais"}}),
     # FFT seas whose tiles cannot cascade were a ValueError traceback from ocean/fft.py
     ("sea_fft_32_three_bands", "error", "environment.sea",
      {"type": "sea_state", "code": 3, "realization": {"method": "fft", "resolution": 32}}),

@@ -86,4 +86,9 @@ class Scenario(Section):
         dupes = sorted({n for n in names if names.count(n) > 1})
         if dupes:
             raise ValueError(f"names of vessels and objects must be unique; repeated: {', '.join(dupes)}")
+        own = {"/clock", "/tf", "/tf_static", "/usvsim/episode", "/reset"}  # ground_truth.py, commands.py
+        own |= {f"/{v.name}/{t}" for v in self.vessels for t in ("ground_truth/odometry", "cmd_vel")}
+        for key, topic in (("ais", self.traffic.ais.topic), ("awareness", self.traffic.awareness.topic)):
+            if topic in own:
+                raise ValueError(f"traffic.{key}.topic {topic} is one of the simulation's own topics")
         return self

@@ -16,8 +16,10 @@ from typing import Annotated, Literal
 from pydantic import Field, model_validator
 
 from usvsim.config.base import NonNegativeFloat, PositiveFloat, Section, TupleOf, Vec2
+from usvsim.config.sensors import TOPIC_PATTERN
 
 Name = Annotated[str, Field(pattern=r"^[A-Za-z][A-Za-z0-9_]*$")]
+Topic = Annotated[str, Field(pattern=TOPIC_PATTERN, max_length=256)]  # a ROS 2 topic name, as sensors' topics
 # AIS ship type (ITU-R M.1371 table 53, first digit 3x/5x specials and 6x-8x classes) by name
 SHIP_TYPES = {"pleasure": 37, "sailing": 36, "fishing": 30, "tug": 52, "pilot": 50, "passenger": 60,
               "cargo": 70, "tanker": 80, "high_speed": 40, "other": 90}  # fmt: skip
@@ -95,7 +97,7 @@ class Ais(Section):
     UDP datagrams to 127.0.0.1:`udp_port` (what chart plotters and OpenCPN listen to)."""
 
     enabled: bool = True
-    topic: str = "/ais"
+    topic: Topic = "/ais"
     udp_port: int | None = Field(default=None, ge=1024, le=65535)
     position_noise_m: NonNegativeFloat = Field(default=0.0, description="Gaussian std-dev per axis of reported position")
     dropout_probability: float = Field(default=0.0, ge=0.0, lt=1.0, description="chance a report is lost")
@@ -108,7 +110,7 @@ class Awareness(Section):
 
     own_ship: Name | None = Field(default=None, description="default: the first scenario vessel")
     rate_hz: PositiveFloat = 1.0
-    topic: str = "/traffic/situation"
+    topic: Topic = "/traffic/situation"
 
 
 class Traffic(Section):
@@ -122,6 +124,9 @@ class Traffic(Section):
             dupes = sorted({v for v in values if values.count(v) > 1})
             if dupes:
                 raise ValueError(f"ship {what} must be unique; repeated: {', '.join(dupes)}")
+        if self.ais.topic == self.awareness.topic:
+            raise ValueError(f"ais.topic and awareness.topic must differ (one topic carries one message type), "
+                             f"both are {self.ais.topic}")  # fmt: skip
         return self
 
 

@@ -12,7 +12,7 @@ from typing import TYPE_CHECKING, Any
 
 from usvsim.core.errors import ScenarioError
 from usvsim.messages import ros
-from usvsim.messages.envelope import Envelope
+from usvsim.messages.envelope import EPISODE_TOPIC, Envelope
 from usvsim.sensors.base import Sensor
 from usvsim.sensors.imu import Imu
 from usvsim.sensors.navigation import Gnss, GroundTruthPose, Odometry
@@ -56,6 +56,16 @@ REGISTRY = {"imu": _plain(Imu), "odometry": _plain(Odometry), "gnss": _plain(Gns
             "detections": _detections, "radar": _radar}  # fmt: skip
 
 
+def _simulation_topics(sim: World) -> set[str]:
+    """Topics the simulation publishes or takes commands on besides its sensors' (ground_truth.py, commands.py,
+    traffic/): a sensor there would put a second message type on one topic."""
+    topics = {"/clock", "/tf", "/tf_static", EPISODE_TOPIC, "/reset"}
+    for vessel in sim.scenario.vessels:
+        topics |= {f"/{vessel.name}/ground_truth/odometry", f"/{vessel.name}/cmd_vel"}
+    traffic = sim.scenario.traffic
+    return topics | {traffic.ais.topic, traffic.awareness.topic}
+
+
 class SensorSuite:
     """All sensors, keyed `<vessel>/<name>`. `configs` maps vessel name → sensor configs; by default it is
     read from each scenario vessel's `sensors` key."""
@@ -66,6 +76,7 @@ class SensorSuite:
         self.sensors: dict[str, Sensor] = {}
         self.shared: dict[str, Any] = {}
         names = list(sim.vessels)
+        self._reserved = _simulation_topics(sim)
         for vessel, cfgs in configs.items():
             for k, cfg in enumerate(cfgs):
                 key = f"vessels[{names.index(vessel) if vessel in names else '?'}].sensors[{k}]"
@@ -86,6 +97,8 @@ class SensorSuite:
         other = next((s.name for s in self.sensors.values() if s.topic == sensor.topic), None)
         if other is not None:  # one topic carries one message type (the recorder and the bridges refuse a second)
             raise ScenarioError(source, f"{key}.topic", f"topic {sensor.topic} is already the topic of sensor {other!r}")
+        if sensor.topic in self._reserved:
+            raise ScenarioError(source, f"{key}.topic", f"topic {sensor.topic} is one of the simulation's own topics")
         self.sensors[name] = sensor
 
     def __getitem__(self, name: str) -> Sensor:
