@@ -86,3 +86,17 @@ def test_the_chase_view_draws_the_sea_of_now():
     finally:
         a.close()
         b.close()
+
+
+def test_the_chase_view_right_after_reset_shows_the_scene():
+    """The first frame of an episode (what a video wrapper records after `reset`) shows the vessel on the water:
+    the view poses the bodies from the current qpos (it drew MuJoCo's data, which holds no poses before the
+    first step: every geom vanished, the frame was all sky)."""
+    env = gymnasium.make("usvsim/Wayfinding-v0", time_limit_s=5.0, render_mode="rgb_array")
+    try:
+        env.reset(seed=1)
+        first = env.render()
+        env.step(np.zeros(4, np.float32))  # calm water, no thrust: 0.1 s later the view has hardly changed
+        assert (first != env.render()).any(axis=-1).mean() < 0.1
+    finally:
+        env.close()
