@@ -160,6 +160,33 @@ def test_udp_sockets_of_a_loopback_domain_accept_only_loopback_traffic(sim):
                 s.detach()
 
 
+def test_an_interface_given_as_an_address_starts(sim):
+    """`--ros2-interface 127.0.0.1` (an address, as the docs allow) was a bare DDS_RETCODE_ERROR traceback: the
+    address went into `name=`. Loopback addresses are `lo` (pinned as `lo` is); other addresses go in `address=`."""
+    assert '<NetworkInterface name="lo"/>' in cyclone_config("127.0.0.1")
+    assert '<NetworkInterface address="192.0.2.7"/>' in cyclone_config("192.0.2.7")  # built, not started: off-host
+    before = socket_fds()
+    with DdsBridge(sim, domain_id=38, interface="127.0.0.1"):
+        new = [socket.socket(fileno=fd) for fd in sorted(socket_fds() - before)]
+        try:
+            udp = [s for s in new if s.type == socket.SOCK_DGRAM]
+            assert udp and all(s.getsockname()[0] == "127.0.0.1" or _device(s) == "lo" for s in udp)
+        finally:
+            for s in new:
+                s.detach()
+
+
+def test_cli_names_an_unknown_interface_in_one_line():
+    from typer.testing import CliRunner
+
+    from usvsim.cli.app import app
+
+    result = CliRunner().invoke(app, ["run", "harbor", "--duration", "0.1", "--ros2", "--ros2-interface", "nosuch0"])
+    assert result.exit_code == 2, result.stderr
+    lines = result.stderr.strip().splitlines()
+    assert len(lines) == 1 and "no network interface 'nosuch0'" in lines[0], result.stderr
+
+
 def _device(sock: socket.socket) -> str:
     return sock.getsockopt(socket.SOL_SOCKET, socket.SO_BINDTODEVICE, 16).rstrip(b"\0").decode()
 

@@ -19,6 +19,7 @@ unacknowledged data before it would block (`WhcHigh`). The kernel caps the socke
 
 from __future__ import annotations
 
+import ipaddress
 from xml.sax.saxutils import quoteattr
 
 LOOPBACK_NAMES = ("lo", "lo0", "127.0.0.1", "localhost")
@@ -34,7 +35,7 @@ def cyclone_config(interface: str | None = "lo", *, socket_buffer: str = SOCKET_
     loopback = interface in LOOPBACK_NAMES
     general = ""
     if interface is not None:
-        general += f"<Interfaces><NetworkInterface name={quoteattr(_iface(interface))}/></Interfaces>"
+        general += f"<Interfaces><NetworkInterface {_iface(interface)}/></Interfaces>"
     discovery = ""
     if loopback:
         general += "<AllowMulticast>false</AllowMulticast>"
@@ -59,4 +60,11 @@ def cyclone_config(interface: str | None = "lo", *, socket_buffer: str = SOCKET_
 
 
 def _iface(interface: str) -> str:
-    return "lo" if interface == "localhost" else interface
+    """The NetworkInterface attribute: Cyclone takes an address as `address=`, never as `name=`."""
+    if interface in ("localhost", "127.0.0.1"):
+        return 'name="lo"'
+    try:
+        ipaddress.ip_address(interface)
+    except ValueError:
+        return f"name={quoteattr(interface)}"
+    return f"address={quoteattr(interface)}"

@@ -31,6 +31,24 @@ def host_port(text: str) -> tuple[str, int]:
     return host, int(port)
 
 
+def check_interface(interface: str) -> None:
+    """A UsvsimError unless `interface` is a network interface of this machine or an IP address (Cyclone DDS
+    would fail with a bare 'DDS_RETCODE_ERROR' traceback)."""
+    import ipaddress
+    import socket
+
+    from usvsim.bridges.dds_config import LOOPBACK_NAMES
+
+    names = [name for _, name in socket.if_nameindex()]
+    if interface in LOOPBACK_NAMES or interface in names:
+        return
+    try:
+        ipaddress.ip_address(interface)
+    except ValueError:
+        raise UsvsimError(f"--ros2-interface: no network interface {interface!r} on this machine "
+                          f"(interfaces: {', '.join(names)}; 'any' lets Cyclone DDS choose)") from None  # fmt: skip
+
+
 def _extra(module: str, extra: str):
     import importlib
 
@@ -47,6 +65,8 @@ def open_bridges(sim, options: BridgeOptions) -> list:
         if options.ros2:
             dds = _extra("usvsim.bridges.dds", "ros2")
             interface = None if options.ros2_interface in ("", "any") else options.ros2_interface
+            if interface is not None:
+                check_interface(interface)
             bridges.append(dds.DdsBridge(sim, domain_id=options.domain_id, interface=interface))
         if options.ros_tcp:
             from usvsim.bridges.ros_tcp import RosTcpBridge
