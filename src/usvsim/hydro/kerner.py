@@ -101,6 +101,7 @@ class KernerForces:
         self._air = (np.zeros(nf), dry_face_table(hulls.vertices_body, hulls.faces),
                      *anchor_frames(hulls.vertices_body, hulls.vert_offsets))  # fmt: skip
         self._lengths = np.zeros(nb)
+        self._first_lengths = self.coef[:, kk.LENGTH].copy()  # until the first step's waterline
         self._swept = np.zeros((nf, 3))
         self._swept_prev = np.zeros((nf, 3))
         self._ready = False
@@ -118,8 +119,10 @@ class KernerForces:
         self.coef[:, kk.LENGTH] = self._lengths
 
     def reset(self) -> None:
-        """Forget the previous step (no slamming on the next call), e.g. after moving a body."""
+        """Forget the previous step (no slamming on the next call; the Reynolds lengths of the first step), e.g.
+        after moving a body or a simulation reset."""
         self._ready = False
+        self.coef[:, kk.LENGTH] = self._first_lengths
 
     def set_previous_areas(self, area_prev: np.ndarray) -> None:
         """Set the previous step's submerged area of each face (Nf,) m² (tests, restarts)."""
