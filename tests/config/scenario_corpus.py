@@ -121,6 +121,9 @@ EXTREMES = [  # (name, expectation, dotted path, value)
     ("latlon_beyond_100km", "error", "vessels.0.pose", {"latlon": [0.0, 0.0]}),
     ("heading_and_yaw", "error", "vessels.0.pose", {"heading_deg": 90.0, "yaw_deg": 10.0}),
     ("heading_only", "ok", "vessels.0.pose", {"heading_deg": 90.0}),
+    # a voxel grid too fine for the hull was a MemoryError traceback (TiB) or a run into the OOM killer
+    ("voxels_too_fine", "error", "vessels.0.buoyancy", {"type": "voxels", "voxel_size_m": 0.0001}),
+    ("voxels_fine_enough", "ok", "vessels.0.buoyancy", {"type": "voxels", "voxel_size_m": 0.1}),
     # a topic of the simulation's own, or of another part, as a sensor's or traffic's topic (was a ValueError
     # from the recorder mid-run); traffic topics that are no ROS names (were accepted)
     ("sensor_on_clock", "error", "vessels.0.sensors", [{"type": "imu", "name": "imu", "topic": "/clock"}]),

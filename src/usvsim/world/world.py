@@ -22,7 +22,7 @@ import numpy as np
 from usvsim.config.loader import base_dir, source_of
 from usvsim.config.objects import Buoy
 from usvsim.config.scenario import Scenario
-from usvsim.config.vessel import TriangleBuoyancy
+from usvsim.config.vessel import TriangleBuoyancy, VoxelBuoyancy
 from usvsim.core.clock import Clock, period_ns
 from usvsim.core.errors import DivergenceError, ScenarioError
 from usvsim.core.overlap import Overlap
@@ -35,6 +35,7 @@ from usvsim.hydro.fused import fused_hydrostatics
 from usvsim.hydro.hydrostatics import NO_HEAD, HullSet, HydrostaticsResult
 from usvsim.hydro.models import MarineModels
 from usvsim.hydro.thrusters import ThrusterBank
+from usvsim.hydro.voxelize import check_grid
 from usvsim.hydro.wrenches import assemble, body_kinematics, relative_velocity_body
 from usvsim.ocean import build_ocean
 from usvsim.ocean.patch import WaterPatch
@@ -153,6 +154,12 @@ class World:
         self._fk_all, self._head = bool(self._fk_vertices.all()), np.zeros(len(self.hulls.vertices_body))
         self._fk_any = bool(self._fk_vertices.any())
         self._eta = np.zeros(len(self.hulls.vertices_body))  # surface heights of the one-call FFT path
+        for i, b in enumerate(buoyancy[: len(vessels)]):
+            if isinstance(b, VoxelBuoyancy):  # too fine a grid: a MemoryError (or the OOM killer) otherwise
+                try:
+                    check_grid(floating[i].model.hull.vertices, b.voxel_size_m)
+                except ValueError as exc:
+                    raise ScenarioError(source_of(self.scenario), f"vessels[{i}].buoyancy.voxel_size_m", str(exc)) from None
         hydro = [v.hydrodynamics or fb.model.drag for v, fb in zip(vessels, floating)]
         hydro += [fb.model.drag for fb in floating[len(vessels) :]]
         self.marine = MarineModels([fb.model for fb in floating], buoyancy, hydro, self.hulls, self.model,
