@@ -106,3 +106,34 @@ def test_noise_is_applied_and_seeded():
     da, db = (np.frombuffer(bytes(m["depth/image_raw"].data), np.float32) for m in (a, b))
     ok = np.isfinite(da)
     assert (db - da)[ok].std() == pytest.approx(0.01, rel=0.1)
+
+
+@pytest.mark.parametrize("renderer", ["mujoco", "shader"])
+def test_a_simulation_collected_without_close_leaves_the_others_cameras_alone(scenario_of, renderer):
+    """A dropped simulation's GL objects are freed in its own GL context: MuJoCo's context freed whatever
+    context was current, the other simulation's (same object ids), whose camera then drew wrong images (MuJoCo's
+    look) or raised GLError (the shader look)."""
+    import gc
+
+    from usvsim.simulation import Simulation
+
+    if renderer == "shader":
+        pytest.importorskip("moderngl")
+    camera = {"type": "camera", "name": "camera", "width": 96, "height": 72, "streams": ["rgb", "depth", "segmentation"],
+              "mount": {"position": [0.3, 0.0, 1.3]}}  # fmt: skip
+    sc = scenario_of({"name": "gc", "environment": {"sea": {"type": "sea_state", "code": 4}}, "rendering": {"renderer": renderer},
+                      "vessels": [{"name": "wamv", "model": "wamv", "sensors": [camera]}],
+                      "objects": [{"type": "buoy", "name": "red", "position": [12.0, 1.0, 0.0], "color": "red"}]})  # fmt: skip
+
+    def render(sim):
+        return sim.sensors["wamv/camera"].render(sim)
+
+    dropped, kept = Simulation(sc, seed=1), Simulation(sc, seed=1)
+    render(dropped)
+    before = render(kept)  # the kept one's GL context is current when the other goes
+    del dropped
+    gc.collect()
+    after = render(kept)
+    for name in before:
+        assert np.array_equal(before[name], after[name], equal_nan=True), name
+    kept.close()

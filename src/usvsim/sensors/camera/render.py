@@ -24,6 +24,7 @@ kernels keep the drawn colours instead of painting the sky.
 from __future__ import annotations
 
 import os
+import weakref
 
 import mujoco
 import numpy as np
@@ -50,6 +51,20 @@ def gl_context(width: int, height: int):
     return GLContext(width, height)
 
 
+def _free_context(gl, ctx: mujoco.MjrContext) -> None:
+    """Free MuJoCo's GL objects in their own GL context, then the context: MuJoCo frees them in whatever context is
+    current, which (when a dropped simulation is collected) is another simulation's, whose objects have the same
+    ids. The current context stays current."""
+    as_current = getattr(gl, "as_current", None)  # restores the context current before (EGL)
+    if as_current is None:
+        gl.make_current()
+        ctx.free()
+    else:
+        with as_current():
+            ctx.free()
+    gl.free()
+
+
 class RenderContext:
     """A GL context and its MjrContext for one model; offscreen buffer grown to the largest camera."""
 
@@ -67,6 +82,7 @@ class RenderContext:
             quality.offsamples, glob.offwidth, glob.offheight = saved[:3]
             model.geom_size[planes, 2] = saved[3]
         mujoco.mjr_setBuffer(mujoco.mjtFramebuffer.mjFB_OFFSCREEN, self.ctx)
+        self._free = weakref.finalize(self, _free_context, self.gl, self.ctx)  # also when dropped without close()
         self.water = WaterUpload()
         self.marine = None  # the shader passes (usvsim.rendering), made on first use
 
@@ -108,8 +124,7 @@ class RenderContext:
             self.gl.make_current()
             if self.marine is not None:
                 self.marine.release()
-            self.ctx.free()
-            self.gl.free()
+            self._free()
             self.gl = None
 
 
