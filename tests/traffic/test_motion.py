@@ -84,3 +84,22 @@ def test_ais_csv_errors_name_the_file(tmp_path):
         read_ais_csv(tmp_path / "bad.csv", GeodeticOrigin(), "s.yaml", "traffic.ships[0].motion")
     with pytest.raises(ScenarioError, match="not found"):
         read_ais_csv(tmp_path / "none.csv", GeodeticOrigin(), "s.yaml", "traffic.ships[0].motion")
+
+
+@pytest.mark.parametrize(
+    ("row", "message"),
+    [
+        ("0,nan,10.43,5,180,511", "lat must be finite"),  # was a ValueError traceback from the AIS encoder mid-run
+        ("0,59.43,10.43,inf,180,511", "sog must be finite"),
+        ("0,99,10.43,5,180,511", r"lat must be in \[-90, 90\]"),  # values out of range were replayed as given
+        ("0,59.43,10.43,-5,180,511", r"sog must be in \[0, 102.2\]"),
+        ("0,59.43,10.43,5,999,511", r"cog must be in \[0, 360\]"),
+        ("0,59.43,10.43,5,180,400", r"heading must be in \[0, 360\) or 511"),
+        ("0,0,0,5,180,511", "more than 100 km from the world origin"),  # 5000 km away, past the limit of positions
+    ],
+)
+def test_ais_csv_values_that_cannot_be_replayed_name_the_row(tmp_path, row, message):
+    (tmp_path / "t.csv").write_text(f"time,lat,lon,sog,cog,heading\n{row}\n60,59.425,10.43,5,180,180\n")
+    with pytest.raises(ScenarioError, match=message) as info:
+        read_ais_csv(tmp_path / "t.csv", GeodeticOrigin(), "s.yaml", "traffic.ships[0].motion.path")
+    assert "(row 2)" in str(info.value) or "row 2 " in str(info.value)

@@ -17,6 +17,7 @@ import numpy as np
 import pymap3d
 
 from usvsim.config import traffic as cfg
+from usvsim.config.base import MAX_COORDINATE_M
 from usvsim.core.errors import ScenarioError
 
 KNOT_MPS = 1852.0 / 3600.0
@@ -93,6 +94,11 @@ def _time_column(values: list[str]) -> np.ndarray:
         return np.array(stamps) - stamps[0]
 
 
+def _first(mask: np.ndarray) -> int:
+    """The CSV row number (the header is row 1) of the first True in `mask`."""
+    return int(np.argmax(mask)) + 2
+
+
 def read_ais_csv(path: Path, origin, source: str = "", key: str = "") -> Track:
     """An AIS track CSV (see `config.traffic.AisReplay`) as a Hermite track in the world frame of `origin`
     (a `GeodeticOrigin`)."""
@@ -109,9 +115,22 @@ def read_ais_csv(path: Path, origin, source: str = "", key: str = "") -> Track:
         lat, lon, sog, cog, hdg = (np.array([float(v) for v in cols[c]]) for c in ("lat", "lon", "sog", "cog", "heading"))
     except ValueError as exc:
         raise ScenarioError(source, key, f"{path}: not a number: {exc}") from None
+    for name, values in (("time", t), ("lat", lat), ("lon", lon), ("sog", sog), ("cog", cog), ("heading", hdg)):
+        if not np.all(np.isfinite(values)):  # float() reads 'nan' and 'inf'
+            raise ScenarioError(source, key, f"{path}: {name} must be finite numbers (row {_first(~np.isfinite(values))})")
+    for name, values, lo, hi in (("lat", lat, -90, 90), ("lon", lon, -180, 180), ("sog", sog, 0, 102.2), ("cog", cog, 0, 360)):
+        if np.any((values < lo) | (values > hi)):  # sog: AIS's largest, 102.2 kn
+            raise ScenarioError(source, key, f"{path}: {name} must be in [{lo}, {hi}] (row {_first((values < lo) | (values > hi))})")
+    bad_heading = (hdg != AIS_NO_HEADING) & ((hdg < 0) | (hdg >= 360))
+    if np.any(bad_heading):
+        raise ScenarioError(source, key, f"{path}: heading must be in [0, 360) or 511 (row {_first(bad_heading)})")
     if len(t) < 2 or np.any(np.diff(t) <= 0):
         raise ScenarioError(source, key, f"{path}: needs at least two rows with increasing time")
     e, n, _ = pymap3d.geodetic2enu(lat, lon, 0.0, origin.latitude_deg, origin.longitude_deg, 0.0)
+    far = np.maximum(np.abs(e), np.abs(n)) > MAX_COORDINATE_M
+    if np.any(far):
+        raise ScenarioError(source, key, f"{path}: row {_first(far)} is more than {MAX_COORDINATE_M / 1000:.0f} km "
+                            "from the world origin (world.origin)")  # fmt: skip
     course = np.radians(cog)
     vel = (sog * KNOT_MPS)[:, None] * np.stack([np.sin(course), np.cos(course)], axis=1)
     heading = np.where(hdg == AIS_NO_HEADING, cog, hdg)
