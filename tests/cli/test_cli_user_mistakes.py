@@ -299,6 +299,11 @@ def test_errors_found_under_a_progress_bar_are_still_one_line(tmp_path):
         ("grid: {mass: [200]}\n", ["grid.mass", "did you mean 'mass_kg'"]),
         ("time_limit_s: 1.0e9\n", ["time_limit_s"]),
         ("- 1\n", ["valid dictionary"]),
+        ("seeds: []\n", ["seeds", "at least one"]),  # no run: a ZeroDivisionError traceback after the sweep
+        ("task: []\n", ["task", "at least one"]),
+        ("difficulty: []\n", ["difficulty", "at least one"]),
+        ("task: wayfinding\ntask: station_keeping\n", ["line 2", "task", "twice"]),  # ran the second one only
+        ("task: [\n", ["not valid YAML"]),  # was the parser's several-line message
     ],
 )
 def test_sweep_spec_mistakes_are_one_line_before_any_run(tmp_path, monkeypatch, text, words):

@@ -54,6 +54,9 @@ class SweepSpec(Section):
         from usvsim.tasks.levels import LEVELS
         from usvsim.tasks.library import TASKS
 
+        for key, values in (("task", self.task), ("difficulty", self.difficulty), ("seeds", self.seed_list())):
+            if isinstance(values, list) and not values:  # no run at all (was a ZeroDivisionError in the mean score)
+                raise ValueError(f"{key}: give at least one")
         for name in [self.task] if isinstance(self.task, str) else self.task:
             if name not in TASKS:
                 raise ValueError(f"task: unknown task {name!r}; choose from {', '.join(TASKS)}")

@@ -26,10 +26,11 @@ def sweep(
     from usvsim.batch import expand, run
     from usvsim.batch.spec import SweepSpec
     from usvsim.cli.outputs import prepare_file
+    from usvsim.config import safe_yaml
 
     try:
         try:
-            config = SweepSpec.model_validate(yaml.safe_load(spec.read_text()))
+            config = SweepSpec.model_validate(yaml.load(spec.read_text(), Loader=safe_yaml.Loader))
         except (OSError, yaml.YAMLError, ValidationError) as exc:
             raise UsvsimError(f"{spec}: {_first_error(exc)}") from None
         runs = expand(config)
@@ -67,4 +68,10 @@ def _first_error(exc: Exception) -> str:
             close = get_close_matches(str(e["loc"][-1]), list(fields), n=1)
             message = "unknown key" + (f" (did you mean {close[0]!r}?)" if close else f"; keys: {', '.join(fields)}")
         return f"{where}: {message}" if where else message
+    import yaml
+
+    if isinstance(exc, yaml.YAMLError):  # str() is several lines with the excerpt; one line as for scenarios
+        mark = getattr(exc, "problem_mark", None)
+        problem = str(getattr(exc, "problem", None) or "syntax error")[:120]
+        return f"line {mark.line + 1}: not valid YAML: {problem}" if mark else f"not valid YAML: {problem}"
     return str(exc)

@@ -46,6 +46,9 @@ class _Loader(_Base):
         return super().construct_mapping(node, deep=deep)
 
 
+Loader = _Loader  # for other YAML inputs of usvsim (sweep files): the same numbers and duplicate-key rule
+
+
 _Loader.add_implicit_resolver(
     "tag:yaml.org,2002:float",
     re.compile(r"^[-+]?[0-9][0-9_]*(?:\.[0-9_]*)?[eE][-+]?[0-9]+$"),
