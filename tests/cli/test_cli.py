@@ -97,6 +97,23 @@ def test_ctrl_c_leaves_a_valid_recording(tmp_path):
     assert len(messages) > 100 and {t for t, _, _ in messages} >= {"/clock", "/tf_static"}
 
 
+def test_sigterm_leaves_a_valid_recording(tmp_path):
+    """`kill`, `timeout` and `docker stop` send SIGTERM: it ended the process with the MCAP unfinished (no summary,
+    unreadable until `usvsim recover`); now it stops between steps like Ctrl-C, with the shell's status 143."""
+    out = tmp_path / "long.mcap"
+    proc = subprocess.Popen([*USVSIM, "run", "--duration", "100000", "--record", str(out)],
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)  # fmt: skip
+    deadline = time.time() + 120
+    while time.time() < deadline and not (out.exists() and out.stat().st_size > 20_000):
+        time.sleep(0.2)
+    proc.send_signal(signal.SIGTERM)
+    out_text, err = proc.communicate(timeout=60)
+    assert proc.returncode == 143, err
+    assert "Traceback" not in err and "stopped (SIGTERM)" in out_text
+    messages = read_with_mcap_ros2(out)
+    assert len(messages) > 100 and {t for t, _, _ in messages} >= {"/clock", "/tf_static"}
+
+
 def test_experiment_unknown_name():
     assert_one_line_error(usvsim("experiment", "nonesuch"), "nonesuch", "sphere")
 

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import os
+import signal
 import sys
 import time
 from contextlib import ExitStack
@@ -114,21 +115,21 @@ def run(
         os.environ["MUJOCO_GL"] = "glfw"  # a GLX window fails with X BadAccess in glXMakeCurrent)
     with ExitStack() as stack:  # closes bridges, then the recorder, then the simulation, on every path
         sim, recorder, bridges = _open_run(stack, scenario, seed, record, force, options)
-        interrupted = False
+        interrupted = 0  # the signal that stopped the run (SIGINT: Ctrl-C; SIGTERM: kill, timeout, docker stop)
         start = time.perf_counter()
         try:
             if view:
                 _run_viewer(sim, duration, screenshot, video)
             else:
                 _run_with_progress(sim, duration, realtime)
-        except KeyboardInterrupt:
-            interrupted = True
+        except KeyboardInterrupt as exc:
+            interrupted = getattr(exc, "signum", signal.SIGINT)
         except (UsvsimError, OSError) as exc:
             fail(exc)
         stack.close()
     wall = time.perf_counter() - start
     rtf = sim.time / wall if wall > 0 else float("inf")
-    status = "stopped (Ctrl-C)" if interrupted else "done"
+    status = f"stopped ({'SIGTERM' if interrupted == signal.SIGTERM else 'Ctrl-C'})" if interrupted else "done"
     typer.echo(f"{status}: simulated {sim.time:.2f} s in {wall:.2f} s wall ({rtf:.1f}x real time)")
     print_traffic_report(sim, Console(soft_wrap=True))  # a result: stdout, beside "done: ..."
     if recorder:
@@ -136,7 +137,7 @@ def run(
     for bridge in bridges:
         typer.echo(f"{type(bridge).__name__}: {_stats_line(bridge.stats)}")
     if interrupted:
-        raise typer.Exit(130)
+        raise typer.Exit(128 + int(interrupted))  # 130 for Ctrl-C, 143 for SIGTERM, as the shell reports them
 
 
 def _open_run(stack: ExitStack, scenario: str, seed: int, record: Path | None, force: bool, options):
@@ -170,22 +171,31 @@ def _stats_line(stats: dict) -> str:
     return ", ".join(f"{k} {v}" for k, v in stats.items() if isinstance(v, int | float))
 
 
-def _run_with_progress(sim, duration: float, realtime: bool) -> None:
-    """Run with a progress bar. Ctrl-C stops the run between two steps (never inside a step, where a
-    recorder or bridge may be half-way through writing a message)."""
-    import signal
+class _Stopped(KeyboardInterrupt):
+    """A stop signal (SIGINT or SIGTERM) taken between two steps."""
 
+    def __init__(self, signum: int):
+        super().__init__(signum)
+        self.signum = signum
+
+
+def _run_with_progress(sim, duration: float, realtime: bool) -> None:
+    """Run with a progress bar. Ctrl-C (SIGINT) or SIGTERM (`kill`, `timeout`, `docker stop`) stops the run
+    between two steps (never inside a step, where a recorder or bridge may be half-way through writing a
+    message), so the recording is closed complete; SIGTERM used to end the process with the file unfinished."""
     stop_requested: list[int] = []
 
     def between_steps(_sim) -> None:
         if stop_requested:
-            raise KeyboardInterrupt
+            raise _Stopped(stop_requested[0])
 
-    previous = signal.signal(signal.SIGINT, lambda signum, _frame: stop_requested.append(signum))
+    stops = (signal.SIGINT, signal.SIGTERM)
+    previous = {s: signal.signal(s, lambda signum, _frame: stop_requested.append(signum)) for s in stops}
     try:
         _progress_loop(sim, duration, realtime, between_steps)
     finally:
-        signal.signal(signal.SIGINT, previous)
+        for s, handler in previous.items():
+            signal.signal(s, handler)
 
 
 def _progress_loop(sim, duration: float, realtime: bool, on_step) -> None:
