@@ -121,6 +121,12 @@ EXTREMES = [  # (name, expectation, dotted path, value)
     ("latlon_beyond_100km", "error", "vessels.0.pose", {"latlon": [0.0, 0.0]}),
     ("heading_and_yaw", "error", "vessels.0.pose", {"heading_deg": 90.0, "yaw_deg": 10.0}),
     ("heading_only", "ok", "vessels.0.pose", {"heading_deg": 90.0}),
+    # a sensor frame that breaks /tf_static's tree (self transform, a cycle, a second parent) was accepted
+    ("sensor_frame_base_link", "error", "vessels.0.sensors", [{"type": "imu", "name": "imu", "frame_id": "otter/base_link"}]),
+    ("sensor_frame_world", "error", "vessels.0.sensors", [{"type": "imu", "name": "imu", "frame_id": "world"}]),
+    ("two_sensors_one_frame", "error", "vessels.0.sensors",
+     [{"type": "imu", "name": "imu", "frame_id": "x"}, {"type": "gnss", "name": "gps", "frame_id": "x"}]),
+    ("sensor_frame_own", "ok", "vessels.0.sensors", [{"type": "imu", "name": "imu", "frame_id": "otter/imu_link"}]),
     # a voxel grid too fine for the hull was a MemoryError traceback (TiB) or a run into the OOM killer
     ("voxels_too_fine", "error", "vessels.0.buoyancy", {"type": "voxels", "voxel_size_m": 0.0001}),
     ("voxels_fine_enough", "ok", "vessels.0.buoyancy", {"type": "voxels", "voxel_size_m": 0.1}),

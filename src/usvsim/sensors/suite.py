@@ -99,6 +99,16 @@ class SensorSuite:
             raise ScenarioError(source, f"{key}.topic", f"topic {sensor.topic} is already the topic of sensor {other!r}")
         if sensor.topic in self._reserved:
             raise ScenarioError(source, f"{key}.topic", f"topic {sensor.topic} is one of the simulation's own topics")
+        # /tf_static gives each sensor frame one parent: a second sensor on the frame, or a frame of the TF tree
+        # itself (a base_link would be its own child or get a second parent, `world` a parent), breaks the tree
+        tree = {"world"} | {f"{v}/{f}" for v in sim.vessels for f in ("odom", "base_link")}
+        for frame in (t.child_frame_id for t in sensor.static_transforms()):  # odometry publishes none
+            other = next((s.name for s in self.sensors.values()
+                          if frame in {t.child_frame_id for t in s.static_transforms()}), None)  # fmt: skip
+            if other is not None or frame in tree:
+                why = f"already the frame of sensor {other!r}" if other else "a frame of the TF tree (world, odom, base_link)"
+                fix = "set a frame_id of its own" if cfg.frame_id is None else f"give it a frame of its own (default {name})"
+                raise ScenarioError(source, f"{key}.frame_id", f"frame {frame} is {why}; {fix}")
         self.sensors[name] = sensor
 
     def __getitem__(self, name: str) -> Sensor:
