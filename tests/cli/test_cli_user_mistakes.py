@@ -122,6 +122,15 @@ def test_imazu_rejects_unknown_models_and_bad_out(tmp_path):
     assert result.exit_code == 0 and "model: otter" in (tmp_path / "i.yaml").read_text()
 
 
+def test_imazu_refuses_options_that_make_a_scenario_that_cannot_run(tmp_path):
+    """--speed 50 --encounter 1e6 wrote a file whose ships start 50,000 km out, which `usvsim run` then refused."""
+    out = tmp_path / "far.yaml"
+    one_line_error(invoke("imazu", "5", "--speed", "50", "--encounter", "1e6", "--out", out), "--speed", "--encounter")
+    assert not out.exists()
+    result = invoke("imazu", "5", "--speed", "5", "--encounter", "600", "--out", out)
+    assert result.exit_code == 0 and out.exists()
+
+
 def test_map_prints_the_file_it_writes_and_rejects_unknown_formats(tmp_path):
     scenario = tmp_path / "tiny.yaml"
     scenario.write_text(TINY)

@@ -25,6 +25,14 @@ def imazu(
     if model not in LIBRARY:
         fail(f"--model {model!r}: choose a library vessel ({', '.join(LIBRARY)})")
     text = imazu_yaml(case, model=model, speed_mps=speed, encounter_s=encounter)
+    try:  # the file must run: fast and long encounters start the ships beyond the 100 km limit of positions
+        from usvsim.config import safe_yaml
+        from usvsim.config.loader import parse_scenario
+
+        parse_scenario(safe_yaml.parse(text, f"imazu_{case:02d}"), f"imazu_{case:02d}")
+    except UsvsimError as exc:
+        fail(f"--speed {speed:g} m/s with --encounter {encounter:g} s makes a scenario that cannot run ({exc}); "
+             "lower --speed or --encounter")  # fmt: skip
     if out is None:
         typer.echo(text, nl=False)
     else:
