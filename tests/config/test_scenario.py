@@ -85,3 +85,16 @@ def test_sections_are_frozen():
     sc = load_scenario("harbor")
     with pytest.raises(ValidationError, match="frozen"):
         sc.world.physics_rate_hz = 50.0
+
+
+@pytest.mark.parametrize("rate_hz", [30.0, 33.33, 14.29, 7.0, 3.0])
+def test_the_suggested_rate_is_accepted_when_copied(rate_hz):
+    """The suggestion was printed with 6 digits (`33.3333`, `14.2857`): 1e-6 off the step, and refused in turn."""
+    import re
+
+    from usvsim.core.clock import steps_per_period
+
+    with pytest.raises(ValueError, match="e.g.") as info:
+        steps_per_period(rate_hz, 10_000_000)
+    suggested = float(re.search(r"e\.g\. ([0-9.]+) Hz", str(info.value)).group(1))
+    assert steps_per_period(suggested, 10_000_000) == round(1e9 / rate_hz / 10_000_000)

@@ -21,6 +21,11 @@ def period_ns(rate_hz: float) -> int:
     return rounded
 
 
+def _digits(rate_hz: float) -> str:
+    """A rate with the digits it needs to pass `steps_per_period` when copied (33.3333 is 1e-6 off 30 ms: refused)."""
+    return f"{rate_hz:.10g}"
+
+
 def steps_per_period(rate_hz: float, step_ns: int) -> int:
     """How many physics steps make one period of `rate_hz`; ValueError if it is not a whole number."""
     period = NS_PER_S / rate_hz
@@ -28,7 +33,7 @@ def steps_per_period(rate_hz: float, step_ns: int) -> int:
     if steps < 1 or abs(steps * step_ns - period) > 1e-6 * period:
         raise ValueError(
             f"{rate_hz} Hz is not a whole multiple of the physics step ({step_ns / 1e6:g} ms); "
-            f"use a rate whose period is a multiple of the step, e.g. {NS_PER_S / (step_ns * max(steps, 1)):g} Hz"
+            f"use a rate whose period is a multiple of the step, e.g. {_digits(NS_PER_S / (step_ns * max(steps, 1)))} Hz"
         )
     return steps
 
