@@ -98,3 +98,15 @@ def test_the_suggested_rate_is_accepted_when_copied(rate_hz):
         steps_per_period(rate_hz, 10_000_000)
     suggested = float(re.search(r"e\.g\. ([0-9.]+) Hz", str(info.value)).group(1))
     assert steps_per_period(suggested, 10_000_000) == round(1e9 / rate_hz / 10_000_000)
+
+
+def test_a_misspelt_realization_method_is_named():
+    """`realization: {method: ff}` said "unknown type None" (the tag is under `method`, not `type`)."""
+    from usvsim.config.loader import parse_scenario
+    from usvsim.core.errors import ScenarioError
+
+    sea = {"type": "jonswap", "hs_m": 1.0, "tp_s": 4.0, "realization": {"method": "ff"}}
+    with pytest.raises(ScenarioError, match=r"environment\.sea\.realization: unknown method 'ff'; expected one of 'fft'"):
+        parse_scenario({"version": 1, "environment": {"sea": sea}}, "s.yaml")
+    with pytest.raises(ScenarioError, match=r"objects\[0\]: unknown type 'bouy'"):
+        parse_scenario({"version": 1, "objects": [{"type": "bouy", "name": "b", "position": [1, 2, 0]}]}, "s.yaml")

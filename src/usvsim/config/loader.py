@@ -82,8 +82,10 @@ def _first_error(exc: ValidationError, source: str, data) -> ScenarioError:
         from usvsim.config.schema import allowed_keys, did_you_mean
 
         msg = "unknown key" + did_you_mean(str(err["loc"][-1]), allowed_keys(err["loc"], data))
-    elif err["type"] == "union_tag_invalid":
-        msg = f"unknown type {safe_yaml.excerpt(err['input'].get('type'))}; expected one of {err.get('ctx', {}).get('expected_tags')}"
+    elif err["type"] == "union_tag_invalid":  # the key holding the tag: `type`, or `method` of a realization
+        ctx = err.get("ctx", {})
+        key = next((k for k, v in err["input"].items() if v == ctx.get("tag")), "type")
+        msg = f"unknown {key} {safe_yaml.excerpt(ctx.get('tag'))}; expected one of {ctx.get('expected_tags')}"
     elif err["type"].endswith("_type") or err["type"] in ("literal_error", "finite_number"):
         msg = f"{msg} (got {safe_yaml.excerpt(err['input'])})"
     more = len(exc.errors()) - 1
