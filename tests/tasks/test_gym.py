@@ -100,3 +100,23 @@ def test_the_chase_view_right_after_reset_shows_the_scene():
         assert (first != env.render()).any(axis=-1).mean() < 0.1
     finally:
         env.close()
+
+
+def test_render_needs_no_display_nor_mujoco_gl():
+    """A headless user's `render()` (no DISPLAY, MUJOCO_GL unset, `mujoco` imported first): the chase view makes its
+    own EGL context like the cameras (it used `mujoco.Renderer`, whose backend `import mujoco` had already chosen:
+    GLFW, which fails without a display)."""
+    import os
+    import subprocess
+    import sys
+
+    code = ("import mujoco, gymnasium, numpy as np, usvsim.tasks.gym\n"
+            "env = gymnasium.make('usvsim/StationKeeping-v0', time_limit_s=2.0, render_mode='rgb_array')\n"
+            "env.reset(seed=1)\n"
+            "frame = env.render()\n"
+            "env.close()\n"
+            "print(frame.shape, int(frame.std() > 5))\n")  # fmt: skip
+    env = {k: v for k, v in os.environ.items() if k not in ("MUJOCO_GL", "DISPLAY", "PYOPENGL_PLATFORM")}
+    out = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True, timeout=300)
+    assert out.returncode == 0, out.stderr[-2000:]
+    assert out.stdout.strip().splitlines()[-1] == "(240, 320, 3) 1"
