@@ -189,5 +189,7 @@ def test_run_with_live_bridges_reports_their_counts():
     result = usvsim("run", "--duration", "1", "--ros2", "--foxglove", "--foxglove-port", "0")
     assert result.returncode == 0, result.stderr
     assert "DdsBridge: published" in result.stdout and "FoxgloveBridge:" in result.stdout
+    url = result.stderr.split("usvsim: Foxglove: open ")[1].split()[0]  # the port it was given
+    assert url.startswith("ws://127.0.0.1:") and int(url.rsplit(":", 1)[1]) > 0
     published = int(result.stdout.split("DdsBridge: published ")[1].split(",")[0])
     assert published >= 100 + 50 * 2  # /clock at 100 Hz, /tf and two odometry topics at 50 Hz (+ t = 0)

@@ -116,6 +116,7 @@ class FoxgloveBridge:
     ) -> None:
         self.sim = sim
         self.stats: dict[str, int] = dict.fromkeys(STAT_KEYS, 0)
+        self._host = host
         self._lock = threading.Lock()  # stats written from the server's threads
         self._scene_period_ns = scene_period_ns(scene_rate_hz)
         self._scene = SceneBuilder(sim, water_size_m, water_points)
@@ -154,7 +155,9 @@ class FoxgloveBridge:
 
     @property
     def url(self) -> str:
-        return f"ws://127.0.0.1:{self.port}"
+        """The server's address for Foxglove: ws://HOST:PORT (a wildcard host as the loopback address)."""
+        host = "127.0.0.1" if self._host in ("", "0.0.0.0", "::") else self._host
+        return f"ws://{'[' + host + ']' if ':' in host else host}:{self.port}"
 
     def close(self) -> None:
         """Stop serving: unsubscribe from the simulation, stop the server, close the channels."""

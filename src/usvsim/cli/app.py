@@ -162,6 +162,9 @@ def _open_run(stack: ExitStack, scenario: str, seed: int, record: Path | None, f
             sim.subscribe(recorder.write)
         bridges = open_bridges(sim, options)
         stack.callback(close_all, bridges)
+        for bridge in bridges:
+            if hasattr(bridge, "url"):  # where to point Foxglove (with --foxglove-port 0, the port chosen)
+                console.print(f"usvsim: Foxglove: open {bridge.url}", highlight=False, markup=False)
     except (UsvsimError, OSError) as exc:
         fail(exc)
     return sim, recorder, bridges
