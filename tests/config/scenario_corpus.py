@@ -127,6 +127,10 @@ EXTREMES = [  # (name, expectation, dotted path, value)
     ("two_sensors_one_frame", "error", "vessels.0.sensors",
      [{"type": "imu", "name": "imu", "frame_id": "x"}, {"type": "gnss", "name": "gps", "frame_id": "x"}]),
     ("sensor_frame_own", "ok", "vessels.0.sensors", [{"type": "imu", "name": "imu", "frame_id": "otter/imu_link"}]),
+    # a controller on a vessel without thrusters ran and commanded nothing
+    ("controller_without_thrusters", "error", "vessels.0",
+     {**BASE["vessels"][0], "thrusters": [], "controller": {"type": "velocity"}}),
+    ("controller_with_thrusters", "ok", "vessels.0", {**BASE["vessels"][0], "controller": {"type": "velocity"}}),
     # a voxel grid too fine for the hull was a MemoryError traceback (TiB) or a run into the OOM killer
     ("voxels_too_fine", "error", "vessels.0.buoyancy", {"type": "voxels", "voxel_size_m": 0.0001}),
     ("voxels_fine_enough", "ok", "vessels.0.buoyancy", {"type": "voxels", "voxel_size_m": 0.1}),

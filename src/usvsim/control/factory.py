@@ -47,8 +47,16 @@ def check_rate(config: cfg.VelocityController, step_ns: int, source: str, key: s
 
 
 def control_loop(world, vessel_name: str, config: cfg.VelocityController) -> ControlLoop:
-    """A ControlLoop for one scenario vessel, its reference the `initial_reference`."""
+    """A ControlLoop for one scenario vessel, its reference the `initial_reference`; ScenarioError for a vessel
+    without thrusters (its controller would command nothing)."""
     vessel = world.vessels[vessel_name]
+    if not vessel.model.thrusters:
+        from usvsim.config.loader import source_of
+
+        index = [v.name for v in world.scenario.vessels].index(vessel_name)
+        raise ScenarioError(source_of(world.scenario), f"vessels[{index}].controller",
+                            f"vessel '{vessel_name}' has no thrusters to control (give it 'thrusters', or drop "
+                            "the controller)")  # fmt: skip
     loop = ControlLoop(world, vessel_name, build_controller(config, vessel.model), config.rate_hz)
     loop.reference = initial_reference(world, vessel_name, config)
     return loop
