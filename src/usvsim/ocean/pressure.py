@@ -153,39 +153,11 @@ def fft_hull_water_cached(verts, level, geo, wts, inv_cells, decay_k, eta_out, h
     hull kernel's pressure head), with η, ζ of `fft_surface_and_head_cached` at (x, y, z - level); the same
     operations as the array code, bit for bit, in one pass over the vertices: each band's height as
     `fft_kernels.band_heights_cached` makes it (its node cache and last-cell corners), kept for the vertex only
-    (a fleet's per-band heights, 2.7 MB at 200 WAM-Vs, are not written out and read back). `hull_water_rows` is the
-    same loop over a row range (hydro/fused.py; called from here it cost the harbor 1.5 %)."""
-    mask = geo.shape[3] - 1
-    nb = geo.shape[0]
-    last = np.full((nb, 2), -1, np.int64)  # per band: the cell (ix0, iy0) whose corners are in `corners`
-    corners = np.zeros((nb, 4))
-    hb = np.empty((1, nb))  # this vertex's band heights
-    for p in range(verts.shape[0]):
-        x, y = verts[p, 0], verts[p, 1]
-        z = 0.0
-        for b in range(nb):
-            ix0, ix1, fx = _cell(x, inv_cells[b], mask)
-            iy0, iy1, fy = _cell(y, inv_cells[b], mask)
-            if ix0 != last[b, 0] or iy0 != last[b, 1]:
-                for iy, ix in ((iy0, ix0), (iy0, ix1), (iy1, ix0), (iy1, ix1)):
-                    if stamp[b, iy, ix] != now:
-                        c = 0.0
-                        for r in range(4):
-                            w = wts[b, r]
-                            if w != 0.0:
-                                c += w * geo[b, r, 0, iy, ix].real
-                        cache[b, iy, ix] = c
-                        stamp[b, iy, ix] = now
-                corners[b, 0], corners[b, 1] = cache[b, iy0, ix0], cache[b, iy0, ix1]
-                corners[b, 2], corners[b, 3] = cache[b, iy1, ix0], cache[b, iy1, ix1]
-                last[b, 0], last[b, 1] = ix0, iy0
-            a00, a10, a01, a11 = corners[b, 0], corners[b, 1], corners[b, 2], corners[b, 3]
-            h = a00 * (1 - fx) * (1 - fy) + a10 * fx * (1 - fy) + a01 * (1 - fx) * fy + a11 * fx * fy
-            hb[0, b] = h
-            z += h  # η summed in band order, as `fft_kernels.heights_cached` sums it
-        zeta = _head_from_bands(hb, 0, z, verts[p, 2] - level, decay_k)
-        eta_out[p] = z + level
-        head_out[p] = (zeta + level) - verts[p, 2]
+    (a fleet's per-band heights, 2.7 MB at 200 WAM-Vs, are not written out and read back): `hull_water_rows` over
+    every row (hydro/fused.py calls it a body's rows at a time)."""
+    last, corners, hb = water_scratch(geo.shape[0])
+    hull_water_rows(verts, 0, verts.shape[0], level, geo, wts, inv_cells, decay_k, eta_out, head_out, cache, stamp,
+                    now, last, corners, hb)  # fmt: skip
 
 
 @njit(cache=True, nogil=True)
@@ -198,8 +170,8 @@ def water_scratch(bands):
 @njit(cache=True, nogil=True)
 def hull_water_rows(verts, v0, v1, level, geo, wts, inv_cells, decay_k, eta_out, head_out, cache, stamp, now, last,
                     corners, hb):  # fmt: skip
-    """`fft_hull_water_cached`'s loop (the same operations) for vertex rows v0:v1 (rows outside untouched), `last`
-    and `corners` carried between calls (`water_scratch`). The values do not depend on which rows came before: a
+    """The loop of `fft_hull_water_cached` for vertex rows v0:v1 (rows outside untouched), `last` and `corners`
+    carried between calls (`water_scratch`). The values do not depend on which rows came before: a
     row range at a time (one body's vertices, hydro/fused.py) gives the bits of one pass over all rows."""
     mask = geo.shape[3] - 1
     nb = geo.shape[0]
