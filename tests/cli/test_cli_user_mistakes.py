@@ -369,3 +369,32 @@ def test_python_dash_m_usvsim_is_the_command():
         [sys.executable, "-m", "usvsim", "imazu", "1"], capture_output=True, text=True, timeout=120
     )
     assert result.returncode == 0 and "name: imazu_01" in result.stdout, result.stderr
+
+
+@pytest.mark.parametrize(
+    ("physics_hz", "latency", "nearest"),
+    [(100, 0.015, ("0.01", "0.02")), (100, 0.004, ("0", "0.01")), (128, 0.01, ("0.0078125", "0.015625")),
+     (1000, 1.0005, ("1", "1.001"))],
+)
+def test_a_latency_that_is_not_whole_steps_is_one_line_naming_the_nearest_valid_ones(tmp_path, physics_hz, latency,
+                                                                                      nearest):  # fmt: skip
+    """It was rounded half-to-even without a word (0.015 s at a 10 ms step published after 20 ms); now validate and
+    run refuse it like a rate that is not whole steps, and each value suggested validates."""
+    path = tmp_path / "lat.yaml"
+
+    def scenario(value) -> str:
+        return (f"version: 1\nworld: {{physics_rate_hz: {physics_hz}}}\noutputs: {{recording: {{clock_rate_hz: "
+                f"{physics_hz / 4}, ground_truth_rate_hz: {physics_hz / 4}}}}}\nvessels: [{{name: otter, model: otter, "
+                f"sensors: [{{type: imu, name: imu, rate_hz: {physics_hz / 4}}}, {{type: gnss, name: gps, rate_hz: 1, "
+                f"latency_s: {value}}}]}}]\n")  # fmt: skip
+
+    path.write_text(scenario(latency))
+    step_ms = f"{1000 / physics_hz:g} ms"
+    words = ["vessels[0].sensors[1].latency_s", str(latency), step_ms, f"{nearest[0]} or {nearest[1]} s"]
+    one_line_error(invoke("validate", path), *words)
+    one_line_error(invoke("run", path, "--duration", "0.1"), *words)
+    for value in nearest:
+        path.write_text(scenario(value))
+        result = invoke("validate", path)
+        assert result.exit_code == 0, result.output
+

@@ -88,6 +88,9 @@ EXTREMES = [  # (name, expectation, dotted path, value)
     ("pier_pile_spacing_1e-6", "error", "objects.2.pile_spacing_m", 1e-6),
     ("sensor_rate_1e9", "error", "vessels.0.sensors.0.rate_hz", 1e9),
     ("sensor_rate_7hz", "error", "vessels.0.sensors.0.rate_hz", 7.0),
+    ("sensor_latency_half_step", "error", "vessels.0.sensors.0.latency_s", 0.015),  # was rounded to 0.02 s
+    ("sensor_latency_1e300", "error", "vessels.0.sensors.0.latency_s", 1e300),  # was an OverflowError
+    ("sensor_latency_3_steps", "ok", "vessels.0.sensors.0.latency_s", 0.03),
     ("topic_invalid", "error", "vessels.0.sensors.0.topic", "not a//valid topic!!"),
     ("topic_empty", "error", "vessels.0.sensors.0.topic", ""),
     ("frame_invalid", "error", "vessels.0.sensors.0.frame_id", "a b"),

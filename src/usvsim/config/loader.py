@@ -10,7 +10,7 @@ from pydantic import ValidationError
 
 from usvsim.config import safe_yaml
 from usvsim.config.scenario import Scenario
-from usvsim.core.clock import period_ns, steps_per_period
+from usvsim.core.clock import latency_steps, period_ns, steps_per_period
 from usvsim.core.errors import ScenarioError
 
 BUILTIN_PACKAGE = "usvsim.scenarios"
@@ -129,3 +129,9 @@ def _check_rates(scenario: Scenario, source: str) -> None:
             steps_per_period(rate, step)
         except ValueError as exc:
             raise ScenarioError(source, key, str(exc)) from None
+    for i, vessel in enumerate(scenario.vessels):
+        for k, sensor in enumerate(vessel.sensors):
+            try:
+                latency_steps(sensor.latency_s, step)
+            except ValueError as exc:
+                raise ScenarioError(source, f"vessels[{i}].sensors[{k}].latency_s", str(exc)) from None

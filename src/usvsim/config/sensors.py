@@ -3,7 +3,8 @@
 Frames: a sensor's mount pose is given in its vessel's body frame `base_link` (FLU: x forward, y left,
 z up; metres, degrees roll/pitch/yaw per REP 103). The sensor frame is `<vessel>/<name>` (FLU); cameras
 also get `<vessel>/<name>_optical` (z forward, x right, y down). Rates are in simulation time and must be
-whole multiples of the physics step; latencies are rounded to whole physics steps.
+whole multiples of the physics step, and so are latencies (neither is rounded: a scenario error names the
+nearest valid values).
 """
 
 from __future__ import annotations
@@ -18,6 +19,7 @@ Name = Annotated[str, Field(pattern=r"^[A-Za-z][A-Za-z0-9_]*$")]
 TOPIC_PATTERN = r"^/?[A-Za-z_][A-Za-z0-9_]*(/[A-Za-z_][A-Za-z0-9_]*)*$"  # ROS 2 topic name rules
 FRAME_PATTERN = r"^[A-Za-z_][A-Za-z0-9_]*(/[A-Za-z_][A-Za-z0-9_]*)*$"
 MAX_LIDAR_RAYS = 1 << 22  # rays per revolution (channels x columns), ~4 M: 16x an OS1-128 at 2048 columns
+MAX_LATENCY_S = 3600.0  # an hour: beyond it nothing would be published in any run worth the name
 Probability = Annotated[float, Field(ge=0.0, lt=1.0)]
 
 
@@ -30,7 +32,9 @@ class SensorBase(Section):
 
     name: Name
     rate_hz: PositiveFloat = 10.0
-    latency_s: NonNegativeFloat = Field(default=0.0, description="publish this long after sampling (stamp = sample time)")
+    latency_s: Annotated[float, Field(ge=0, le=MAX_LATENCY_S)] = Field(
+        default=0.0, description="publish this long after sampling (stamp = sample time); a whole number of physics steps"
+    )
     mount: Mount = Mount()
     topic: Annotated[str, Field(pattern=TOPIC_PATTERN, max_length=256)] | None = None
     frame_id: Annotated[str, Field(pattern=FRAME_PATTERN, max_length=256)] | None = None

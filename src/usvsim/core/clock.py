@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 NS_PER_S = 1_000_000_000
@@ -34,6 +35,26 @@ def steps_per_period(rate_hz: float, step_ns: int) -> int:
         raise ValueError(
             f"{rate_hz} Hz is not a whole multiple of the physics step ({step_ns / 1e6:g} ms); "
             f"use a rate whose period is a multiple of the step, e.g. {_digits(NS_PER_S / (step_ns * max(steps, 1)))} Hz"
+        )
+    return steps
+
+
+def _seconds(ns: int) -> str:
+    """A duration of whole nanoseconds in seconds, written so that it reads back as the same float."""
+    value = ns / NS_PER_S
+    text = f"{value:.12g}"
+    return text if float(text) == value else repr(value)
+
+
+def latency_steps(latency_s: float, step_ns: int) -> int:
+    """How many physics steps make `latency_s`; ValueError if it is not a whole number (nothing is rounded:
+    0.015 s at a 10 ms step was published after 2 steps, 20 ms, without a word)."""
+    steps = math.floor(latency_s * NS_PER_S / step_ns + 0.5)
+    if abs(steps * step_ns - latency_s * NS_PER_S) > 1e-6 * step_ns:
+        below = math.floor(latency_s * NS_PER_S / step_ns)
+        raise ValueError(
+            f"{latency_s} s is not a whole multiple of the physics step ({step_ns / 1e6:g} ms); use a latency that "
+            f"is a multiple of the step, e.g. {_seconds(below * step_ns)} or {_seconds((below + 1) * step_ns)} s"
         )
     return steps
 

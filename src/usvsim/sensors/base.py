@@ -16,7 +16,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from usvsim.core.clock import steps_per_period
+from usvsim.core.clock import latency_steps, steps_per_period
 from usvsim.core.transforms import matrix_from_quat, quat_from_rpy, quat_multiply
 from usvsim.messages import ros
 from usvsim.messages.envelope import Envelope
@@ -46,7 +46,7 @@ class Sensor:
         self.optical_frame_id = f"{self.frame_id}_optical"
         self.topic = cfg.topic or f"/{vessel}/{cfg.name}"
         self.every = steps_per_period(cfg.rate_hz, sim.clock.step_ns)
-        self.latency_steps = round(cfg.latency_s * 1e9 / sim.clock.step_ns)
+        self.latency_steps = latency_steps(cfg.latency_s, sim.clock.step_ns)
         m = cfg.mount
         self.mount_pos = np.array(m.position, dtype=float)
         self.mount_quat = quat_from_rpy(*(math.radians(a) for a in (m.roll_deg, m.pitch_deg, m.yaw_deg)))
