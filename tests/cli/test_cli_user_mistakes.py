@@ -398,3 +398,43 @@ def test_a_latency_that_is_not_whole_steps_is_one_line_naming_the_nearest_valid_
         result = invoke("validate", path)
         assert result.exit_code == 0, result.output
 
+
+@pytest.mark.parametrize(
+    ("geo", "words"),
+    [
+        ("{land: {file: coast.geojson}}", ["geo.land.file", "'coast.geojson' not found", "scenario file's folder",
+                                           "geospatial files there: quays.geojson"]),
+        ("{bathymetry: {file: depth.tif}}", ["geo.bathymetry.file", "'depth.tif' not found"]),
+        ("{structures: [{file: quays.geojson}, {file: piers.gpkg}]}", ["geo.structures[1].file", "'piers.gpkg'"]),
+        ("{marks: [{file: charts/marks.geojson}]}", ["geo.marks[0].file", "charts does not exist"]),
+        ("{land: {file: charts}}", ["geo.land.file", "is a directory"]),
+    ],
+)
+def test_a_missing_geo_file_names_its_key_and_what_is_there(tmp_path, geo, words):
+    """It said only `/abs/path/coast.geojson: no such file`: not which key, nor where relative paths start."""
+    (tmp_path / "quays.geojson").write_text('{"type": "FeatureCollection", "features": []}')
+    if "file: charts}" in geo:
+        (tmp_path / "charts").mkdir()
+    path = tmp_path / "place.yaml"
+    path.write_text(f"version: 1\ngeo: {geo}\nvessels: [{{name: otter, model: otter}}]\n")
+    one_line_error(invoke("validate", path), str(path), *words)
+    one_line_error(invoke("run", path, "--duration", "0.1"), str(path), *words)
+
+
+@pytest.mark.parametrize(
+    ("entry", "words"),
+    [
+        ("vessels: [{name: otter, model: otter, sensors: [{name: imu, rate_hz: 50}]}]",
+         ["vessels[0].sensors[0].type", "missing", "'imu'", "camera, detections, gnss, ground_truth, imu, lidar"]),
+        ("objects: [{name: b1, position: [5, 0, 0]}]", ["objects[0].type", "missing", "buoy", "dock", "pier"]),
+        ("vessels: [{name: otter, model: otter, controller: {rate_hz: 10}}]",
+         ["vessels[0].controller.type", "missing", "station_keeping, velocity"]),
+    ],
+)
+def test_an_entry_without_its_type_says_which_types_there_are(tmp_path, entry, words):
+    """It said "vessels[0].sensors[0]: Unable to extract tag using discriminator 'type'"."""
+    path = tmp_path / "untyped.yaml"
+    path.write_text(f"version: 1\n{entry}\n")
+    one_line_error(invoke("validate", path), *words)
+    one_line_error(invoke("run", path, "--duration", "0.1"), *words)
+    assert "discriminator" not in invoke("validate", path).stderr

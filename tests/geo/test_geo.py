@@ -168,7 +168,7 @@ def test_bad_geodata_is_one_clear_error_naming_the_file(place, tmp_path, case):
     message = str(err.value)
     assert "\n" not in message and any(f"{n}." in message for n in ("a", "nowhere"))
     assert {"no_crs": "no CRS", "wrong_crs": "wrong CRS", "self_intersecting": "not a valid polygon",
-            "missing": "no such file"}[case] in message
+            "missing": "geo.structures[0].file: "}[case] in message
 
 
 def test_land_and_structures_are_detected_with_their_classes(place):

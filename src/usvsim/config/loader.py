@@ -82,6 +82,14 @@ def _first_error(exc: ValidationError, source: str, data) -> ScenarioError:
         from usvsim.config.schema import allowed_keys, did_you_mean
 
         msg = "unknown key" + did_you_mean(str(err["loc"][-1]), allowed_keys(err["loc"], data))
+    elif err["type"] == "union_tag_not_found":  # was "Unable to extract tag using discriminator 'type'"
+        from usvsim.config.schema import union_tags
+
+        key, tags = union_tags(err["loc"], data)
+        loc = f"{loc}.{key}" if loc else key
+        named = err["input"].get("name") if isinstance(err["input"], dict) else None
+        entry = f" (the entry named {safe_yaml.excerpt(named)})" if isinstance(named, str) else ""
+        msg = f"missing{entry}; give one of: {', '.join(tags)}" if tags else f"missing{entry}"
     elif err["type"] == "union_tag_invalid":  # the key holding the tag: `type`, or `method` of a realization
         ctx = err.get("ctx", {})
         key = next((k for k, v in err["input"].items() if v == ctx.get("tag")), "type")

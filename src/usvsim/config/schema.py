@@ -49,6 +49,26 @@ def allowed_keys(loc: tuple, data: Any) -> list[str]:
     return list(node.get("properties", {}))
 
 
+def union_tags(loc: tuple, data: Any) -> tuple[str, list[str]]:
+    """The tag key (`type`, ...) and the accepted tags of the tagged union at pydantic error location `loc`."""
+    defs = scenario_schema()["$defs"]
+    node, value = _branch(scenario_schema(), data, defs), data
+    for depth, item in enumerate(loc):
+        if isinstance(item, int):
+            node = node.get("items", {})
+            value = value[item] if isinstance(value, list | tuple) and item < len(value) else None
+        elif item in node.get("properties", {}):
+            node = node["properties"][item]
+            value = value.get(item) if isinstance(value, dict) else None
+        else:
+            continue
+        node = _resolve(node, defs) if depth == len(loc) - 1 else _branch(node, value, defs)
+    for option in [node, *(_resolve(o, defs) for o in node.get("anyOf", []))]:  # `X | None`: the union inside
+        if "discriminator" in option:
+            return option["discriminator"]["propertyName"], list(option["discriminator"].get("mapping", {}))
+    return "type", []
+
+
 def did_you_mean(key: str, allowed: list[str]) -> str:
     """' (did you mean 'x'?)' for a close match, else ' (allowed: a, b, ...)'; '' when nothing is allowed."""
     close = difflib.get_close_matches(key, allowed, n=1, cutoff=0.6)

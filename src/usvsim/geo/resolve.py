@@ -6,6 +6,7 @@ simulation sees has plain ENU positions, and the marks of the geo section are or
 
 from __future__ import annotations
 
+from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from usvsim.config.base import MAX_COORDINATE_M
@@ -25,8 +26,36 @@ def frame_of(scenario: Scenario) -> GeoFrame:
     return GeoFrame(o.latitude_deg, o.longitude_deg, o.altitude_m)
 
 
+GEO_SUFFIXES = (".geojson", ".json", ".gpkg", ".shp", ".fgb", ".kml", ".gml", ".tif", ".tiff", ".csv")
+
+
+def check_geo_files(scenario: Scenario) -> None:
+    """Every file of the `geo:` section exists, or one line naming its key path, the file looked for and the
+    geospatial files that are there (the readers only said `/abs/path: no such file`)."""
+    geo = scenario.geo
+    if geo is None:
+        return
+    files = [("geo.land.file", geo.land), ("geo.land.dem.file", geo.land.dem if geo.land else None),
+             ("geo.bathymetry.file", geo.bathymetry)]  # fmt: skip
+    files += [(f"geo.structures[{k}].file", s) for k, s in enumerate(geo.structures)]
+    files += [(f"geo.marks[{k}].file", s) for k, s in enumerate(geo.marks)]
+    folder = base_dir(scenario)
+    for key, spec in files:
+        if spec is None or (folder / spec.file).is_file():
+            continue
+        path = folder / spec.file
+        what = "is a directory, not a file" if path.is_dir() else "not found"
+        there = path.parent
+        found = sorted(p.name for p in there.iterdir() if p.suffix.lower() in GEO_SUFFIXES) if there.is_dir() else []
+        listing = (f"geospatial files there: {', '.join(found[:8])}{', ...' if len(found) > 8 else ''}" if found
+                   else "no geospatial files there" if there.is_dir() else f"{there} does not exist")  # fmt: skip
+        relative = "" if Path(spec.file).is_absolute() else "; a relative path is taken from the scenario file's folder"
+        raise ScenarioError(source_of(scenario), key, f"{spec.file!r} {what} (looked for {path}{relative}; {listing})")
+
+
 def resolve_geo(scenario: Scenario) -> Scenario:
     """The scenario with every geographic placement turned into ENU (the input itself when there is none)."""
+    check_geo_files(scenario)
     placed = any(_placed(v.pose) for v in scenario.vessels) or any(_placed(o) for o in scenario.objects)
     marks = scenario.geo.marks if scenario.geo else ()
     if not placed and not marks:
