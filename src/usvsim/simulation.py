@@ -158,7 +158,7 @@ class Simulation:
         """Run for `seconds` of simulation time, as fast as possible or paced to the wall clock."""
         clock = self.world.clock
         steps = round(seconds * 1e9 / clock.step_ns)
-        start_wall, start_ns = time.perf_counter(), clock.now_ns
+        start_wall = time.perf_counter()
         unwatched = on_step is None and not realtime  # nobody looks between steps (subscribers: see below)
         try:
             for k in range(steps):
@@ -167,7 +167,8 @@ class Simulation:
                 if on_step is not None:
                     on_step(self)
                 if realtime:
-                    ahead = (clock.now_ns - start_ns) / 1e9 - (time.perf_counter() - start_wall)
+                    ahead = (k + 1) * clock.step_ns / 1e9 - (time.perf_counter() - start_wall)  # steps, not the
+                    # clock: a /reset mid-run restarts the clock, and pacing from it would race ahead
                     if ahead > 0:
                         time.sleep(ahead)
         finally:

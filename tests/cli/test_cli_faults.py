@@ -42,3 +42,49 @@ def test_low_physics_rate_runs_exactly_the_duration_and_force_overwrites(tmp_pat
     result = invoke("run", str(scenario), "--duration", "1.3", "--record", str(out), "--force")
     assert result.exit_code == 0, result.output
     assert "simulated 1.30 s" in result.stdout and out.stat().st_size > 1000
+
+
+EMPTY_CDR = b"\x00\x01\x00\x00\x00"  # std_msgs/msg/Empty as `ros2 topic pub --once /reset std_msgs/msg/Empty` sends it
+
+
+class ResetAfterOneSecond:
+    """A bridge whose peer asks for /reset once the clock has passed 1 s: the command goes through the simulation's
+    command inbox exactly as one from the DDS, ROS-TCP or Foxglove bridge does."""
+
+    def __init__(self, sim):
+        self.sim, self.stats = sim, {"resets_sent": 0}
+        self._unsubscribe = sim.subscribe(self._on_message)
+
+    def _on_message(self, envelope):
+        if envelope.topic == "/clock" and envelope.stamp_ns >= 1_000_000_000 and not self.stats["resets_sent"]:
+            assert self.sim.commands.post_cdr("/reset", EMPTY_CDR)
+            self.stats["resets_sent"] += 1
+
+    def close(self):
+        self._unsubscribe()
+
+
+def test_a_reset_mid_run_does_not_lengthen_the_run(tmp_path, monkeypatch):
+    """`usvsim run --duration 3` with a /reset at t = 1 s ran 1 + 3 s: the duration counted from the new episode.
+    It is the run's total simulated time: 1 s of the first episode and 2 s of the second."""
+    from readers import read_with_mcap_ros2
+
+    import usvsim.cli.bridges
+
+    monkeypatch.setattr(usvsim.cli.bridges, "open_bridges", lambda sim, options: [ResetAfterOneSecond(sim)])
+    scenario = tmp_path / "tiny.yaml"
+    scenario.write_text("version: 1\nworld: {physics_rate_hz: 100}\noutputs: {recording: {clock_rate_hz: 100}}\n"
+                        "vessels: [{name: otter, model: otter}]\n")  # fmt: skip
+    out = tmp_path / "run.mcap"
+    result = invoke("run", str(scenario), "--duration", "3", "--record", str(out))
+    assert result.exit_code == 0, result.output
+    assert "simulated 3.00 s over 2 episodes" in result.stdout and "resets_sent 1" in result.stdout
+    clocks = [m.clock.sec + m.clock.nanosec / 1e9 for t, _, m in read_with_mcap_ros2(out) if t == "/clock"]
+    restart = clocks.index(0.0, 1)
+    assert clocks[restart - 1] == 1.0 and clocks[-1] == 2.0  # 100 + 200 steps
+    assert len(clocks) == 101 + 201
+
+
+def test_run_help_says_the_duration_is_the_total():
+    result = invoke("run", "--help")
+    assert "in all" in result.stdout and "/reset" in result.stdout

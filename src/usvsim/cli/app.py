@@ -61,7 +61,14 @@ EXPERIMENTS = {
 @app.command()
 def run(
     scenario: Annotated[str, typer.Argument(help="built-in scenario name or YAML file")] = "harbor",
-    duration: Annotated[float, typer.Option(help="simulated seconds", min=0.0)] = 60.0,
+    duration: Annotated[
+        float,
+        typer.Option(
+            help="simulated seconds in all: a /reset (ROS 2, ROS-TCP, Foxglove) or R in the viewer starts a new "
+            "episode at t = 0 but does not lengthen the run",
+            min=0.0,
+        ),
+    ] = 60.0,
     realtime: Annotated[bool, typer.Option(help="pace to the wall clock")] = False,
     record: Annotated[Path | None, typer.Option(help="write an MCAP file (rosbag2 layout)")] = None,
     seed: Annotated[int, typer.Option(help="random seed", min=0)] = 0,
@@ -116,21 +123,23 @@ def run(
     with ExitStack() as stack:  # closes bridges, then the recorder, then the simulation, on every path
         sim, recorder, bridges = _open_run(stack, scenario, seed, record, force, options)
         interrupted = 0  # the signal that stopped the run (SIGINT: Ctrl-C; SIGTERM: kill, timeout, docker stop)
-        start = time.perf_counter()
+        start, steps = time.perf_counter(), _StepCount()
         try:
             if view:
-                _run_viewer(sim, duration, screenshot, video)
+                _run_viewer(sim, duration, screenshot, video, steps)
             else:
-                _run_with_progress(sim, duration, realtime)
+                _run_with_progress(sim, duration, realtime, steps)
         except KeyboardInterrupt as exc:
             interrupted = getattr(exc, "signum", signal.SIGINT)
         except (UsvsimError, OSError) as exc:
             fail(exc)
         stack.close()
     wall = time.perf_counter() - start
-    rtf = sim.time / wall if wall > 0 else float("inf")
+    simulated = steps.n * sim.clock.dt  # over every episode of the run (sim.time restarts at a reset)
+    rtf = simulated / wall if wall > 0 else float("inf")
     status = f"stopped ({'SIGTERM' if interrupted == signal.SIGTERM else 'Ctrl-C'})" if interrupted else "done"
-    typer.echo(f"{status}: simulated {sim.time:.2f} s in {wall:.2f} s wall ({rtf:.1f}x real time)")
+    episodes = f" over {sim.episode + 1} episodes" if sim.episode else ""
+    typer.echo(f"{status}: simulated {simulated:.2f} s{episodes} in {wall:.2f} s wall ({rtf:.1f}x real time)")
     print_traffic_report(sim, Console(soft_wrap=True))  # a result: stdout, beside "done: ..."
     if recorder:
         typer.echo(f"recorded {recorder.message_count} messages to {recorder.path}")
@@ -174,6 +183,12 @@ def _stats_line(stats: dict) -> str:
     return ", ".join(f"{k} {v}" for k, v in stats.items() if isinstance(v, int | float))
 
 
+class _StepCount:
+    """Physics steps the run has taken, across resets (the clock counts the current episode only)."""
+
+    n = 0
+
+
 class _Stopped(KeyboardInterrupt):
     """A stop signal (SIGINT or SIGTERM) taken between two steps."""
 
@@ -182,26 +197,28 @@ class _Stopped(KeyboardInterrupt):
         self.signum = signum
 
 
-def _run_with_progress(sim, duration: float, realtime: bool) -> None:
+def _run_with_progress(sim, duration: float, realtime: bool, steps: _StepCount) -> None:
     """Run with a progress bar. Ctrl-C (SIGINT) or SIGTERM (`kill`, `timeout`, `docker stop`) stops the run
     between two steps (never inside a step, where a recorder or bridge may be half-way through writing a
     message), so the recording is closed complete; SIGTERM used to end the process with the file unfinished."""
     stop_requested: list[int] = []
 
     def between_steps(_sim) -> None:
+        steps.n += 1
         if stop_requested:
             raise _Stopped(stop_requested[0])
 
     stops = (signal.SIGINT, signal.SIGTERM)
     previous = {s: signal.signal(s, lambda signum, _frame: stop_requested.append(signum)) for s in stops}
     try:
-        _progress_loop(sim, duration, realtime, between_steps)
+        _progress_loop(sim, duration, realtime, between_steps, steps)
     finally:
         for s, handler in previous.items():
             signal.signal(s, handler)
 
 
-def _progress_loop(sim, duration: float, realtime: bool, on_step) -> None:
+def _progress_loop(sim, duration: float, realtime: bool, on_step, steps: _StepCount) -> None:
+    """Steps until `duration` of simulated time in all: a /reset mid-run restarts the clock, not the count."""
     start = time.perf_counter()
     columns = (
         TextColumn("[bold]{task.description}"),
@@ -216,17 +233,17 @@ def _progress_loop(sim, duration: float, realtime: bool, on_step) -> None:
     behind_warned = False
     with Progress(*columns, console=console, transient=False, disable=not console.is_terminal) as progress:
         task = progress.add_task(sim.scenario.name, total=duration, rtf="")
-        while sim.clock.steps < total:
-            sim.run(min(chunk, total - sim.clock.steps) * dt, realtime=realtime, on_step=on_step)
-            wall = time.perf_counter() - start
-            progress.update(task, completed=sim.time, rtf=f"{sim.time / wall:.1f}x RT" if wall > 0 else "")
-            if realtime and not behind_warned and wall > 2.0 and sim.time < 0.9 * wall:
+        while steps.n < total:
+            sim.run(min(chunk, total - steps.n) * dt, realtime=realtime, on_step=on_step)
+            wall, done = time.perf_counter() - start, steps.n * dt
+            progress.update(task, completed=done, rtf=f"{done / wall:.1f}x RT" if wall > 0 else "")
+            if realtime and not behind_warned and wall > 2.0 and done < 0.9 * wall:
                 behind_warned = True
-                console.print(f"usvsim: warning: --realtime is falling behind: {sim.time:.1f} s simulated in "
-                              f"{wall:.1f} s wall ({sim.time / wall:.2f}x real time)", highlight=False)  # fmt: skip
+                console.print(f"usvsim: warning: --realtime is falling behind: {done:.1f} s simulated in "
+                              f"{wall:.1f} s wall ({done / wall:.2f}x real time)", highlight=False)  # fmt: skip
 
 
-def _run_viewer(sim, duration: float, screenshot: Path | None = None, video: Path | None = None) -> None:
+def _run_viewer(sim, duration: float, screenshot: Path | None, video: Path | None, steps: _StepCount) -> None:
     import warnings
 
     from usvsim.viewer import run_viewer
@@ -234,7 +251,8 @@ def _run_viewer(sim, duration: float, screenshot: Path | None = None, video: Pat
     try:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")  # GLFW repeats its own error as a warning
-            run_viewer(sim, max_seconds=duration, screenshot=screenshot, video=video)
+            stats = run_viewer(sim, max_seconds=duration, screenshot=screenshot, video=video)
+        steps.n = stats["steps"]
     except RuntimeError as exc:  # no display, no OpenGL
         raise UsvsimError(f"cannot open the viewer window: {exc}") from None
 

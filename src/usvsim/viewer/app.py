@@ -121,25 +121,24 @@ def run_viewer(sim, vessel: str | None = None, script: Iterable[ScriptEvent] = (
                max_fps: float = 60.0, points: Layer = None, inset: Layer = None, gamepad: bool = True,
                camera: FollowCamera | None = None, video: str | Path | None = None) -> dict:  # fmt: skip
     """Open the interactive viewer on `sim` and run until the window closes, Esc, or `max_seconds` of
-    simulation time. `script`: (sim_time_s, key, action) events replayed like real key presses.
+    simulation time (counted from t = 0 of the clock as it is now; a reset mid-run does not add to it). `script`: (sim_time_s, key, action) events replayed like real key presses.
     `points` / `inset`: an (n, 3) world-point array / (h, w, 3) image, or callables of `sim` returning one.
-    Returns {"frames", "wall_s", "sim_s", "fps"}; writes the last frame to `screenshot` if given, every frame
+    Returns {"frames", "wall_s", "sim_s", "steps", "fps"} (sim_s, steps: stepped here, across resets); writes the last frame to `screenshot` if given, every frame
     to `video` (MP4/AVI) if given; the P key saves a screenshot in the working directory."""
     driver = ManualDriver(sim, vessel, script, time_scale, gamepad=read_gamepad if gamepad else None)
-    if max_seconds is not None:
-        driver.stop_at_step = round(max_seconds / sim.clock.dt)
+    if max_seconds is not None:  # the steps to go from the clock's time now; a reset (R, /reset) adds none
+        driver.stop_at_step = max(0, round(max_seconds / sim.clock.dt) - sim.clock.steps)
     view = View(sim, driver.vessel_name, camera, points, inset)
     window = ViewerWindow(driver, view, width, height, f"usvsim - {sim.scenario.name}")
     capture = Capture(sim.scenario.name, video=Path(video) if video else None)
     frames, start, last = 0, time.perf_counter(), time.perf_counter()
-    sim_start = sim.time
     try:
         while True:
             now = time.perf_counter()
             window.frame(now - last if frames else 0.0)
             last, frames = now, frames + 1
             done = (driver.quit or glfw.window_should_close(window.window)
-                    or (max_seconds is not None and sim.time >= max_seconds - 1e-9))  # fmt: skip
+                    or (driver.stop_at_step is not None and driver.steps_taken >= driver.stop_at_step))  # fmt: skip
             capture.frame(window, sim.time, driver.take_screenshot_request())
             if done and screenshot is not None:
                 window.screenshot(screenshot)  # the back buffer, before it is swapped away
@@ -157,6 +156,7 @@ def run_viewer(sim, vessel: str | None = None, script: Iterable[ScriptEvent] = (
     return {
         "frames": frames,
         "wall_s": wall,
-        "sim_s": sim.time - sim_start,
+        "sim_s": driver.steps_taken * sim.clock.dt,
+        "steps": driver.steps_taken,
         "fps": frames / wall if wall > 0 else 0.0,
     }

@@ -39,7 +39,8 @@ class ManualDriver:
             physics_budget_s  # wall time per frame for physics; beyond it the sim slows down
         )
         self.gamepad = gamepad
-        self.stop_at_step: int | None = None  # the viewer stops stepping here (--duration)
+        self.stop_at_step: int | None = None  # the viewer stops after this many steps, resets included (--duration)
+        self.steps_taken = 0  # physics steps stepped, across resets (the clock counts the current episode)
         self.pressed: set[str] = set()
         self.axes = DriveAxes()
         self.paused = self.quit = False
@@ -102,7 +103,7 @@ class ManualDriver:
             else:
                 self._budget_s -= steps * dt
         if self.stop_at_step is not None:  # never past the requested duration
-            steps = max(0, min(steps, self.stop_at_step - self.sim.clock.steps))
+            steps = max(0, min(steps, self.stop_at_step - self.steps_taken))
         deadline = time.perf_counter() + self.physics_budget_s
         for done in range(steps):
             if done and not self.paused and time.perf_counter() > deadline:  # stay interactive: drop the rest
@@ -127,6 +128,7 @@ class ManualDriver:
         ).items():
             self.vessel.thrusters[name].command(u, angle)
         self.sim.step()
+        self.steps_taken += 1
 
     def reset(self, force: bool = False) -> bool:
         """The seed's reset: back to the start if the vessel moved > 2 m or turned > 10° (or `force`)."""
