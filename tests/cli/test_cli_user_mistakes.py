@@ -86,7 +86,7 @@ def test_task_report_path_is_checked_before_the_trials(tmp_path, monkeypatch):
 def test_task_report_that_cannot_be_written_at_the_end_goes_to_stdout(tmp_path, monkeypatch):
     import usvsim.tasks.solutions
 
-    def trial(name, difficulty, seed, timing):
+    def trial(name, difficulty, seed, timing, after_step=None):
         return {"seed": seed, "score": 1.5, "num_collisions": 0, "sim_time_s": 1.0, "wall_time_s": 0.1,
                 "higher_is_better": False}  # fmt: skip
 

@@ -21,6 +21,7 @@ from usvsim.cli.geo_map import map_command
 from usvsim.cli.navigate import demo_app
 from usvsim.cli.recover import recover
 from usvsim.cli.schema import schema_command
+from usvsim.cli.stopping import exit_status, signal_name
 from usvsim.cli.sweep import sweep as sweep_command
 from usvsim.cli.task import task as task_command
 from usvsim.cli.traffic import imazu
@@ -137,7 +138,7 @@ def run(
     wall = time.perf_counter() - start
     simulated = steps.n * sim.clock.dt  # over every episode of the run (sim.time restarts at a reset)
     rtf = simulated / wall if wall > 0 else float("inf")
-    status = f"stopped ({'SIGTERM' if interrupted == signal.SIGTERM else 'Ctrl-C'})" if interrupted else "done"
+    status = f"stopped ({signal_name(interrupted)})" if interrupted else "done"
     episodes = f" over {sim.episode + 1} episodes" if sim.episode else ""
     typer.echo(f"{status}: simulated {simulated:.2f} s{episodes} in {wall:.2f} s wall ({rtf:.1f}x real time)")
     print_traffic_report(sim, Console(soft_wrap=True))  # a result: stdout, beside "done: ..."
@@ -146,7 +147,7 @@ def run(
     for bridge in bridges:
         typer.echo(f"{type(bridge).__name__}: {_stats_line(bridge.stats)}")
     if interrupted:
-        raise typer.Exit(128 + int(interrupted))  # 130 for Ctrl-C, 143 for SIGTERM, as the shell reports them
+        raise typer.Exit(exit_status(interrupted))  # 130 for Ctrl-C, 143 for SIGTERM, as the shell reports them
 
 
 def _open_run(stack: ExitStack, scenario: str, seed: int, record: Path | None, force: bool, options):
@@ -189,32 +190,19 @@ class _StepCount:
     n = 0
 
 
-class _Stopped(KeyboardInterrupt):
-    """A stop signal (SIGINT or SIGTERM) taken between two steps."""
-
-    def __init__(self, signum: int):
-        super().__init__(signum)
-        self.signum = signum
-
-
 def _run_with_progress(sim, duration: float, realtime: bool, steps: _StepCount) -> None:
     """Run with a progress bar. Ctrl-C (SIGINT) or SIGTERM (`kill`, `timeout`, `docker stop`) stops the run
     between two steps (never inside a step, where a recorder or bridge may be half-way through writing a
     message), so the recording is closed complete; SIGTERM used to end the process with the file unfinished."""
-    stop_requested: list[int] = []
+    from usvsim.cli.stopping import StopSignals
 
-    def between_steps(_sim) -> None:
-        steps.n += 1
-        if stop_requested:
-            raise _Stopped(stop_requested[0])
+    with StopSignals() as stop:
 
-    stops = (signal.SIGINT, signal.SIGTERM)
-    previous = {s: signal.signal(s, lambda signum, _frame: stop_requested.append(signum)) for s in stops}
-    try:
+        def between_steps(_sim) -> None:
+            steps.n += 1
+            stop.check()
+
         _progress_loop(sim, duration, realtime, between_steps, steps)
-    finally:
-        for s, handler in previous.items():
-            signal.signal(s, handler)
 
 
 def _progress_loop(sim, duration: float, realtime: bool, on_step, steps: _StepCount) -> None:

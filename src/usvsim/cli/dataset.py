@@ -33,13 +33,17 @@ def dataset_command(
         str | None, typer.Option(help="shader (the marine look: sky, waves, fog) or mujoco; default: the scenario's")
     ] = None,
 ) -> None:
-    """Render a scenario's cameras with domain randomization and write images, labels and masks."""
+    """Render a scenario's cameras with domain randomization and write images, labels and masks. Ctrl-C or
+    SIGTERM stops it between two frames: the frames begun are written and the annotations, data.yaml and
+    dataset.json describe exactly those (exit status 130 or 143)."""
     from usvsim.cli.outputs import prepare_folder
+    from usvsim.cli.stopping import StopSignals, exit_status, signal_name
     from usvsim.config.loader import load_scenario
     from usvsim.datasets.generate import DatasetSpec, generate
     from usvsim.datasets.randomization import load_randomization
 
     console = Console(stderr=True)
+    stop = StopSignals()
     try:
         wh = [int(v) for v in resolution.lower().split("x")] if resolution else None
         fractions = tuple(float(v) for v in splits.split(","))
@@ -58,10 +62,21 @@ def dataset_command(
         load_scenario(scenario), load_randomization(randomize)  # bad input fails before the folder is made
         prepare_folder(out)
         columns = (TextColumn("dataset"), BarColumn(), MofNCompleteColumn(), TimeRemainingColumn())
-        with Progress(*columns, console=console, transient=True) as bar:  # gone when done: an error stays one line
-            task = bar.add_task("frames", total=frames)
-            generate(spec, progress=lambda n: bar.update(task, completed=n))
+        written = [0]
+
+        def progress(n: int) -> None:
+            written[0] = n
+            bar.update(task, completed=n)
+
+        # SIGTERM used to end the process mid-frame: files cut short, no annotations, data.yaml or dataset.json
+        with stop, Progress(*columns, console=console, transient=True) as bar:
+            task = bar.add_task("frames", total=frames)  # the bar is gone when done: an error stays one line
+            generate(spec, progress=progress, stop=lambda: signal_name(stop.signum) if stop.signum else None)
     except UsvsimError as exc:
         console.print(f"[bold red]usvsim: error:[/] {exc}", highlight=False, soft_wrap=True)
         raise typer.Exit(2) from None
+    if stop.signum:
+        typer.echo(f"stopped ({signal_name(stop.signum)}): wrote {written[0]} of {frames} frames to {out}; its "
+                   "annotations, data.yaml and dataset.json cover those frames (dataset.json: stopped, frames_requested)")  # fmt: skip
+        raise typer.Exit(exit_status(stop.signum))
     typer.echo(f"wrote {frames} frames to {out}")  # the result on stdout, progress on stderr

@@ -34,11 +34,15 @@ def task(
     force: Annotated[bool, typer.Option("--force", help="overwrite an existing --record file")] = False,
 ) -> None:
     """Run a task with the reference solution (our station-keeping controller) or live over ROS 2; prints the
-    score per trial."""
+    score per trial. Ctrl-C or SIGTERM stops it between two steps: the --record file is closed complete and the
+    report holds the finished trials (exit status 130 or 143)."""
     from usvsim.cli.outputs import check_output, prepare_file
+    from usvsim.cli.stopping import Stopped, StopSignals
     from usvsim.tasks import TASKS, TaskTiming
     from usvsim.tasks.solutions import run_trial
 
+    stopped: tuple[int, int] | None = None  # (signal, trial) of a Ctrl-C or SIGTERM
+    results: list[dict] = []
     try:
         if name not in TASKS:
             raise UsvsimError(f"unknown task {name!r}; choose one of: {', '.join(TASKS)}")
@@ -49,21 +53,24 @@ def task(
         prepare_file(report)  # a bad --report path fails now, not after the trials
         if record is not None:
             check_output(record, force)  # never overwritten without --force, as `usvsim run --record`
-        timing, results = TaskTiming(ready_s=ready_s, running_s=time_limit), []
-        for k in range(trials):
-            with console.status(f"{name} difficulty {difficulty}, trial {k + 1}/{trials} (seed {seed + k})"):
-                if ros2 or record is not None:
-                    results.append(_live(name, difficulty, seed + k, timing, ros2, external, domain_id, ros2_interface,
-                                         landmark_type, record))  # fmt: skip
-                else:
-                    results.append(run_trial(name, difficulty, seed + k, timing))
+        timing = TaskTiming(ready_s=ready_s, running_s=time_limit)
+        with StopSignals() as stop:  # SIGTERM used to end the process with the recording unfinished, no report
+            for k in range(trials):
+                with console.status(f"{name} difficulty {difficulty}, trial {k + 1}/{trials} (seed {seed + k})"):
+                    try:
+                        if ros2 or record is not None:
+                            results.append(_live(name, difficulty, seed + k, timing, ros2, external, domain_id,
+                                                 ros2_interface, landmark_type, record, stop.check))  # fmt: skip
+                        else:
+                            results.append(run_trial(name, difficulty, seed + k, timing, after_step=stop.check))
+                    except Stopped as exc:
+                        stopped = (exc.signum, k)
+                        break
     except UsvsimError as exc:
         fail(exc)
-    table = Table("trial", "seed", "score", "collisions", "sim time s", "wall s", box=None)
-    for k, r in enumerate(results):
-        table.add_row(str(k), str(r["seed"]), f"{r['score']:.4g}", str(r["num_collisions"]),
-                      f"{r['sim_time_s']:.1f}", f"{r['wall_time_s']:.1f}")  # fmt: skip
-    Console().print(table)
+    if stopped is not None:
+        _report_stopped(name, difficulty, trials, seed, results, stopped, report, record)
+    _print_table(results)
     scores = [r["score"] for r in results]
     summary = {"task": name, "difficulty": difficulty, "trials": results, "mean_score": sum(scores) / len(scores),
                "higher_is_better": results[0]["higher_is_better"]}  # fmt: skip
@@ -76,11 +83,46 @@ def task(
     typer.echo(f"{name}: mean score {summary['mean_score']:.4g} over {trials} trial(s); wrote {report}")
 
 
-def _live(name, difficulty, seed, timing, ros2, external, domain_id, interface, landmark_type, record) -> dict:
+def _report_stopped(name, difficulty, trials, seed, results, stopped, report: Path, record: Path | None):
+    """After Ctrl-C or SIGTERM: the finished trials' table and report (the stopped trial has no score: VRX
+    scores a whole trial), one line saying what was kept, and the shell's status for the signal."""
+    from usvsim.cli.stopping import exit_status, signal_name
+
+    signum, k = stopped
+    if results:
+        _print_table(results)
+    scores = [r["score"] for r in results]
+    summary = {"task": name, "difficulty": difficulty, "trials": results,
+               "mean_score": sum(scores) / len(scores) if scores else None,
+               "higher_is_better": results[0]["higher_is_better"] if results else None,
+               "stopped": {"signal": signal_name(signum), "trial": k, "seed": seed + k, "trials_asked": trials}}  # fmt: skip
+    text = json.dumps(summary, indent=2, default=float)
+    try:
+        report.write_text(text)
+        kept = f"report of the {len(results)} finished trial(s) in {report}"
+    except OSError as exc:
+        typer.echo(text)
+        kept = f"cannot write {report} ({exc.strerror or exc}): the report went to stdout"
+    closed = f"; recording {record} closed complete" if record is not None else ""
+    typer.echo(f"{name}: stopped ({signal_name(signum)}) in trial {k + 1}/{trials} (seed {seed + k}), which is "
+               f"not scored; {kept}{closed}")  # fmt: skip
+    raise typer.Exit(exit_status(signum))
+
+
+def _print_table(results: list[dict]) -> None:
+    table = Table("trial", "seed", "score", "collisions", "sim time s", "wall s", box=None)
+    for k, r in enumerate(results):
+        table.add_row(str(k), str(r["seed"]), f"{r['score']:.4g}", str(r["num_collisions"]),
+                      f"{r['sim_time_s']:.1f}", f"{r['wall_time_s']:.1f}")  # fmt: skip
+    Console().print(table)
+
+
+def _live(name, difficulty, seed, timing, ros2, external, domain_id, interface, landmark_type, record,
+          after_step=None) -> dict:  # fmt: skip
     from usvsim.cli.bridges import BridgeOptions, open_bridges
     from usvsim.tasks.live import run_live
 
     options = BridgeOptions(ros2=ros2, domain_id=domain_id, ros2_interface=interface, ros_tcp=None,
                             ros_tcp_profile="", ros_tcp_vessel=None, foxglove=False, foxglove_host="", foxglove_port=0)  # fmt: skip
     return run_live(name, difficulty, seed, timing, bridges=lambda sim: open_bridges(sim, options),
-                    external=external, landmark_type=landmark_type, record=record)  # fmt: skip
+                    external=external, landmark_type=landmark_type, record=record, after_step=after_step)  # fmt: skip

@@ -180,13 +180,20 @@ class DatasetGenerator:
             self.looks.append(LookAdapter(self.sim.world, cam.renderer, cam.intrinsics))
             self.amodals.append(AmodalCounter(self.sim.model, mine, self.labellers[-1].owner))
         self.writer = DatasetWriter(spec.out, spec.formats)
+        self.frames_written = 0
 
-    def run(self, progress: Callable[[int], None] | None = None) -> Path:
+    def run(self, progress: Callable[[int], None] | None = None, stop: Callable[[], str | None] | None = None) -> Path:
+        """Writes the frames; `stop()` is asked before each frame: a reason (e.g. "SIGTERM") ends the run there,
+        with the frames begun written in full and the annotations, data.yaml and dataset.json of those frames
+        (dataset.json: `frames` written, `frames_requested`, `stopped`). `self.frames_written` counts them."""
         spec, per_episode = self.spec, (1 if self.rnd.per == "frame" else self.rnd.frames_per_episode)
         workers = max(1, spec.workers)
+        stopped = None
         with ThreadPoolExecutor(workers) as pool:
             pending: deque = deque()
             for i in range(spec.frames):
+                if stop is not None and (stopped := stop()):
+                    break
                 if i % per_episode == 0:
                     look, scene = self._episode()
                 else:
@@ -195,14 +202,18 @@ class DatasetGenerator:
                     int(np.searchsorted(np.cumsum(spec.splits), self.rng.random(), side="right").clip(0, 2))
                 ]
                 pending += self._frame(i, split, look, scene, pool)
+                self.frames_written = i + 1
                 while len(pending) > 2 * workers:  # bounded: each frame in flight holds ~3.5 MB of images
                     self.writer.add_coco(pending.popleft().result())
                 if progress:
                     progress(i + 1)
             while pending:
                 self.writer.add_coco(pending.popleft().result())
-        self.writer.finish({**asdict(spec), "out": str(spec.out), "environment": self.environment,
-                            "randomization": self.rnd.model_dump(mode="json")})  # fmt: skip
+        settings = {**asdict(spec), "out": str(spec.out), "environment": self.environment,
+                    "randomization": self.rnd.model_dump(mode="json")}  # fmt: skip
+        if stopped:
+            settings |= {"frames": self.frames_written, "frames_requested": spec.frames, "stopped": stopped}
+        self.writer.finish(settings)
         return spec.out
 
     def close(self) -> None:
@@ -280,10 +291,11 @@ def frame_metadata(sim, i, camera, split, look, scene, environment, pos, rot) ->
             "camera_rotation_flu_to_world": np.asarray(rot).tolist(), "qpos": sim.data.qpos.tolist()}  # fmt: skip
 
 
-def generate(spec: DatasetSpec, progress: Callable[[int], None] | None = None) -> Path:
-    """Python API of `usvsim dataset`: writes the data set and returns its folder."""
+def generate(spec: DatasetSpec, progress: Callable[[int], None] | None = None,
+             stop: Callable[[], str | None] | None = None) -> Path:  # fmt: skip
+    """Python API of `usvsim dataset`: writes the data set and returns its folder (`stop`: see `run`)."""
     gen = DatasetGenerator(spec)
     try:
-        return gen.run(progress)
+        return gen.run(progress, stop)
     finally:
         gen.close()

@@ -42,11 +42,13 @@ class TaskPublisher:
 
 def run_live(name: str | Task, difficulty: int = 0, seed: int = 0, timing: TaskTiming | None = None, *, bridges=None,
              external: bool = False, landmark_type: str = "pose", record: Path | None = None,
-             realtime: bool | None = None, on_ready=None) -> dict:  # fmt: skip
+             realtime: bool | None = None, on_ready=None, after_step=None) -> dict:  # fmt: skip
     """One trial with its topics live (`name`: a task name, or a `Task` made by the caller, whose difficulty,
     seed and timing then count). `bridges(sim)` opens the bridges (each with `close()` and `stats`; None:
     none, e.g. only `record`); `realtime` defaults to `external`; `on_ready(sim)` runs once they are open,
-    before the first step. Returns `run_trial`'s report plus the bridges' and the command inbox's counters."""
+    before the first step; `after_step()` after every step (an exception from it, e.g. the CLI's stop on SIGTERM,
+    ends the trial between two steps: the recording is closed complete, the bridges and the simulation closed).
+    Returns `run_trial`'s report plus the bridges' and the command inbox's counters."""
     task = TASKS[name](difficulty, seed, timing) if isinstance(name, str) else name
     sim = Simulation(task.scenario(), seed=task.seed)
     opened: list = []
@@ -61,7 +63,13 @@ def run_live(name: str | Task, difficulty: int = 0, seed: int = 0, timing: TaskT
                 on_ready(sim)
             controller = None if external else reference_controller(sim)
             publisher = TaskPublisher(task, sim)
-            report = drive(task, sim, controller, after_step=publisher,
+
+            def each_step() -> None:
+                publisher()
+                if after_step is not None:
+                    after_step()
+
+            report = drive(task, sim, controller, after_step=each_step,
                             realtime=external if realtime is None else realtime)  # fmt: skip
             sim.publish(task_envelopes(task, sim.clock_ns))  # the final state (finished, score)
         report["bridges"] = {type(b).__name__: dict(b.stats) for b in opened}

@@ -24,14 +24,15 @@ def reference_controller(world, hold: dict | None = None):
 
 def run_trial(name: str, difficulty: int = 0, seed: int = 0, timing: TaskTiming | None = None,
               sea_state: int | None = None, mass_kg: float | None = None, hold: dict | None = None,
-              trace: list | None = None) -> dict:  # fmt: skip
+              trace: list | None = None, after_step=None) -> dict:  # fmt: skip
     """One trial of a task with its reference solution; returns the trial's report (JSON-ready).
     `mass_kg` overrides the WAM-V's mass; `hold` the controller's hold gains (`config.control.Hold` keys);
-    `trace`, if given, receives (t s, x m, y m, yaw rad) at every control step."""
+    `trace`, if given, receives (t s, x m, y m, yaw rad) at every control step; `after_step()` runs after every
+    step (the CLI's stop check: an exception from it ends the trial, the simulation closed)."""
     task = TASKS[name](difficulty, seed, timing, sea_state)
     sim = Simulation(task.scenario({"mass": {"mass_kg": mass_kg}} if mass_kg else None), seed=seed)
     try:
-        return drive(task, sim, reference_controller(sim, hold), trace)
+        return drive(task, sim, reference_controller(sim, hold), trace, after_step)
     finally:
         sim.close()
 
