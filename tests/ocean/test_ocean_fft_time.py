@@ -8,7 +8,14 @@ import pytest
 
 from usvsim.ocean import spectra
 from usvsim.ocean.fft import FFTWaveField, cascade_sizes, directional_spectrum, pair_bins
-from usvsim.ocean.fft_time import error_factor, lagrange_weights
+from usvsim.ocean.fft_time import (
+    SNAPSHOTS,
+    _blend_weights,
+    _denominators,
+    error_factor,
+    lagrange_weights,
+    nodes_of,
+)
 
 JONSWAP = directional_spectrum(lambda w: spectra.jonswap(w, 1.88, 8.8, 2.0), 0.3, 10.0)
 SIZES = cascade_sizes(2 * math.pi * spectra.G / (2 * math.pi / 8.8) ** 2, 3, 64)
@@ -18,14 +25,39 @@ def field(tolerance, seed=4):
     return FFTWaveField(JONSWAP, SIZES, np.random.default_rng(seed), 64, time_tolerance=tolerance)
 
 
-def test_error_factor_is_the_lagrange_remainder():
+@pytest.mark.parametrize("snapshots", [4, 6, 8])
+def test_error_factor_is_the_lagrange_remainder(snapshots):
+    """|R(u)| ≤ x^K/K! · |Π (u - x_i)| (Hermite–Genocchi: |d^K/du^K e^{-ixu}| = x^K), reached as x → 0."""
+    nodes = nodes_of(snapshots)
+    np.testing.assert_array_equal(nodes, np.arange(1 - snapshots // 2, snapshots // 2 + 1))
+    u = np.linspace(0.0, 1.0, 2001)
+    node_poly = np.abs(np.prod(u[:, None] - nodes[None, :], axis=1)).max() / math.factorial(snapshots)
+    if snapshots == 4:
+        assert node_poly == pytest.approx(0.5625 / 24)  # max |(u+1)u(u-1)(u-2)| at u = 1/2
     x = np.array([0.05, 0.2, 0.4])
-    # |R| ≤ max|f''''|/4! · max_u |(u+1)u(u-1)(u-2)| = x⁴ · 0.5625/24 for cos and sin, so ≤ √2 times that
-    assert np.all(error_factor(x) <= math.sqrt(2) * 0.5625 / 24 * x**4 * 1.01)
-    assert np.all(error_factor(x) >= 0.5625 / 24 * x**4 * 0.9)
-    np.testing.assert_allclose(
-        lagrange_weights(np.array([0.0, 1.0])), [[0, 1, 0, 0], [0, 0, 1, 0]], atol=1e-15
-    )
+    eps = error_factor(x, nodes)
+    assert np.all(eps <= node_poly * x**snapshots * 1.001)
+    assert np.all(eps >= node_poly * x**snapshots * 0.9)
+    k = len(nodes)
+    at_nodes = lagrange_weights(np.array([0.0, 1.0]), nodes)  # u = 0, 1: the snapshots m and m + 1 alone
+    np.testing.assert_array_equal(at_nodes, np.eye(k)[[k // 2 - 1, k // 2]])
+    np.testing.assert_allclose(lagrange_weights(u, nodes).sum(axis=1), 1.0, atol=1e-13)
+
+
+def test_blend_weights_are_lagrange_weights_in_the_ring_order():
+    """The compiled weights equal `lagrange_weights` bit for bit, node i in ring entry (m + nodes[0] + i) mod K."""
+    nodes = nodes_of(SNAPSHOTS)
+    k = len(nodes)
+    intervals = np.array([0.3, 0.07, math.inf, 0.0])
+    weights, m_out = np.zeros((4, k)), np.zeros(4, np.int64)
+    for t in (0.0, 0.01, 0.29, 0.3, 1.234, 17.5):
+        _blend_weights(t, 0.75, intervals, np.zeros(4, np.int64), nodes, _denominators(nodes), weights, m_out)
+        for b in range(2):
+            m = math.floor(t / intervals[b])
+            assert m_out[b] == m
+            expected = 0.75 * lagrange_weights(t / intervals[b] - m, nodes)
+            ring = [(m + int(nodes[0]) + i) % k for i in range(k)]
+            np.testing.assert_array_equal(weights[b, ring], expected)
 
 
 def test_interpolated_field_is_within_its_bound_of_the_exact_one():
@@ -65,7 +97,7 @@ def test_transforms_are_amortized_and_silent_bands_skipped():
     x = np.zeros(4)
     for t in np.arange(0.0, 10.0, 0.01):
         f.elevation(x, x, t)
-    assert f.geometry.transforms <= 4 + 10.0 / f.snapshot_intervals_s["geometry"][0] + 1
+    assert f.geometry.transforms <= SNAPSHOTS + 10.0 / f.snapshot_intervals_s["geometry"][0] + 1
     assert f.velocity_ring.transforms == f.acceleration_ring.transforms == 0
 
 
@@ -133,7 +165,7 @@ def test_snapshots_made_ahead_on_the_worker_are_the_same_bytes(monkeypatch):
     slow.calls = 0
     monkeypatch.setattr(ahead, "_make_ahead", slow)
     x = np.linspace(0.0, 60.0, 50)
-    times = list(np.arange(0.0, 4.0, 0.01)) + [20.0, 1.5] + list(1.5 + np.arange(1, 100) * 0.01)
+    times = list(np.arange(0.0, 20.0, 0.01)) + [30.0, 1.5] + list(1.5 + np.arange(1, 100) * 0.01)
     for t in times:
         np.testing.assert_array_equal(ahead.elevation(x, x, t), here.elevation(x, x, t))
         np.testing.assert_array_equal(ahead.velocity(x, x, -x / 60, t), here.velocity(x, x, -x / 60, t))

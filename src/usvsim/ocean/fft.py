@@ -35,6 +35,7 @@ import numpy as np
 
 from usvsim.core.overlap import Overlap
 from usvsim.ocean import fft_kernels as kern
+from usvsim.ocean import fft_time
 from usvsim.ocean.components import WaveComponents
 from usvsim.ocean.dispatch import pick
 from usvsim.ocean.fft_time import SnapshotRing, snapshot_interval
@@ -123,8 +124,8 @@ class PhaseTables:
     """e^{-iω t} of every bin at a band's snapshot times t = m Δ_b without a sine and cosine per bin: m = 8 q + r,
     e^{-iω m Δ} = A_q · P1^(bit 0 of r) · P2^(bit 1) · P4^(bit 2), with P_j = e^{-iω j Δ} made once and A_q =
     e^{-iω 8 q Δ} made (by sine and cosine) when a snapshot needs a new q (every 8 snapshots; two kept, as the
-    four snapshots of a ring may straddle a boundary). A snapshot is still a function of its time alone (the
-    same products whatever was queried before); the rotation is within a few 1e-16 of the direct one. Times
+    consecutive snapshots of a ring, at most 9, may straddle a boundary). A snapshot is still a function of its
+    time alone (the same products whatever was queried before); the rotation is within a few 1e-16 of the direct one. Times
     off the band's snapshot grid (time_tolerance 0, or a band never transformed) use the sine and cosine.
 
     Only the bins the spectra kernel reads are filled (`used`, see `pair_bins`; the rest are 0): half the
@@ -293,7 +294,8 @@ class FFTWaveField(WaveField):
         self._pruned: dict[tuple[bool, int, int], np.ndarray] = {}  # their intermediate arrays, zero between blocks
         # Velocity (power 1) at the geometry's times: the geometry bound (powers 0 and 1) is the stricter one, so
         # its interval is never longer, and every velocity spectrum is then made in the geometry pass (and ahead).
-        self.velocity_ring = SnapshotRing(self.geometry.intervals, 1, self.n, partial(self._kinematic_snapshot, False))
+        self.velocity_ring = SnapshotRing(self.geometry.intervals, 1, self.n, partial(self._kinematic_snapshot, False),
+                                          self.geometry.nodes)  # fmt: skip
         self.acceleration_ring = self._ring(time_tolerance, (2,), 2, partial(self._kinematic_snapshot, True))
         self._jobs: dict[int, tuple[float, int, bool, Future, float, float]] = {}  # band → (t, buffer set, with
         # velocity, the worker's job, wall clock and this thread's CPU time at its start) of a snapshot made ahead
@@ -312,14 +314,16 @@ class FFTWaveField(WaveField):
         velocity 1; acceleration 2) to `tolerance` of that field's rms over the sea, for the bins' expected
         variance (the spectrum's: the same for every draw of the sea)."""
         cached = self._tables_of.intervals
-        key = (float(tolerance), tuple(powers))
+        nodes = fft_time.NODES  # the snapshots blended per query (fft_time.SNAPSHOTS)
+        key = (float(tolerance), tuple(powers), tuple(nodes.tolist()))
         if key not in cached:
             var = self._var
             rms = [math.sqrt(float(np.sum(var * self._omega ** (2 * p)))) for p in range(3)]
             active = max(int(np.count_nonzero(var.sum(axis=(1, 2)))), 1)
             tol = float(tolerance) / math.sqrt(active)  # the bands' errors add in variance
-            cached[key] = [snapshot_interval(var[b], self._omega[b], tol, rms, powers) for b in range(len(self.sizes))]
-        return SnapshotRing(cached[key], slots, self.n, compute)
+            cached[key] = [snapshot_interval(var[b], self._omega[b], tol, rms, powers, nodes)
+                           for b in range(len(self.sizes))]  # fmt: skip
+        return SnapshotRing(cached[key], slots, self.n, compute, nodes)
 
     @property
     def snapshot_intervals_s(self) -> dict[str, list[float]]:

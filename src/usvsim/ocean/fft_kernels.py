@@ -3,7 +3,7 @@
 Tiles are complex64 arrays [band, snapshot, slot, iy, ix] with cell (iy, ix) at world (ix, iy)·L/N (periodic).
 Geometry slots: 0 = h + i·w (height, vertical velocity), 1 = Dx + i·Dy (choppy displacement; only read when
 the choppiness is non-zero). Velocity slot: u + i·v; acceleration slots: ax + i·ay, az. Every query blends the
-band's four snapshots with the weights `wts[band, snapshot]` (cubic Lagrange in time, ramp included; see
+band's snapshots with the weights `wts[band, snapshot]` (Lagrange in time, ramp included; see
 `fft_time`), then interpolates bilinearly in space. The displaced surface is X = x0 - c·D(x0), z = h(x0),
 so the physics queries the very surface that a renderer draws from the same tiles.
 """
@@ -166,7 +166,7 @@ def _cell(x, inv_cell, mask):
 def _blend4(tiles, wts, b, slot, iy0, iy1, ix0, ix1):
     """The four corner values of one cell, blended over the band's snapshots (zero weights skipped)."""
     c00 = c10 = c01 = c11 = 0j
-    for r in range(4):
+    for r in range(wts.shape[1]):
         w = wts[b, r]
         if w != 0.0:
             c00 += w * tiles[b, r, slot, iy0, ix0]
@@ -180,7 +180,7 @@ def _blend4(tiles, wts, b, slot, iy0, iy1, ix0, ix1):
 def _blend4_real(tiles, wts, b, slot, iy0, iy1, ix0, ix1):
     """`_blend4` of the real parts only (the height of geometry slot 0)."""
     c00 = c10 = c01 = c11 = 0.0
-    for r in range(4):
+    for r in range(wts.shape[1]):
         w = wts[b, r]
         if w != 0.0:
             c00 += w * tiles[b, r, slot, iy0, ix0].real
@@ -282,7 +282,7 @@ def band_heights_cached(px, py, geo, wts, inv_cells, band_h, cache, stamp, now):
                 for iy, ix in ((iy0, ix0), (iy0, ix1), (iy1, ix0), (iy1, ix1)):
                     if stamp[b, iy, ix] != now:
                         c = 0.0
-                        for r in range(4):
+                        for r in range(wts.shape[1]):
                             w = wts[b, r]
                             if w != 0.0:
                                 c += w * geo[b, r, 0, iy, ix].real

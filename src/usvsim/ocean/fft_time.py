@@ -1,13 +1,13 @@
 """Time interpolation of FFT tiles: each band is transformed only at its snapshot times t_m = m·Δ_b.
 
-A query at time t ∈ [t_m, t_m+1) blends the four snapshots m-1 … m+2 with cubic Lagrange weights, so the FFT
-cost is paid once per Δ_b instead of once per physics step. A snapshot is a pure function of its time, so the
-field at t does not depend on which times were queried before (runs stay bit-identical for one seed, and a
-reset needs no special care). Δ_b is the largest interval whose error bound meets the tolerance: a bin of
-frequency ω and variance v contributes at most v·ε(ωΔ)² to the error variance, with
-ε(x) = max_u |e^{-ixu} - Σ_m w_m(u) e^{-ixm}| evaluated exactly (u on a fine grid), so the rms error over the
-sea of a field weighted by ω^p (p = 0 height, 1 velocity, 2 acceleration) is at most
-√(Σ v ω^{2p} ε²) — asserted against exact transforms in tests/ocean/test_ocean_fft_time.py.
+A query at time t ∈ [t_m, t_m+1) blends the eight snapshots m-3 … m+4 with Lagrange weights of degree 7 (`SNAPSHOTS`;
+four, cubic, until 2026-11-27: the same error bound needed intervals 1.9-2.2x shorter), so the FFT cost is paid
+once per Δ_b instead of once per physics step. A snapshot is a pure function of its time, so the field at t does not
+depend on which times were queried before (runs stay bit-identical for one seed, and a reset needs no special care).
+Δ_b is the largest interval whose error bound meets the tolerance: a bin of frequency ω and variance v contributes at
+most v·ε(ωΔ)² to the error variance, with ε(x) = max_u |e^{-ixu} - Σ_m w_m(u) e^{-ixm}| evaluated exactly (u on a
+fine grid), so the rms error over the sea of a field weighted by ω^p (p = 0 height, 1 velocity, 2 acceleration) is
+at most √(Σ v ω^{2p} ε²) — asserted against exact transforms in tests/ocean/test_ocean_fft_time.py.
 """
 
 from __future__ import annotations
@@ -18,53 +18,78 @@ from collections.abc import Callable
 import numpy as np
 from numba import njit
 
-NODES = np.array([-1.0, 0.0, 1.0, 2.0])
+SNAPSHOTS = 8  # snapshots blended per query (even): Lagrange polynomials of degree SNAPSHOTS - 1
 MAX_INTERVAL_S = 2.0
 
 
-def lagrange_weights(u):
-    """Cubic Lagrange weights of nodes -1, 0, 1, 2 at u (in units of the interval); shape u.shape + (4,)."""
-    u = np.asarray(u, dtype=float)[..., None]
-    out = np.ones(u.shape[:-1] + (4,))
-    for i, xi in enumerate(NODES):
-        for xj in NODES:
-            if xj != xi:
-                out[..., i] *= (u[..., 0] - xj) / (xi - xj)
+def nodes_of(snapshots: int) -> np.ndarray:
+    """The blended snapshots' offsets from the query's interval start m: 1 - snapshots/2 … snapshots/2 (float)."""
+    if snapshots < 2 or snapshots % 2 or snapshots > 8:  # fft.PhaseTables keeps two bases: 9 snapshots at most
+        raise ValueError(f"snapshots must be even, 2 to 8, got {snapshots}")
+    return np.arange(1 - snapshots // 2, snapshots // 2 + 1, dtype=float)
+
+
+NODES = nodes_of(SNAPSHOTS)
+
+
+def _denominators(nodes: np.ndarray) -> np.ndarray:
+    """Π_{j≠i} (x_i - x_j) per node (products of small integers: exact)."""
+    return np.array([math.prod(float(xi - xj) for xj in nodes if xj != xi) for xi in nodes])
+
+
+def lagrange_weights(u, nodes: np.ndarray | None = None):
+    """Lagrange weights of `nodes` (default `NODES`, in units of the interval) at u; shape u.shape + (len(nodes),).
+    The same operations as the compiled `_blend_weights`: the numerator's product in node order, over the exact
+    denominator."""
+    nodes = NODES if nodes is None else np.asarray(nodes, dtype=float)
+    u = np.asarray(u, dtype=float)
+    den = _denominators(nodes)
+    out = np.empty(u.shape + (len(nodes),))
+    for i in range(len(nodes)):
+        num = np.ones(u.shape)
+        for j, xj in enumerate(nodes):
+            if j != i:
+                num = num * (u - xj)
+        out[..., i] = num / den[i]
     return out
 
 
-def _error_table(x_max: float = 40.0, n: int = 4001) -> tuple[np.ndarray, np.ndarray]:
-    """ε(x) on [0, x_max], made non-decreasing (a bound between the table points); ≈ 0.9 ms to build."""
+def _error_table(nodes: np.ndarray, x_max: float = 40.0, n: int = 4001) -> tuple[np.ndarray, np.ndarray]:
+    """ε(x) on [0, x_max], made non-decreasing (a bound between the table points); ≈ 1 ms to build."""
     u = np.linspace(0.0, 1.0, 65)
-    w = lagrange_weights(u)  # (65, 4)
+    w = lagrange_weights(u, nodes)  # (65, len(nodes))
     x = np.linspace(0.0, x_max, n)
-    approx = np.exp(-1j * np.multiply.outer(x, NODES)) @ w.T  # (n, 65)
+    approx = np.exp(-1j * np.multiply.outer(x, nodes)) @ w.T  # (n, 65)
     eps = np.abs(np.exp(-1j * np.multiply.outer(x, u)) - approx).max(axis=1)
     return x, np.maximum.accumulate(eps)
 
 
-_TABLE: list = []
+_TABLES: dict[tuple, tuple[np.ndarray, np.ndarray, float]] = {}  # nodes → (x, ε(x), the bound beyond the table)
 
 
-def error_factor(x: np.ndarray) -> np.ndarray:
-    """ε(x): largest |e^{-ixu} - Σ_m w_m(u) e^{-ixm}| over u ∈ [0, 1], x = ωΔ (tabulated, upper envelope)."""
-    if not _TABLE:
-        _TABLE.extend(_error_table())
-    grid, eps = _TABLE
-    return np.interp(np.asarray(x, dtype=float), grid, eps, right=float(np.abs(_W_SUM).sum() + 1.0))
+def error_factor(x: np.ndarray, nodes: np.ndarray | None = None) -> np.ndarray:
+    """ε(x): largest |e^{-ixu} - Σ_m w_m(u) e^{-ixm}| over u ∈ [0, 1], x = ωΔ (tabulated, upper envelope), for the
+    snapshots at `nodes` (default `NODES`)."""
+    nodes = NODES if nodes is None else np.asarray(nodes, dtype=float)
+    key = tuple(nodes.tolist())
+    if key not in _TABLES:
+        # beyond the table: |e^{-ixu}| + Σ|w_m(u)|, with the weights' largest absolute sum over u (a fine grid)
+        beyond = float(np.abs(lagrange_weights(np.linspace(0.0, 1.0, 1025), nodes)).sum(axis=1).max() + 1.0)
+        _TABLES[key] = (*_error_table(nodes), beyond)
+    grid, eps, beyond = _TABLES[key]
+    return np.interp(np.asarray(x, dtype=float), grid, eps, right=beyond)
 
 
-_W_SUM = lagrange_weights(0.5)
-
-
-def error_bound(variance: np.ndarray, omega: np.ndarray, interval_s: float, power: int = 0) -> float:
+def error_bound(variance: np.ndarray, omega: np.ndarray, interval_s: float, power: int = 0,
+                nodes: np.ndarray | None = None) -> float:  # fmt: skip
     """Bound on the rms error (over the sea) of the field ω^power·η interpolated with snapshots `interval_s` apart."""
     keep = variance > 0
     v, w = variance[keep], omega[keep]
-    return float(np.sqrt(np.sum(v * w ** (2 * power) * error_factor(w * interval_s) ** 2)))
+    return float(np.sqrt(np.sum(v * w ** (2 * power) * error_factor(w * interval_s, nodes) ** 2)))
 
 
-def snapshot_interval(variance, omega, tolerance: float, total_rms, powers=(0, 1)) -> float:
+def snapshot_interval(variance, omega, tolerance: float, total_rms, powers=(0, 1), nodes: np.ndarray | None = None
+                      ) -> float:  # fmt: skip
     """Largest Δ (s, ≤ MAX_INTERVAL_S) with error_bound ≤ tolerance·total_rms[p] for every power p;
     inf for a band without energy (never transformed), 0 when `tolerance` is 0 (exact every query)."""
     if not np.any(variance > 0):
@@ -75,7 +100,7 @@ def snapshot_interval(variance, omega, tolerance: float, total_rms, powers=(0, 1
     v, w = variance[keep], omega[keep]
 
     def ok(dt):
-        return all(error_bound(v, w, dt, p) <= tolerance * total_rms[p] for p in powers)
+        return all(error_bound(v, w, dt, p, nodes) <= tolerance * total_rms[p] for p in powers)
 
     lo, hi = 0.0, MAX_INTERVAL_S
     if ok(hi):
@@ -90,11 +115,13 @@ _NO_BASE = np.iinfo(np.int64).min  # a ring not filled yet
 
 
 @njit(cache=True)
-def _blend_weights(t, scale, intervals, base, weights, m_out):
-    """Cubic Lagrange weights (`lagrange_weights`, times `scale`) of every band with a finite, non-zero interval
-    at time t into weights[band, ring entry]: the entries of nodes -1, 0, 1, 2 are r, r+1, r+2, r+3 (mod 4) with
-    r = (m - 1) mod 4, m = floor(t / Δ_b) (into m_out). Returns how many of those bands have m != base[band].
-    (Compiled: the same operations in the same order as Python's, ~4 µs less per ring and step.)"""
+def _blend_weights(t, scale, intervals, base, nodes, den, weights, m_out):
+    """Lagrange weights (`lagrange_weights` of `nodes`, the same operations, times `scale`) of every band with a
+    finite, non-zero interval at time t into weights[band, ring entry]: node i's entry is (r + i) mod K with
+    r = (m + nodes[0]) mod K, K = len(nodes), m = floor(t / Δ_b) (into m_out); den: `_denominators(nodes)`. Returns
+    how many of those bands have m != base[band]. (Compiled: ~4 µs less per ring and step than Python.)"""
+    k = nodes.shape[0]
+    first = int(nodes[0])
     moved = 0
     for b in range(intervals.shape[0]):
         dt = intervals[b]
@@ -105,23 +132,30 @@ def _blend_weights(t, scale, intervals, base, weights, m_out):
         if m != base[b]:
             moved += 1
         u = t / dt - m
-        r = (m - 1) % 4
-        weights[b, r] = -scale * u * (u - 1) * (u - 2) / 6
-        weights[b, (r + 1) % 4] = scale * (u + 1) * (u - 1) * (u - 2) / 2
-        weights[b, (r + 2) % 4] = -scale * (u + 1) * u * (u - 2) / 2
-        weights[b, (r + 3) % 4] = scale * (u + 1) * u * (u - 1) / 6
+        r = (m + first) % k
+        for i in range(k):
+            num = 1.0
+            for j in range(k):
+                if j != i:
+                    num = num * (u - nodes[j])
+            weights[b, (r + i) % k] = scale * (num / den[i])
     return moved
 
 
 class SnapshotRing:
-    """Four snapshots per band, tiles[band, m mod 4, slot] = the band's spatial tiles at time m·Δ_b."""
+    """K = len(nodes) snapshots per band (default `NODES`), tiles[band, m mod K, slot] = the band's spatial tiles at
+    time m·Δ_b."""
 
-    def __init__(self, intervals, slots: int, n: int, compute: Callable[[int, float, np.ndarray], None]):
+    def __init__(self, intervals, slots: int, n: int, compute: Callable[[int, float, np.ndarray], None],
+                 nodes: np.ndarray | None = None):  # fmt: skip
         self.intervals = [float(d) for d in intervals]
+        self.nodes = np.array(NODES if nodes is None else nodes, dtype=float)
+        self._den = _denominators(self.nodes)
+        k = len(self.nodes)
         bands = len(self.intervals)
-        self.tiles = np.zeros((bands, 4, slots, n, n), np.complex64)
-        self.weights = np.zeros((bands, 4))
-        self._held = np.full((bands, 4), np.nan)  # the snapshot time each ring entry holds
+        self.tiles = np.zeros((bands, k, slots, n, n), np.complex64)
+        self.weights = np.zeros((bands, k))
+        self._held = np.full((bands, k), np.nan)  # the snapshot time each ring entry holds
         self._compute = compute  # compute(band, t, out (slots, n, n)) writes the band's tiles at time t
         self._dt = np.array(self.intervals)
         self._base = np.full(bands, _NO_BASE, np.int64)  # the interval index m each band's ring was last filled for
@@ -136,10 +170,11 @@ class SnapshotRing:
         self.ahead: Callable[[int, float], None] | None = None
 
     def prepare(self, t: float, scale: float) -> np.ndarray:
-        """Make the snapshots around t present; return the blend weights (bands, 4), multiplied by `scale`."""
+        """Make the snapshots around t present; return the blend weights (bands, K), multiplied by `scale`."""
         if self._key == (t, scale):
             return self.weights
-        moved = _blend_weights(float(t), float(scale), self._dt, self._base, self.weights, self._m)
+        moved = _blend_weights(float(t), float(scale), self._dt, self._base, self.nodes, self._den, self.weights,
+                               self._m)  # fmt: skip
         for b in self._exact:  # time_tolerance 0: a transform at every queried time
             self._ensure(b, 0, t)
             self.weights[b, 0] = scale
@@ -149,10 +184,11 @@ class SnapshotRing:
                 m, base = int(self._m[b]), int(self._base[b])
                 if not (0.0 < dt < math.inf) or m == base:
                     continue
-                for i in range(4):  # a new interval: bring in the missing snapshots m-1 … m+2
-                    self._ensure(b, (m - 1 + i) % 4, (m - 1 + i) * dt)
+                first, k = int(self.nodes[0]), len(self.nodes)
+                for i in range(k):  # a new interval: bring in the missing snapshots m + nodes[0] … m + nodes[-1]
+                    self._ensure(b, (m + first + i) % k, (m + first + i) * dt)
                 if base != _NO_BASE and m == base + 1:
-                    stepped.append((b, (m + 3) * dt))  # the one the next interval brings in (same expression)
+                    stepped.append((b, (m + first + k) * dt))  # the one the next interval brings in (same expression)
                 self._base[b] = m
         self._key = (t, scale)
         if self.ahead is not None:

@@ -185,7 +185,7 @@ def hull_water_rows(verts, v0, v1, level, geo, wts, inv_cells, decay_k, eta_out,
                 for iy, ix in ((iy0, ix0), (iy0, ix1), (iy1, ix0), (iy1, ix1)):
                     if stamp[b, iy, ix] != now:
                         c = 0.0
-                        for r in range(4):
+                        for r in range(wts.shape[1]):
                             w = wts[b, r]
                             if w != 0.0:
                                 c += w * geo[b, r, 0, iy, ix].real
