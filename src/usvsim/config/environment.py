@@ -40,7 +40,7 @@ class FFTRealization(Section):
     """FFT tiles (cascades); tile sizes default to 10 peak wavelengths, each next one 7.3 times smaller.
 
     `resolution` trades accuracy for speed: each band is transformed only at its snapshot times (every
-    0.1-0.5 s at N = 128 in sea state 4, blended in time within 1e-3 of sigma, see docs/seas.md), so N
+    0.2-1.2 s at N = 128 in sea state 4, blended in time within 1e-3 of sigma, see docs/seas.md), so N
     mostly sets the cost of a snapshot (~4x per doubling) and the bilinear error between tile vertices
     (~1.4 % of sigma at 256, ~4x that at 128; the mean variance loss is compensated)."""
 
