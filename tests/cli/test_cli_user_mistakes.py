@@ -45,6 +45,7 @@ def never(*_args, **_kw):
         (["run", "--no-such-option"], ["--no-such-option"]),
         (["no-such-command"], ["no-such-command"]),
         (["demo", "navigate", "--max-time", "-5"], ["--max-time"]),  # was an IndexError from the metrics
+        (["task", "station_keeping", "--ros2", "--domain-id", "999"], ["--domain-id", "232"]),  # DDS traceback
     ],
 )
 def test_usage_mistakes_are_one_line_from_the_entry_point(monkeypatch, capsys, args, words):
@@ -438,3 +439,15 @@ def test_an_entry_without_its_type_says_which_types_there_are(tmp_path, entry, w
     one_line_error(invoke("validate", path), *words)
     one_line_error(invoke("run", path, "--duration", "0.1"), *words)
     assert "discriminator" not in invoke("validate", path).stderr
+
+
+@pytest.mark.parametrize("value", ["abc", "999", "-1"])
+@pytest.mark.parametrize("command", [["run", "harbor", "--duration", "0.1", "--ros2"],
+                                     ["task", "station_keeping", "--ros2", "--time-limit", "1"]])  # fmt: skip
+def test_a_bad_ros_domain_id_variable_is_one_line(tmp_path, monkeypatch, command, value):
+    """$ROS_DOMAIN_ID=abc said "invalid literal for int() with base 10: 'abc'"; 999 was a DDS_RETCODE_ERROR
+    traceback from Cyclone (its ports end at 232)."""
+    pytest.importorskip("cyclonedds")
+    monkeypatch.setenv("ROS_DOMAIN_ID", value)
+    extra = ["--report", tmp_path / "r.json"] if command[0] == "task" else []
+    one_line_error(invoke(*command, *extra), "$ROS_DOMAIN_ID", "0 to 232", repr(value), "--domain-id")

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import os
 from dataclasses import dataclass
 
 from usvsim.core.errors import UsvsimError
@@ -58,6 +59,23 @@ def _extra(module: str, extra: str):
         raise UsvsimError(f"{exc.name or module} is not installed: pip install 'usvsim[{extra}]'") from None
 
 
+MAX_DOMAIN_ID = 232  # ROS 2's range: with Cyclone's port mapping, domains above it have no valid ports
+
+
+def domain_id(given: int | None) -> int:
+    """--domain-id, else $ROS_DOMAIN_ID, else 0; a bad $ROS_DOMAIN_ID is a one-line error (it was the text of
+    int()'s ValueError, or a DDS_RETCODE_ERROR traceback for 999)."""
+    if given is not None:
+        return given
+    text = os.environ.get("ROS_DOMAIN_ID", "").strip()
+    if not text:
+        return 0
+    if not (text.isdigit() and int(text) <= MAX_DOMAIN_ID):
+        raise UsvsimError(f"$ROS_DOMAIN_ID must be a whole number from 0 to {MAX_DOMAIN_ID}, got {text[:40]!r} "
+                          "(or give --domain-id)")  # fmt: skip
+    return int(text)
+
+
 def open_bridges(sim, options: BridgeOptions) -> list:
     """The bridges `options` asks for, attached to `sim`; each has `close()` and `stats`."""
     bridges = []
@@ -67,7 +85,7 @@ def open_bridges(sim, options: BridgeOptions) -> list:
             interface = None if options.ros2_interface in ("", "any") else options.ros2_interface
             if interface is not None:
                 check_interface(interface)
-            bridges.append(dds.DdsBridge(sim, domain_id=options.domain_id, interface=interface))
+            bridges.append(dds.DdsBridge(sim, domain_id=domain_id(options.domain_id), interface=interface))
         if options.ros_tcp:
             from usvsim.bridges.ros_tcp import RosTcpBridge
 

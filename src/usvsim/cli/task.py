@@ -25,7 +25,8 @@ def task(
     ros2: Annotated[bool, typer.Option("--ros2", help="publish the task's VRX topics and every sensor over DDS")] = False,
     external: Annotated[bool, typer.Option("--external", help="with --ros2: no built-in solution, the boat obeys "
                                            "ROS 2 commands (VRX thruster topics); paced to the wall clock")] = False,
-    domain_id: Annotated[int | None, typer.Option(help="ROS domain id (default $ROS_DOMAIN_ID or 0)")] = None,
+    domain_id: Annotated[int | None, typer.Option(help="ROS domain id (default $ROS_DOMAIN_ID or 0)", min=0,
+                                                  max=232)] = None,  # as `usvsim run`: Cyclone's ports end there
     ros2_interface: Annotated[str, typer.Option(help="DDS network interface (lo: this machine only)")] = "lo",
     landmark_type: Annotated[str, typer.Option(help="/vrx/perception/landmark type: pose (geometry_msgs/"
                                                "PoseStamped, VRX on Gazebo Sim) or geopose (geographic_msgs/GeoPoseStamped)")] = "pose",
