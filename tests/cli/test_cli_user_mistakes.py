@@ -451,3 +451,30 @@ def test_a_bad_ros_domain_id_variable_is_one_line(tmp_path, monkeypatch, command
     monkeypatch.setenv("ROS_DOMAIN_ID", value)
     extra = ["--report", tmp_path / "r.json"] if command[0] == "task" else []
     one_line_error(invoke(*command, *extra), "$ROS_DOMAIN_ID", "0 to 232", repr(value), "--domain-id")
+
+
+@pytest.mark.parametrize(
+    ("text", "words"),
+    [
+        ("vessels: {name: a, model: otter}\n", ["vessels: should be a list", "got a mapping of 'name', 'model'"]),
+        ("vessels: [{name: a, model: otter, sensors: [imu]}]\n",
+         ["vessels[0].sensors[0]: should be a mapping", "got the text 'imu'"]),
+        ("vessels: [{name: a, model: otter, sensors: [null]}]\n", ["sensors[0]: should be a mapping", "null"]),
+        ("world: 5\n", ["world: should be a mapping", "got a number 5"]),
+        ("vessels: [{name: a, model: otter, pose: {position: 3}}]\n",
+         ["pose.position: should be a list ([a, b], or one '- ' line", "got a number 3"]),
+    ],
+)
+def test_a_list_or_mapping_in_the_wrong_place_is_said_in_yaml_words(tmp_path, text, words):
+    """pydantic's words were shown: "Input should be a valid tuple (got <dict of 2 items>)", "a valid dictionary or
+    object to extract fields from"; and the console's markup ate any [word] of a message (here "[a, b]")."""
+    path = tmp_path / "shape.yaml"
+    path.write_text("version: 1\n" + text)
+    one_line_error(invoke("validate", path), *words)
+    assert "tuple" not in invoke("validate", path).stderr
+
+
+def test_brackets_in_an_error_are_printed_as_they_are(tmp_path):
+    """A path or value with [letters] lost them to the console's markup: 'runs[ab].yaml' was printed 'runs.yaml'."""
+    one_line_error(invoke("validate", tmp_path / "runs[ab].yaml"), "runs[ab].yaml", "no such scenario file")
+    one_line_error(invoke("dataset", tmp_path / "runs[ab].yaml", "--out", tmp_path / "ds"), "runs[ab].yaml")

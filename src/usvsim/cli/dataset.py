@@ -7,6 +7,7 @@ from typing import Annotated
 
 import typer
 from rich.console import Console
+from rich.markup import escape
 from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeRemainingColumn
 
 from usvsim.core.errors import UsvsimError
@@ -73,7 +74,7 @@ def dataset_command(
             task = bar.add_task("frames", total=frames)  # the bar is gone when done: an error stays one line
             generate(spec, progress=progress, stop=lambda: signal_name(stop.signum) if stop.signum else None)
     except UsvsimError as exc:
-        console.print(f"[bold red]usvsim: error:[/] {exc}", highlight=False, soft_wrap=True)
+        console.print(f"[bold red]usvsim: error:[/] {escape(str(exc))}", highlight=False, soft_wrap=True)
         raise typer.Exit(2) from None
     if stop.signum:
         typer.echo(f"stopped ({signal_name(stop.signum)}): wrote {written[0]} of {frames} frames to {out}; its "

@@ -7,10 +7,11 @@ from typing import NoReturn
 
 import typer
 from rich.console import Console
+from rich.markup import escape
 
 console = Console(stderr=True)
 
 
 def fail(exc: Exception | str) -> NoReturn:
-    console.print(f"[bold red]usvsim: error:[/] {exc}", highlight=False, soft_wrap=True)
+    console.print(f"[bold red]usvsim: error:[/] {escape(str(exc))}", highlight=False, soft_wrap=True)
     raise typer.Exit(2)

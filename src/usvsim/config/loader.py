@@ -94,12 +94,30 @@ def _first_error(exc: ValidationError, source: str, data) -> ScenarioError:
         ctx = err.get("ctx", {})
         key = next((k for k, v in err["input"].items() if v == ctx.get("tag")), "type")
         msg = f"unknown {key} {safe_yaml.excerpt(ctx.get('tag'))}; expected one of {ctx.get('expected_tags')}"
+    elif err["type"] in YAML_SHAPES:  # pydantic said "Input should be a valid tuple" of a YAML list
+        msg = f"should be {YAML_SHAPES[err['type']]}, got {_yaml_kind(err['input'])}"
     elif err["type"].endswith("_type") or err["type"] in ("literal_error", "finite_number"):
         msg = f"{msg} (got {safe_yaml.excerpt(err['input'])})"
     more = len(exc.errors()) - 1
     if more:
         msg += f" (+{more} more error{'s' if more > 1 else ''})"
     return ScenarioError(source, loc, msg)
+
+
+MAPPING = "a mapping (key: value lines, or {key: value, ...})"
+YAML_SHAPES = {"tuple_type": "a list ([a, b], or one '- ' line per item)", "list_type": "a list ([a, b], or one '- ' line per item)",
+               "model_attributes_type": MAPPING, "model_type": MAPPING, "dict_type": MAPPING}  # fmt: skip
+
+
+def _yaml_kind(value) -> str:
+    """What a parsed YAML value is, in YAML's words."""
+    if value is None:
+        return "nothing (null)"
+    if isinstance(value, dict):
+        return f"a mapping of {', '.join(safe_yaml.excerpt(str(k), 30) for k in list(value)[:4])}"[:160]
+    kind = ("a boolean" if isinstance(value, bool) else "a number" if isinstance(value, int | float) else
+            "the text" if isinstance(value, str) else "a list" if isinstance(value, list | tuple) else "the value")  # fmt: skip
+    return f"{kind} {safe_yaml.excerpt(value)}"
 
 
 def _readable_path(loc, data) -> str:
