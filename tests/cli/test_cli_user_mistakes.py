@@ -478,3 +478,27 @@ def test_brackets_in_an_error_are_printed_as_they_are(tmp_path):
     """A path or value with [letters] lost them to the console's markup: 'runs[ab].yaml' was printed 'runs.yaml'."""
     one_line_error(invoke("validate", tmp_path / "runs[ab].yaml"), "runs[ab].yaml", "no such scenario file")
     one_line_error(invoke("dataset", tmp_path / "runs[ab].yaml", "--out", tmp_path / "ds"), "runs[ab].yaml")
+
+
+@pytest.mark.parametrize(
+    ("text", "words"),
+    [
+        ("environment: [\n", ["line 2", "not valid YAML"]),  # was "while parsing a flow node"
+        ("- 1\n", ["a randomization file is a mapping of version, per"]),  # was ": : Input should be a valid dict"
+        ("perr: frame\n", ["perr: unknown key", "did you mean 'per'"]),
+        ("scene: {buoy_offset: {normal: [0, 2]}}\n", ["scene: unknown key 'buoy_offset'", "'buoy_offset_m'"]),
+        ("environment: {sea.hs_m: {uniform: [1]}}\n",  # was "environment.sea.hs_m.bool: Input should be a valid boolean"
+         ["environment.sea.hs_m: {'uniform': [1]} is not {uniform: [low, high]}"]),
+        ("look: {sun.azimuth_dg: 30}\n", ["look.sun.azimuth_dg: unknown key", "rendering"]),  # was a tuple repr
+        ("environment: {sea.hs_m: 1.0}\n",  # the scenario has no sea: it blamed the scenario file for sea.type
+         ["randomization", "environment", "the drawn values make the scenario's environment.sea.type invalid"]),
+    ],
+)
+def test_randomization_file_mistakes_are_one_line_in_its_words(tmp_path, text, words):
+    scenario, rnd = tmp_path / "cam.yaml", tmp_path / "rnd.yaml"
+    scenario.write_text("version: 1\nvessels: [{name: a, model: otter, sensors: [{type: camera, name: c, width: 64, "
+                        "height: 48}]}]\n")  # fmt: skip
+    rnd.write_text(text)
+    result = invoke("dataset", scenario, "--frames", "1", "--randomize", rnd, "--out", tmp_path / "ds")
+    one_line_error(result, f"randomization {rnd}", *words)
+    assert "[key]" not in result.stderr and "Input should" not in result.stderr

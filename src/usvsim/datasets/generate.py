@@ -27,7 +27,7 @@ import yaml
 from pydantic import ValidationError
 
 from usvsim.config.loader import parse_scenario, resolve
-from usvsim.core.errors import UsvsimError
+from usvsim.core.errors import ScenarioError, UsvsimError
 from usvsim.core.transforms import quat_from_rpy, quat_multiply
 from usvsim.datasets.amodal import AmodalCounter
 from usvsim.datasets.labels import Labeller
@@ -105,7 +105,13 @@ def _scenario(spec: DatasetSpec, environment: dict):
                 cameras.append((v["name"], s))
     if not cameras:
         raise UsvsimError(f"scenario {spec.scenario}: no camera sensor to render a data set from")
-    return parse_scenario(data, spec.scenario, base), cameras
+    try:
+        return parse_scenario(data, spec.scenario, base), cameras
+    except ScenarioError as exc:  # blamed the scenario file for a key the randomization's environment set
+        if environment and exc.key_path.startswith("environment"):
+            raise UsvsimError(f"randomization {spec.randomize}: environment: the drawn values make the scenario's "
+                              f"{exc.key_path} invalid: {exc.message}") from None  # fmt: skip
+        raise
 
 
 def _move(sim: Simulation, body_index: int, dx: float, dy: float, dyaw_rad: float) -> None:
@@ -161,10 +167,12 @@ class DatasetGenerator:
         scenario, camera_cfgs = _scenario(spec, self.environment)
         try:  # a wrong key path in `look` fails here, before any frame
             scenario.rendering.updated(nested(draw_all(self.rnd.look, np.random.default_rng(0))))
-        except ValidationError as exc:
-            raise UsvsimError(
-                f"randomization {spec.randomize}: look: {exc.errors()[0]['loc']}: {exc.errors()[0]['msg']}"
-            ) from None
+        except ValidationError as exc:  # said "look: ('sun', 'azimuth_dg'): Extra inputs are not permitted"
+            err = exc.errors()[0]
+            path = ".".join(str(p) for p in err["loc"])
+            what = "unknown key" if err["type"] == "extra_forbidden" else err["msg"]
+            raise UsvsimError(f"randomization {spec.randomize}: look.{path}: {what} (keys of the scenario's "
+                              "rendering: section, docs/rendering.md)") from None  # fmt: skip
         self.sim = Simulation(scenario, seed=spec.seed)
         self.shared: dict = {}
         self.cameras = [

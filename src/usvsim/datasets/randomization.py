@@ -29,7 +29,9 @@ import numpy as np
 import yaml
 from pydantic import Field, ValidationError
 
+from usvsim.config import safe_yaml
 from usvsim.config.base import Section
+from usvsim.config.safe_yaml import excerpt
 from usvsim.core.errors import UsvsimError
 
 SCENE = {  # scene parameters: what each one changes (added to the scenario's value)
@@ -113,15 +115,47 @@ def load_randomization(name_or_path: str | Path | None) -> Randomization:
             raise UsvsimError(
                 f"randomization '{name_or_path}': no such file or preset (presets: {', '.join(preset_names())})"
             )
+    where = f"randomization {name_or_path}"
+    text = source.read_text() if not isinstance(source, Path) else safe_yaml.read_text(source, where)
+    data = None
     try:
-        data = yaml.safe_load(source.read_text())
+        data = yaml.safe_load(text)
         return Randomization.model_validate(data, strict=False)
-    except (yaml.YAMLError, ValidationError) as exc:
-        raise UsvsimError(f"randomization {name_or_path}: {_first_error(exc)}") from None
+    except yaml.YAMLError as exc:
+        mark = getattr(exc, "problem_mark", None)
+        line = f"line {mark.line + 1}: " if mark is not None else ""
+        problem = getattr(exc, "problem", None) or str(exc).splitlines()[0]
+        raise UsvsimError(f"{where}: {line}not valid YAML: {problem}") from None
+    except ValidationError as exc:
+        raise UsvsimError(f"{where}: {_first_error(exc, data)}") from None
 
 
-def _first_error(exc: Exception) -> str:
-    if isinstance(exc, ValidationError):
-        err = exc.errors()[0]
-        return f"{'.'.join(str(p) for p in err['loc'])}: {err['msg']}"
-    return str(exc).splitlines()[0]
+FORMS = {"uniform": "{uniform: [low, high]}", "normal": "{normal: [mean, stddev]} (clip: [low, high] optional)",
+         "choice": "{choice: [a, b, ...]} (at least one value)"}  # fmt: skip
+SECTIONS = ("look", "scene", "environment")
+
+
+def _shown(value) -> str:
+    text = repr(value)
+    return text if len(text) <= 80 else excerpt(value)
+
+
+def _first_error(exc: ValidationError, data) -> str:
+    """One line in the file's words (pydantic's named union branches, '[key]' and 'tuple[float, ...]')."""
+    from usvsim.config.schema import did_you_mean
+
+    errors = exc.errors()
+    err, loc = errors[0], errors[0]["loc"]
+    if not loc and err["type"] == "model_type":
+        return f"a randomization file is a mapping of {', '.join(Randomization.model_fields)}; got {excerpt(data)}"
+    if err["type"] == "extra_forbidden" and len(loc) == 1:
+        return f"{loc[0]}: unknown key{did_you_mean(str(loc[0]), list(Randomization.model_fields))}"
+    if len(loc) >= 3 and loc[0] in SECTIONS and loc[2] == "[key]":
+        return f"{loc[0]}: unknown key {excerpt(loc[1])}{did_you_mean(str(loc[1]), list(SCENE))}"
+    if len(loc) >= 3 and loc[0] in SECTIONS:  # a value: every branch of the union failed
+        key, value = f"{loc[0]}.{loc[1]}", data[loc[0]][loc[1]]
+        form = next((f for d, f in FORMS.items() if isinstance(value, dict) and d in value), None)
+        if form is not None:
+            return f"{key}: {_shown(value)} is not {form}"
+        return f"{key}: {_shown(value)} is neither a constant nor one of {', '.join(FORMS.values())}"
+    return f"{'.'.join(str(p) for p in loc)}: {err['msg']}"
