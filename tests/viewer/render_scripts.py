@@ -173,7 +173,31 @@ def over_geoms(out: str) -> None:
     print(json.dumps(stats))
 
 
+def sea_overlap(out: str) -> None:
+    """The shader viewer's frames with the ocean's textures made on the worker thread (the default) and on the
+    drawing thread (two viewers of one simulation, each with its own textures), the simulation stepping between
+    frames (new tiles every frame) and standing still (no upload): the same bytes."""
+    from usvsim.rendering.gallery import load, scenario_dict
+    from usvsim.viewer.offscreen import OffscreenViewer
+
+    sim = load(scenario_dict(4, {"renderer": "shader"}, 64, 48))
+    sim.run(1.0)
+    worker, serial = OffscreenViewer(sim, 320, 180), OffscreenViewer(sim, 320, 180)
+    serial.renderer.overlap = None
+    differing, frames = 0, 0
+    for k in range(6):
+        if k % 3:
+            sim.run(0.05)
+        a, b = worker.render(), serial.render()
+        differing += int((a != b).any(2).sum())
+        frames += 1
+    worker.close()
+    serial.close()
+    sim.close()
+    print(json.dumps({"frames": frames, "differing": differing, "shape": list(a.shape)}))
+
+
 if __name__ == "__main__":
     kinds = {"offscreen": offscreen, "lap": lap, "shader_window": shader_window, "culled": culled,
-             "eye_distance": eye_distance, "over_geoms": over_geoms}
+             "eye_distance": eye_distance, "over_geoms": over_geoms, "sea_overlap": sea_overlap}
     kinds[sys.argv[1]](sys.argv[2])

@@ -69,6 +69,12 @@ def test_the_mono_water_is_drawn_from_the_eye_the_geoms_are(tmp_path):
     assert stats["ipds"][0] > 0.0 and stats["same"], stats
 
 
+def test_sea_textures_made_on_the_worker_thread_give_the_same_bytes(tmp_path):
+    stats = run_script("sea_overlap", tmp_path / "unused.png", dict(os.environ, MUJOCO_GL="egl"))
+    assert stats["frames"] == 6 and stats["shape"] == [180, 320, 3]
+    assert stats["differing"] == 0
+
+
 def test_water_over_geoms_drawn_by_the_quads_that_reach_them_gives_the_same_bytes(tmp_path):
     """The water's program for pixels with a geom behind runs over the quads whose displaced corners' box meets a
     geom's box only (MarinePass._over_geoms_runs); the viewer's picture is the one drawn with every quad, and every

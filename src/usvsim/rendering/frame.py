@@ -6,11 +6,24 @@ Used by the camera sensors and the viewer alike: `prepare` before drawing (the G
 
 from __future__ import annotations
 
+from collections.abc import Callable
+from typing import NamedTuple
+
 import mujoco
 import numpy as np
 
+from usvsim.core.overlap import Overlap
+from usvsim.rendering.mips import mip_levels
 from usvsim.rendering.sky import Daylight, daylight
-from usvsim.rendering.surface import surface_data
+from usvsim.rendering.surface import SurfaceData, surface_data
+
+
+class SeaTextures(NamedTuple):
+    data: SurfaceData
+    levels: (
+        tuple[list[np.ndarray], list[np.ndarray]] | None
+    )  # mip levels of data.geo and data.slope (None: uploaded)
+
 
 WATER_GROUP = 2  # MuJoCo's own water (height field, still-water plane): hidden when the shader draws water
 
@@ -41,13 +54,37 @@ def prepare_light(marine, sim, center_xy) -> Daylight:
     return light
 
 
-def prepare_sea(marine, sim, center_xy) -> None:
-    """After `prepare_light`: upload the ocean at `sim.time`, set the light's uniforms and the wakes. Nothing in it
-    needs MuJoCo's pass, so the viewer runs it while llvmpipe draws the geoms."""
+def start_sea(marine, sim, center_xy, overlap: Overlap | None = None) -> Callable[[], SeaTextures]:
+    """After `prepare_light`: the ocean's texture data at `sim.time` with their mip levels (`sea_textures`), made on
+    `overlap`'s worker thread (mostly without the GIL: numba and numpy) while the caller goes on with MuJoCo's pass,
+    or here without `overlap`; returns the call that waits for them. Until they are taken, the caller must leave
+    `sim.ocean` alone (its snapshot rings are the worker's)."""
+    detail, whitecap = sea_extras(marine.sea_cache, sim.ocean, sim.look)  # its cache is this thread's
+    marine.mip_ratio = (
+        marine.sea_cache["mip_ratio"] if detail is not None or whitecap != float("inf") else None
+    )
+    args = (marine.texture_key, sim.ocean, sim.time, tuple(center_xy[:2]), detail, whitecap)
+    if overlap is None:
+        textures = sea_textures(*args)
+        return lambda: textures
+    return overlap.submit(sea_textures, *args)
+
+
+def sea_textures(uploaded_key, ocean, t: float, center_xy, detail, whitecap: float) -> SeaTextures:
+    """The ocean's textures at time `t` (`surface_data`) and their mip levels (none when the data's key is
+    `uploaded_key`, what the textures already hold). No GL."""
+    data = surface_data(ocean, t, center_xy, detail, whitecap)
+    levels = None if data.key == uploaded_key else (mip_levels(data.geo), mip_levels(data.slope))
+    return SeaTextures(data, levels)
+
+
+def prepare_sea(marine, sim, center_xy, textures: Callable[[], SeaTextures] | None = None) -> None:
+    """After `prepare_light`: upload the ocean at `sim.time` (`textures`: what `start_sea` returned, else made
+    here), set the light's uniforms and the wakes. Nothing in it needs MuJoCo's pass, so the viewer runs it while
+    llvmpipe draws the geoms."""
     light = marine.daylight
-    detail, whitecap = sea_extras(marine.sea_cache, sim.ocean, sim.look)
-    marine.mip_ratio = marine.sea_cache["mip_ratio"] if detail is not None or whitecap != float("inf") else None
-    marine.upload(surface_data(sim.ocean, sim.time, center_xy, detail, whitecap))
+    sea = (textures or start_sea(marine, sim, center_xy))()
+    marine.upload(sea.data, sea.levels)
     marine.set_light(light, sim.look, sim.ocean.level_m)
     marine.set_rain(sim.look.rain.rate_mm_h, sim.seed)
     marine.restore()  # setting uniforms binds programs: MuJoCo's fixed-function pipeline needs none bound
@@ -111,7 +148,9 @@ def sea_extras(cache: dict, ocean, look):
     return (cache["detail"] if look.water.short_waves > 0 else None), cache["whitecap"]
 
 
-def apply_lights(scene: mujoco.MjvScene, light: Daylight, materials=None, center_xy=None, far: float = 0.0) -> None:
+def apply_lights(
+    scene: mujoco.MjvScene, light: Daylight, materials=None, center_xy=None, far: float = 0.0
+) -> None:
     """Sun and sky light on MuJoCo's geoms: directional lights follow the sun, the headlight gives sky fill.
     MuJoCo's colours are display values, so the levels are display levels (noon: ambient 0.35, sun 0.6).
     With `materials` (rendering/materials.Materials) the geoms are shaded by `begin_geoms`' program instead;
@@ -134,7 +173,11 @@ def apply_lights(scene: mujoco.MjvScene, light: Daylight, materials=None, center
                 lamp.pos[:] = (center_xy[0], center_xy[1], 0.0) + light.sun_dir * min(0.5 * far, 1000.0)
             else:
                 lamp.pos[:] = light.sun_dir * 1000.0
-            lamp.diffuse[:], lamp.ambient[:], lamp.specular[:] = sun, 0.0, (0.8 if materials is not None else 0.3) * sun
+            lamp.diffuse[:], lamp.ambient[:], lamp.specular[:] = (
+                sun,
+                0.0,
+                (0.8 if materials is not None else 0.3) * sun,
+            )
 
 
 def begin_geoms(marine, scene: mujoco.MjvScene, shadows: bool) -> bool:
@@ -146,7 +189,9 @@ def begin_geoms(marine, scene: mujoco.MjvScene, shadows: bool) -> bool:
         from usvsim.rendering.materials import GeomShading
 
         marine.geom_shading = GeomShading(marine.ctx)
-    shadows = shadows and any(scene.lights[i].castshadow and not scene.lights[i].headlight for i in range(scene.nlight))
+    shadows = shadows and any(
+        scene.lights[i].castshadow and not scene.lights[i].headlight for i in range(scene.nlight)
+    )
     marine.geom_shading.begin(scene, marine.materials, marine.daylight, shadows, marine.noise_texture)
     return True
 

@@ -254,8 +254,14 @@ class MarinePass:
         meets = (c > a) & (d > b) & (total[d, c] - total[b, c] - total[d, a] + total[b, a] > 0)
         return _runs(~bounded | meets) + first * (columns - 1)
 
-    def upload(self, data: SurfaceData) -> None:
-        """Send the ocean's textures (skipped when the same data is already there)."""
+    @property
+    def texture_key(self):
+        """The key of the surface data the textures hold (None: none yet)."""
+        return self._key if self._geo is not None else None
+
+    def upload(self, data: SurfaceData, levels: tuple[list[np.ndarray], list[np.ndarray]] | None = None) -> None:
+        """Send the ocean's textures (skipped when the same data is already there); `levels`: the mip levels of
+        `data.geo` and `data.slope` if made already (`mips.mip_levels`)."""
         if data.key == self._key and self._geo is not None:
             return
         bands, n = data.geo.shape[0], data.geo.shape[1]
@@ -272,8 +278,9 @@ class MarinePass:
                 tex.filter = (0x2701, 0x2601)  # LINEAR_MIPMAP_NEAREST, LINEAR: half the fetches of trilinear
                 tex.build_mipmaps()  # allocates the levels (and sets the level range) once; filled below
         assert self._geo is not None and self._slope is not None
-        for tex, layers in ((self._geo, data.geo), (self._slope, data.slope)):
-            _write_levels(tex, mip_levels(layers))  # the box filter on the CPU: no blit per level and layer
+        levels = levels or (mip_levels(data.geo), mip_levels(data.slope))  # a box filter on the CPU: no blit per level
+        for tex, texture_levels in zip((self._geo, self._slope), levels):
+            _write_levels(tex, texture_levels)
         self._key, self._data = data.key, data
         surface = (data.height_scale, data.displacement_scale, data.level_m, float(n))
         self._surface_key = None

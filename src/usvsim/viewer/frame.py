@@ -9,6 +9,7 @@ from __future__ import annotations
 import mujoco
 import numpy as np
 
+from usvsim.core.overlap import Overlap
 from usvsim.viewer.camera import CameraPose
 from usvsim.viewer.hud import HELP, overlay_columns
 from usvsim.viewer.layers import MAX_POINTS, add_points, draw_inset
@@ -40,10 +41,16 @@ class FrameRenderer:
         model.vis.quality.offsamples = samples
         self.buffer = mujoco.mjtFramebuffer.mjFB_WINDOW if window else mujoco.mjtFramebuffer.mjFB_OFFSCREEN
         mujoco.mjr_setBuffer(self.buffer, self.context)
-        self.marine, self._center_xy = None, (0.0, 0.0)  # the shader passes (usvsim.rendering), made on first use
+        self.marine, self._center_xy = (
+            None,
+            (0.0, 0.0),
+        )  # the shader passes (usvsim.rendering), made on first use
+        self.overlap: Overlap | None = Overlap()  # a worker for the ocean's textures (rendering.frame.start_sea); None: here
         from usvsim.rendering.cull import FrustumCull
 
-        self.cull = FrustumCull(self.scene)  # geoms outside the view are not drawn (same pixels, less vertex work)
+        self.cull = FrustumCull(
+            self.scene
+        )  # geoms outside the view are not drawn (same pixels, less vertex work)
 
     def update_water(self, sim, center_xy) -> None:
         """Re-sample the drawn wave surface from `sim.ocean` around `center_xy` and upload it."""
@@ -56,7 +63,9 @@ class FrameRenderer:
         look = _shader_look(sim)
         self.option.geomgroup[2] = int(look is None)
         self.scene.flags[mujoco.mjtRndFlag.mjRND_SKYBOX] = int(look is None)  # the shader draws the sky
-        self.scene.flags[mujoco.mjtRndFlag.mjRND_SHADOW] = int(self._shadows or (look is not None and sim.look.shadows))
+        self.scene.flags[mujoco.mjtRndFlag.mjRND_SHADOW] = int(
+            self._shadows or (look is not None and sim.look.shadows)
+        )
         if look is None:
             return None
         from usvsim.rendering.frame import prepare_light
@@ -65,8 +74,12 @@ class FrameRenderer:
         if self.marine is None:
             from usvsim.rendering.grid import view_cell_px
 
-            self.marine = MarinePass(cell_px=view_cell_px)  # coarser water cells than cameras: no depth to keep
-        prepare_light(self.marine, sim, self._center_xy)  # the sea (prepare_sea) while llvmpipe draws the geoms: see draw
+            self.marine = MarinePass(
+                cell_px=view_cell_px
+            )  # coarser water cells than cameras: no depth to keep
+        prepare_light(
+            self.marine, sim, self._center_xy
+        )  # the sea (prepare_sea) while llvmpipe draws the geoms: see draw
         return self.marine
 
     def draw(self, sim, viewport: mujoco.MjrRect, pose: CameraPose, hud_rows=None, points=None, inset=None,
@@ -74,6 +87,11 @@ class FrameRenderer:
         """Render the scene from `pose` with the optional layers; the caller swaps or reads the pixels."""
         mujoco.mjr_setBuffer(self.buffer, self.context)
         marine = self._prepare_marine(sim)
+        sea = None
+        if marine is not None:  # the ocean's textures on the second core while this thread submits the geoms
+            from usvsim.rendering.frame import start_sea
+
+            sea = start_sea(marine, sim, self._center_xy, self.overlap)
         pose.apply(self.camera)
         mujoco.mjv_updateScene(sim.model, sim.data, self.option, None, self.camera, mujoco.mjtCatBit.mjCAT_ALL.value,
                                self.scene)  # fmt: skip
@@ -82,9 +100,16 @@ class FrameRenderer:
         if marine is not None and marine.daylight is not None:
             from usvsim.rendering.frame import apply_lights
 
-            apply_lights(self.scene, marine.daylight, marine.materials, marine.center_xy,
-                         float(self.scene.camera[0].frustum_far))
-        self.cull(viewport.width, viewport.height)  # after the lights: with shadows it culls along the sun's rays
+            apply_lights(
+                self.scene,
+                marine.daylight,
+                marine.materials,
+                marine.center_xy,
+                float(self.scene.camera[0].frustum_far),
+            )
+        self.cull(
+            viewport.width, viewport.height
+        )  # after the lights: with shadows it culls along the sun's rays
         from usvsim.rendering.frame import begin_geoms, end_geoms
 
         shaded = begin_geoms(marine, self.scene, bool(self.scene.flags[mujoco.mjtRndFlag.mjRND_SHADOW]))
@@ -99,12 +124,16 @@ class FrameRenderer:
 
             from usvsim.rendering.frame import prepare_sea
 
-            GL.glFlush()  # llvmpipe's threads draw the geoms while this one prepares the sea
-            prepare_sea(marine, sim, self._center_xy)
+            GL.glFlush()  # llvmpipe's threads draw the geoms while this one uploads the sea
+            prepare_sea(marine, sim, self._center_xy, sea)
             from usvsim.rendering import cull
 
-            marine.geom_boxes = cull.drawn_boxes(self.scene, sim.model)  # what mjr_render drew: the water over them
-            view = mujoco.mjv_averageCamera(self.scene.camera[0], self.scene.camera[1])  # what mjr_render drew from
+            marine.geom_boxes = cull.drawn_boxes(
+                self.scene, sim.model
+            )  # what mjr_render drew: the water over them
+            view = mujoco.mjv_averageCamera(
+                self.scene.camera[0], self.scene.camera[1]
+            )  # what mjr_render drew from
             marine.draw(view, viewport, time_s=sim.time)
             GL.glFlush()  # and the water while this one lays out the HUD
         if inset is not None:
@@ -126,6 +155,8 @@ class FrameRenderer:
     def free(self) -> None:
         if self.marine is not None:
             self.marine.release()
+        if self.overlap is not None:
+            self.overlap.close()
         self.context.free()
 
 
