@@ -88,3 +88,15 @@ def test_a_reset_mid_run_does_not_lengthen_the_run(tmp_path, monkeypatch):
 def test_run_help_says_the_duration_is_the_total():
     result = invoke("run", "--help")
     assert "in all" in result.stdout and "/reset" in result.stdout
+
+
+@pytest.mark.parametrize(("target", "words"), [("missing/run.mcap", ["does not exist"]),
+                                               ("taken.mcap", ["exists", "--force"])])  # fmt: skip
+def test_a_bad_recording_path_in_the_scenario_names_its_key(tmp_path, monkeypatch, target, words):
+    """outputs.recording.path said only "directory missing does not exist": not that the scenario asked for it."""
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "taken.mcap").write_bytes(b"precious")
+    scenario = tmp_path / "rec.yaml"
+    scenario.write_text(f"version: 1\noutputs: {{recording: {{path: {target}}}}}\nvessels: [{{name: a, model: otter}}]\n")
+    one_line_error(invoke("run", str(scenario), "--duration", "0.1"), "rec.yaml: outputs.recording.path: ", *words)
+    assert (tmp_path / "taken.mcap").read_bytes() == b"precious"

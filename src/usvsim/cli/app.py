@@ -154,6 +154,8 @@ def _open_run(stack: ExitStack, scenario: str, seed: int, record: Path | None, f
     """Simulation, recorder (or None) and bridges, each registered on `stack` to be closed; one-line errors."""
     from usvsim.cli.bridges import close_all, open_bridges
     from usvsim.cli.outputs import check_output
+    from usvsim.config.loader import source_of
+    from usvsim.core.errors import ScenarioError
     from usvsim.io.mcap_recorder import McapRecorder
     from usvsim.simulation import Simulation
 
@@ -165,7 +167,12 @@ def _open_run(stack: ExitStack, scenario: str, seed: int, record: Path | None, f
         stack.callback(sim.close)
         configured = sim.scenario.outputs.recording.path
         path = record or (Path(configured) if configured else None)
-        if path:
+        if path and not record:  # the scenario's path: the error names the key (it named only a directory)
+            try:
+                check_output(path, force)
+            except UsvsimError as exc:
+                raise ScenarioError(source_of(sim.scenario), "outputs.recording.path", str(exc)) from None
+        elif path:
             check_output(path, force)
             recorder = McapRecorder(path)
             stack.callback(recorder.close)
