@@ -502,3 +502,19 @@ def test_randomization_file_mistakes_are_one_line_in_its_words(tmp_path, text, w
     result = invoke("dataset", scenario, "--frames", "1", "--randomize", rnd, "--out", tmp_path / "ds")
     one_line_error(result, f"randomization {rnd}", *words)
     assert "[key]" not in result.stderr and "Input should" not in result.stderr
+
+
+@pytest.mark.parametrize(
+    ("text", "words"),
+    [
+        ("objects: [{type: mesh, name: rock, mesh: {file: rock.stl}}]\n",  # was "objects[0].mesh.file: Field required"
+         ["objects[0].file: missing"]),
+        ("vessels: [{name: a}]\n", ["vessels[0].model: missing"]),
+        ("objects: [{type: mesh, name: rock, file: rock.stl, mesh: 1}]\n", ["objects[0].mesh: unknown key"]),
+    ],
+)
+def test_a_missing_key_is_named_where_it_belongs(tmp_path, text, words):
+    path = tmp_path / "missing.yaml"
+    path.write_text("version: 1\n" + text)
+    one_line_error(invoke("validate", path), *words)
+    assert "Field required" not in invoke("validate", path).stderr

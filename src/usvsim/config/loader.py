@@ -94,6 +94,8 @@ def _first_error(exc: ValidationError, source: str, data) -> ScenarioError:
         ctx = err.get("ctx", {})
         key = next((k for k, v in err["input"].items() if v == ctx.get("tag")), "type")
         msg = f"unknown {key} {safe_yaml.excerpt(ctx.get('tag'))}; expected one of {ctx.get('expected_tags')}"
+    elif err["type"] == "missing":  # pydantic: "Field required"
+        msg = "missing, and required here (docs/scenario-reference.md)"
     elif err["type"] in YAML_SHAPES:  # pydantic said "Input should be a valid tuple" of a YAML list
         msg = f"should be {YAML_SHAPES[err['type']]}, got {_yaml_kind(err['input'])}"
     elif err["type"].endswith("_type") or err["type"] in ("literal_error", "finite_number"):
@@ -122,16 +124,18 @@ def _yaml_kind(value) -> str:
 
 def _readable_path(loc, data) -> str:
     """Key path like `vessels[0].thrusters[1].position`, skipping pydantic's union-tag segments."""
-    parts, node = [], data
+    parts, node, branch_named = [], data, False
     for item in loc:
         if isinstance(item, int):
             parts.append(f"[{item}]")
             node = node[item] if isinstance(node, (list, tuple)) and item < len(node) else None
+            branch_named = False
+        elif isinstance(node, dict) and not branch_named and "type" in node and item == node.get("type"):
+            branch_named = True  # the tagged-union branch name, right after the entry (before a key of the
+            continue  # same name: an object of type mesh with a stray `mesh:` key was 'objects[0].mesh.file')
         elif isinstance(node, dict) and item in node:
             parts.append(("." if parts else "") + item)
-            node = node[item]
-        elif isinstance(node, dict) and "type" in node and item == node.get("type"):
-            continue  # the tagged-union branch name
+            node, branch_named = node[item], False
         else:
             parts.append(("." if parts else "") + str(item))
             node = None
