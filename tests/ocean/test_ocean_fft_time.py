@@ -10,6 +10,7 @@ from usvsim.ocean import spectra
 from usvsim.ocean.fft import FFTWaveField, cascade_sizes, directional_spectrum, pair_bins
 from usvsim.ocean.fft_time import (
     SNAPSHOTS,
+    SNAPSHOTS_CHOPPY,
     _blend_weights,
     _denominators,
     error_factor,
@@ -21,8 +22,8 @@ JONSWAP = directional_spectrum(lambda w: spectra.jonswap(w, 1.88, 8.8, 2.0), 0.3
 SIZES = cascade_sizes(2 * math.pi * spectra.G / (2 * math.pi / 8.8) ** 2, 3, 64)
 
 
-def field(tolerance, seed=4):
-    return FFTWaveField(JONSWAP, SIZES, np.random.default_rng(seed), 64, time_tolerance=tolerance)
+def field(tolerance, seed=4, choppiness=0.0):
+    return FFTWaveField(JONSWAP, SIZES, np.random.default_rng(seed), 64, choppiness, time_tolerance=tolerance)
 
 
 @pytest.mark.parametrize("snapshots", [4, 6, 8])
@@ -60,8 +61,13 @@ def test_blend_weights_are_lagrange_weights_in_the_ring_order():
             np.testing.assert_array_equal(weights[b, ring], expected)
 
 
-def test_interpolated_field_is_within_its_bound_of_the_exact_one():
-    fast, exact = field(2e-3), field(0.0)
+@pytest.mark.parametrize("choppiness", [0.0, 0.7])
+def test_interpolated_field_is_within_its_bound_of_the_exact_one(choppiness):
+    """Eight snapshots per query without displacement, four in a choppy sea (its queries blend per point)."""
+    fast, exact = field(2e-3, choppiness=choppiness), field(0.0, choppiness=choppiness)
+    snapshots = SNAPSHOTS if choppiness == 0.0 else SNAPSHOTS_CHOPPY
+    for ring in (fast.geometry, fast.velocity_ring, fast.acceleration_ring):
+        assert ring.weights.shape[1] == ring.tiles.shape[1] == len(ring.nodes) == snapshots
     assert all(0.05 < d < 2.0 for d in fast.snapshot_intervals_s["geometry"])
     rng = np.random.default_rng(0)
     x, y = rng.uniform(0, 500, 3000), rng.uniform(0, 500, 3000)

@@ -247,6 +247,9 @@ class FFTWaveField(WaveField):
         self.sizes = np.asarray(tile_sizes_m, dtype=float)
         self.n = int(resolution)
         self.choppiness = float(choppiness)
+        # snapshots blended per query (fft_time): seas without displacement blend each tile node once per step
+        # (node cache), choppy ones per point and Newton iteration, where more snapshots cost more than they save
+        self.snapshots = fft_time.SNAPSHOTS if self.choppiness == 0.0 else fft_time.SNAPSHOTS_CHOPPY
         self.tol, self.max_iter = float(tol), int(max_iter)
         if self.n < 8 or self.n & (self.n - 1):
             raise ValueError(f"resolution must be a power of two >= 8, got {self.n}")
@@ -314,7 +317,7 @@ class FFTWaveField(WaveField):
         velocity 1; acceleration 2) to `tolerance` of that field's rms over the sea, for the bins' expected
         variance (the spectrum's: the same for every draw of the sea)."""
         cached = self._tables_of.intervals
-        nodes = fft_time.NODES  # the snapshots blended per query (fft_time.SNAPSHOTS)
+        nodes = fft_time.nodes_of(self.snapshots)
         key = (float(tolerance), tuple(powers), tuple(nodes.tolist()))
         if key not in cached:
             var = self._var

@@ -164,8 +164,18 @@ def _cell(x, inv_cell, mask):
 
 @njit(cache=True, inline="always")
 def _blend4(tiles, wts, b, slot, iy0, iy1, ix0, ix1):
-    """The four corner values of one cell, blended over the band's snapshots (zero weights skipped)."""
+    """The four corner values of one cell, blended over the band's snapshots (zero weights skipped; four snapshots,
+    a choppy sea's, in a loop of constant length: the same sums in the same order)."""
     c00 = c10 = c01 = c11 = 0j
+    if wts.shape[1] == 4:
+        for r in range(4):
+            w = wts[b, r]
+            if w != 0.0:
+                c00 += w * tiles[b, r, slot, iy0, ix0]
+                c10 += w * tiles[b, r, slot, iy0, ix1]
+                c01 += w * tiles[b, r, slot, iy1, ix0]
+                c11 += w * tiles[b, r, slot, iy1, ix1]
+        return c00, c10, c01, c11
     for r in range(wts.shape[1]):
         w = wts[b, r]
         if w != 0.0:
@@ -180,6 +190,15 @@ def _blend4(tiles, wts, b, slot, iy0, iy1, ix0, ix1):
 def _blend4_real(tiles, wts, b, slot, iy0, iy1, ix0, ix1):
     """`_blend4` of the real parts only (the height of geometry slot 0)."""
     c00 = c10 = c01 = c11 = 0.0
+    if wts.shape[1] == 4:
+        for r in range(4):
+            w = wts[b, r]
+            if w != 0.0:
+                c00 += w * tiles[b, r, slot, iy0, ix0].real
+                c10 += w * tiles[b, r, slot, iy0, ix1].real
+                c01 += w * tiles[b, r, slot, iy1, ix0].real
+                c11 += w * tiles[b, r, slot, iy1, ix1].real
+        return c00, c10, c01, c11
     for r in range(wts.shape[1]):
         w = wts[b, r]
         if w != 0.0:
@@ -188,6 +207,28 @@ def _blend4_real(tiles, wts, b, slot, iy0, iy1, ix0, ix1):
             c01 += w * tiles[b, r, slot, iy1, ix0].real
             c11 += w * tiles[b, r, slot, iy1, ix1].real
     return c00, c10, c01, c11
+
+
+@njit(cache=True, inline="always")
+def node_height(geo, wts, b, iy, ix):
+    """One tile node's height blended over band b's snapshots (zero weights skipped; `_blend4_real`'s sum for that
+    node, in its order; unrolled for 4 and 8 snapshots)."""
+    k = wts.shape[1]
+    if k == 8:
+        return _node_height_k(geo, wts, b, iy, ix, 8)
+    if k == 4:
+        return _node_height_k(geo, wts, b, iy, ix, 4)
+    return _node_height_k(geo, wts, b, iy, ix, k)
+
+
+@njit(cache=True, inline="always")
+def _node_height_k(geo, wts, b, iy, ix, k):
+    c = 0.0
+    for r in range(k):
+        w = wts[b, r]
+        if w != 0.0:
+            c += w * geo[b, r, 0, iy, ix].real
+    return c
 
 
 @njit(cache=True, inline="always")
@@ -281,12 +322,7 @@ def band_heights_cached(px, py, geo, wts, inv_cells, band_h, cache, stamp, now):
             if ix0 != last[b, 0] or iy0 != last[b, 1]:
                 for iy, ix in ((iy0, ix0), (iy0, ix1), (iy1, ix0), (iy1, ix1)):
                     if stamp[b, iy, ix] != now:
-                        c = 0.0
-                        for r in range(wts.shape[1]):
-                            w = wts[b, r]
-                            if w != 0.0:
-                                c += w * geo[b, r, 0, iy, ix].real
-                        cache[b, iy, ix] = c
+                        cache[b, iy, ix] = node_height(geo, wts, b, iy, ix)
                         stamp[b, iy, ix] = now
                 corners[b, 0], corners[b, 1] = cache[b, iy0, ix0], cache[b, iy0, ix1]
                 corners[b, 2], corners[b, 3] = cache[b, iy1, ix0], cache[b, iy1, ix1]
