@@ -518,3 +518,21 @@ def test_a_missing_key_is_named_where_it_belongs(tmp_path, text, words):
     path.write_text("version: 1\n" + text)
     one_line_error(invoke("validate", path), *words)
     assert "Field required" not in invoke("validate", path).stderr
+
+
+def test_a_dataset_is_not_written_over_another_without_force(tmp_path):
+    """Written over, the first set's frames beyond the second's count stayed beside annotations that no longer
+    listed them (4 frames then 2: 4 images on disk, 2 in the COCO files), and nothing said so."""
+    out = tmp_path / "ds"
+    args = ["dataset", "buoy_field", "--resolution", "64x48", "--out", out]
+    assert invoke(*args, "--frames", "4").exit_code == 0
+    (out / "notes.txt").write_text("mine")
+    one_line_error(invoke(*args, "--frames", "2", "--seed", "3"), str(out), "already holds a data set", "--force")
+    assert len(list((out / "images").rglob("*.png"))) == 4  # untouched
+    result = invoke(*args, "--frames", "2", "--seed", "3", "--force")
+    assert result.exit_code == 0, result.output
+    images = sorted(p.name for p in (out / "images").rglob("*.png"))
+    coco = [img for f in (out / "annotations").glob("*.json") for img in json.loads(f.read_text())["images"]]
+    assert len(images) == 2 and sorted(img["file_name"].split("/")[1] for img in coco) == images
+    assert (out / "notes.txt").read_text() == "mine"  # --force removes the data set's files only
+

@@ -33,6 +33,9 @@ def dataset_command(
     renderer: Annotated[
         str | None, typer.Option(help="shader (the marine look: sky, waves, fog) or mujoco; default: the scenario's")
     ] = None,
+    force: Annotated[
+        bool, typer.Option("--force", help="replace the data set already in --out (its files only)")
+    ] = False,
 ) -> None:
     """Render a scenario's cameras with domain randomization and write images, labels and masks. Ctrl-C or
     SIGTERM stops it between two frames: the frames begun are written and the annotations, data.yaml and
@@ -62,6 +65,7 @@ def dataset_command(
                            size, fractions, min_visible_pixels, min_visible_fraction, renderer=renderer)  # fmt: skip
         load_scenario(scenario), load_randomization(randomize)  # bad input fails before the folder is made
         prepare_folder(out)
+        _clear_previous(out, force)
         columns = (TextColumn("dataset"), BarColumn(), MofNCompleteColumn(), TimeRemainingColumn())
         written = [0]
 
@@ -81,3 +85,25 @@ def dataset_command(
                    "annotations, data.yaml and dataset.json cover those frames (dataset.json: stopped, frames_requested)")  # fmt: skip
         raise typer.Exit(exit_status(stop.signum))
     typer.echo(f"wrote {frames} frames to {out}")  # the result on stdout, progress on stderr
+
+
+DATASET_ENTRIES = ("images", "labels", "masks", "meta", "annotations", "data.yaml", "classes.json", "dataset.json")
+
+
+def _clear_previous(out: Path, force: bool) -> None:
+    """A data set already in `out` is refused, or with --force its files (and only those) removed: written over,
+    its frames beyond the new count stayed beside annotations that no longer listed them."""
+    import shutil
+
+    found = [name for name in DATASET_ENTRIES if (out / name).exists()]
+    if not found:
+        return
+    if not force:
+        raise UsvsimError(f"{out} already holds a data set ({', '.join(found[:3])}); pass --force to replace it, "
+                          "or give another --out")  # fmt: skip
+    for name in found:
+        path = out / name
+        try:
+            shutil.rmtree(path) if path.is_dir() and not path.is_symlink() else path.unlink()
+        except OSError as exc:
+            raise UsvsimError(f"cannot remove {path} of the previous data set: {exc.strerror or exc}") from None
