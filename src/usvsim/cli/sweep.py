@@ -29,6 +29,9 @@ def sweep(
     from usvsim.config import safe_yaml
 
     try:
+        if not spec.is_file():  # was "[Errno 2] No such file or directory: 'nosuch.yaml'"
+            raise UsvsimError(f"{spec}: {'a directory, not' if spec.is_dir() else 'no such'} sweep file (a YAML "
+                              "file with task, seeds, difficulty, grid; docs/tasks.md)")  # fmt: skip
         try:
             config = SweepSpec.model_validate(yaml.load(spec.read_text(), Loader=safe_yaml.Loader))
         except (OSError, yaml.YAMLError, ValidationError) as exc:

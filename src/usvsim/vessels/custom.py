@@ -16,6 +16,8 @@ MAX_MESH_BYTES = 256 << 20
 
 def load_mesh(path: Path, scale: float = 1.0, key: str = "hull_mesh", require_closed: bool = True) -> Mesh:
     """Load a mesh file as one triangle mesh (all geometry merged); errors name the file and the problem."""
+    if path.is_dir():  # `hull_mesh: .` said "mesh file not found: /the/folder"
+        raise MeshError(f"{key}: {path} is a directory; give a mesh file (.stl, .obj, .ply, .glb)")
     if not path.is_file():
         raise MeshError(f"{key}: mesh file not found: {path}")
     if path.stat().st_size > MAX_MESH_BYTES:
