@@ -424,8 +424,43 @@ def velocity_cached(px, py, pz, geo, geo_wts, vel, vel_wts, acc, acc_wts, inv_ce
             z += band_h[p, b]
         d = pz[p] - z
         zeff[p] = 0.0 if d > 0.0 else d  # np.minimum(d, 0.0), NaN kept
-    _SAMPLE_KINEMATICS_SERIAL(px, py, zeff, geo, geo_wts, vel, vel_wts, acc, acc_wts, inv_cells, decay_k, v_out,
-                              v_out[:0])  # fmt: skip
+    if geo_wts.shape[1] == 8 and vel_wts.shape[1] == 8:  # the usual ring (fft_time.SNAPSHOTS): blends unrolled
+        _sample_velocity(px, py, zeff, geo, geo_wts, vel, vel_wts, inv_cells, decay_k, v_out, 8)
+    else:
+        _SAMPLE_KINEMATICS_SERIAL(px, py, zeff, geo, geo_wts, vel, vel_wts, acc, acc_wts, inv_cells, decay_k, v_out,
+                                  v_out[:0])  # fmt: skip
+
+
+@njit(cache=True, inline="always")
+def _lerp_k(tiles, wts, b, slot, iy0, iy1, ix0, ix1, fx, fy, k):
+    """`_lerp` over k snapshots (k a constant where inlined: the loop unrolls; the same sums in the same order)."""
+    c00 = c10 = c01 = c11 = 0j
+    for r in range(k):
+        w = wts[b, r]
+        if w != 0.0:
+            c00 += w * tiles[b, r, slot, iy0, ix0]
+            c10 += w * tiles[b, r, slot, iy0, ix1]
+            c01 += w * tiles[b, r, slot, iy1, ix0]
+            c11 += w * tiles[b, r, slot, iy1, ix1]
+    return (c00 * (1 - fx) + c10 * fx) * (1 - fy) + (c01 * (1 - fx) + c11 * fx) * fy
+
+
+@njit(cache=True, inline="always")
+def _sample_velocity(x0, y0, zeff, geo, geo_wts, vel, vel_wts, inv_cells, decay_k, v_out, k):
+    """`_sample_kinematics` without acceleration (serial), each blend over k snapshots: the same expressions in
+    the same order, bit for bit the same velocities."""
+    mask = geo.shape[3] - 1
+    for p in range(x0.shape[0]):
+        v_out[p, 0] = v_out[p, 1] = v_out[p, 2] = 0.0
+        for b in range(geo.shape[0]):
+            ix0, ix1, fx = _cell(x0[p], inv_cells[b], mask)
+            iy0, iy1, fy = _cell(y0[p], inv_cells[b], mask)
+            f = math.exp(decay_k[b] * zeff[p])
+            uv = _lerp_k(vel, vel_wts, b, 0, iy0, iy1, ix0, ix1, fx, fy, k)
+            hw = _lerp_k(geo, geo_wts, b, 0, iy0, iy1, ix0, ix1, fx, fy, k)
+            v_out[p, 0] += f * uv.real
+            v_out[p, 1] += f * uv.imag
+            v_out[p, 2] += f * hw.imag
 
 
 @njit(cache=True)
