@@ -210,28 +210,6 @@ def _blend4_real(tiles, wts, b, slot, iy0, iy1, ix0, ix1):
 
 
 @njit(cache=True, inline="always")
-def node_height(geo, wts, b, iy, ix):
-    """One tile node's height blended over band b's snapshots (zero weights skipped; `_blend4_real`'s sum for that
-    node, in its order; unrolled for 4 and 8 snapshots)."""
-    k = wts.shape[1]
-    if k == 8:
-        return _node_height_k(geo, wts, b, iy, ix, 8)
-    if k == 4:
-        return _node_height_k(geo, wts, b, iy, ix, 4)
-    return _node_height_k(geo, wts, b, iy, ix, k)
-
-
-@njit(cache=True, inline="always")
-def _node_height_k(geo, wts, b, iy, ix, k):
-    c = 0.0
-    for r in range(k):
-        w = wts[b, r]
-        if w != 0.0:
-            c += w * geo[b, r, 0, iy, ix].real
-    return c
-
-
-@njit(cache=True, inline="always")
 def _bilinear(f00, f10, f01, f11, fx, fy, inv_cell):
     """Value and (∂/∂x, ∂/∂y) of the bilinear interpolant on one cell."""
     val = f00 * (1 - fx) * (1 - fy) + f10 * fx * (1 - fy) + f01 * (1 - fx) * fy + f11 * fx * fy
@@ -322,7 +300,12 @@ def band_heights_cached(px, py, geo, wts, inv_cells, band_h, cache, stamp, now):
             if ix0 != last[b, 0] or iy0 != last[b, 1]:
                 for iy, ix in ((iy0, ix0), (iy0, ix1), (iy1, ix0), (iy1, ix1)):
                     if stamp[b, iy, ix] != now:
-                        cache[b, iy, ix] = node_height(geo, wts, b, iy, ix)
+                        c = 0.0
+                        for r in range(wts.shape[1]):
+                            w = wts[b, r]
+                            if w != 0.0:
+                                c += w * geo[b, r, 0, iy, ix].real
+                        cache[b, iy, ix] = c
                         stamp[b, iy, ix] = now
                 corners[b, 0], corners[b, 1] = cache[b, iy0, ix0], cache[b, iy0, ix1]
                 corners[b, 2], corners[b, 3] = cache[b, iy1, ix0], cache[b, iy1, ix1]

@@ -33,7 +33,6 @@ from usvsim.ocean.fft_kernels import (
     _cell,
     band_height,
     heights_cached,
-    node_height,
 )
 from usvsim.ocean.field import WaveField, as_points
 from usvsim.ocean.spectra import G
@@ -185,7 +184,12 @@ def hull_water_rows(verts, v0, v1, level, geo, wts, inv_cells, decay_k, eta_out,
             if ix0 != last[b, 0] or iy0 != last[b, 1]:
                 for iy, ix in ((iy0, ix0), (iy0, ix1), (iy1, ix0), (iy1, ix1)):
                     if stamp[b, iy, ix] != now:
-                        cache[b, iy, ix] = node_height(geo, wts, b, iy, ix)
+                        c = 0.0
+                        for r in range(wts.shape[1]):  # (written out: as an inlined helper ~1.4 us slower)
+                            w = wts[b, r]
+                            if w != 0.0:
+                                c += w * geo[b, r, 0, iy, ix].real
+                        cache[b, iy, ix] = c
                         stamp[b, iy, ix] = now
                 corners[b, 0], corners[b, 1] = cache[b, iy0, ix0], cache[b, iy0, ix1]
                 corners[b, 2], corners[b, 3] = cache[b, iy1, ix0], cache[b, iy1, ix1]
