@@ -543,3 +543,16 @@ def test_a_missing_sweep_file_and_a_mesh_that_is_a_folder_say_so(tmp_path):
     path = tmp_path / "hull.yaml"
     path.write_text("version: 1\nvessels: [{name: a, model: custom, hull_mesh: ., mass: {mass_kg: 9.0}}]\n")
     one_line_error(invoke("validate", path), "vessels[0].hull_mesh", "is a directory; give a mesh file")
+
+
+def test_a_dataset_from_a_scenario_whose_step_10_hz_does_not_divide(tmp_path):
+    """The cameras were rendered at a forced 10 Hz: with 128 Hz physics (7.8125 ms steps) a ValueError traceback
+    although the scenario (an 8 Hz camera) validates."""
+    scenario = tmp_path / "fast.yaml"
+    scenario.write_text("version: 1\nworld: {physics_rate_hz: 128}\noutputs: {recording: {clock_rate_hz: 128, "
+                        "ground_truth_rate_hz: 64}}\nvessels: [{name: a, model: otter, sensors: [{type: camera, "
+                        "name: c, width: 64, height: 48, rate_hz: 8}]}]\n")  # fmt: skip
+    assert invoke("validate", scenario).exit_code == 0
+    result = invoke("dataset", scenario, "--frames", "2", "--out", tmp_path / "ds")
+    assert result.exit_code == 0, result.output
+    assert len(list((tmp_path / "ds" / "images").rglob("*.png"))) == 2

@@ -97,7 +97,9 @@ def _scenario(spec: DatasetSpec, environment: dict):
     for v in data.get("vessels", []):
         for s in v.pop("sensors", []) or []:
             if s.get("type") == "camera":
-                s = {**s, "streams": ["rgb", "depth", "segmentation"], "detections": None, "rate_hz": 10}
+                s = {**s, "streams": ["rgb", "depth", "segmentation"], "detections": None}  # the scenario's rate: a
+                # forced 10 Hz was no whole number of steps at 128 Hz physics (a ValueError traceback); frames are
+                # rendered on demand, so the rate changes nothing else
                 if spec.resolution:
                     s["width"], s["height"] = spec.resolution
                 if spec.horizontal_fov_deg:
