@@ -71,7 +71,7 @@ def test_a_task_stopped_in_its_second_trial_reports_the_first(tmp_path, monkeypa
         return real_drive(task, sim, controller, trace, each_step, realtime)
 
     monkeypatch.setattr(solutions, "drive", drive)
-    report = tmp_path / "r.json"
+    report, before = tmp_path / "r.json", signal.getsignal(signal.SIGTERM)
     result = CliRunner().invoke(app, ["task", "station_keeping", "--trials", "3", "--seed", "4", "--time-limit",
                                       "1", "--report", str(report)])  # fmt: skip
     assert result.exit_code == 143, result.output
@@ -79,7 +79,7 @@ def test_a_task_stopped_in_its_second_trial_reports_the_first(tmp_path, monkeypa
     assert calls == [4, 5]  # the third trial never started
     data = json.loads(report.read_text())
     assert [t["seed"] for t in data["trials"]] == [4] and data["mean_score"] == data["trials"][0]["score"]
-    assert data["stopped"]["trial"] == 1 and signal.getsignal(signal.SIGTERM) == signal.SIG_DFL
+    assert data["stopped"]["trial"] == 1 and signal.getsignal(signal.SIGTERM) == before  # the handler given back
 
 
 @pytest.mark.parametrize(("stop", "status", "said"), STOPS)
