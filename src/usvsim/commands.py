@@ -66,6 +66,7 @@ class CommandInbox:
         self._created_loops: set[str] = set()
         self._held_references: dict[str, Any] = {}  # a scenario controller's reference before cmd_vel
         self._handlers: dict[str, tuple[Callable[[Any], Any], Callable[[Any], Any]]] = {}  # registered topics
+        self.reset_allowed = True  # False: `/reset` is refused (counted "rejected"), e.g. during a scored trial
 
     def register(self, topic: str, msgtype: str, parse: Callable[[Any], Any], apply: Callable[[Any], Any]) -> None:
         """Accept `topic` (ROS type `msgtype`) from every bridge opened afterwards: `parse(msg)` (bridge thread;
@@ -140,8 +141,9 @@ class CommandInbox:
     def _execute(self, kind: str, vessel: str, thruster: str | None, value: Any) -> bool:
         world, controllers = self._world, self._controllers
         if kind == "reset":
-            self._reset()
-            return True
+            if self.reset_allowed:
+                self._reset()
+            return self.reset_allowed
         if kind == "custom":
             return self._handlers[vessel][1](value) is not False
         if kind == "thrust":  # a network source: the vessel's watchdog applies

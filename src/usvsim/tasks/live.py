@@ -52,6 +52,8 @@ def run_live(name: str | Task, difficulty: int = 0, seed: int = 0, timing: TaskT
     task = TASKS[name](difficulty, seed, timing) if isinstance(name, str) else name
     sim = Simulation(task.scenario(), seed=task.seed)
     opened: list = []
+    sim.commands.reset_allowed = False  # a /reset mid-trial restarted the clock under the task: the trial ran on
+    # from t = 0 with the score kept (VRX has no reset); it is refused and counted `rejected` in report["commands"]
     try:
         register_task_inputs(sim, task, landmark_type)  # before the bridges open: they read the topic list
         if bridges is not None:
