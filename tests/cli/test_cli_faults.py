@@ -100,3 +100,15 @@ def test_a_bad_recording_path_in_the_scenario_names_its_key(tmp_path, monkeypatc
     scenario.write_text(f"version: 1\noutputs: {{recording: {{path: {target}}}}}\nvessels: [{{name: a, model: otter}}]\n")
     one_line_error(invoke("run", str(scenario), "--duration", "0.1"), "rec.yaml: outputs.recording.path: ", *words)
     assert (tmp_path / "taken.mcap").read_bytes() == b"precious"
+
+
+def test_a_viewer_that_cannot_open_leaves_no_recording_behind(tmp_path, monkeypatch):
+    """Without a display, `run --view --record x.mcap` failed and left an empty x.mcap: the next try said 'exists;
+    pass --force'."""
+    for name in ("DISPLAY", "WAYLAND_DISPLAY"):
+        monkeypatch.delenv(name, raising=False)
+    monkeypatch.setenv("MUJOCO_GL", "egl")  # run --view sets glfw: restored after the test
+    out, scenario = tmp_path / "x.mcap", tmp_path / "tiny.yaml"
+    scenario.write_text("version: 1\nvessels: [{name: a, model: otter}]\n")
+    one_line_error(invoke("run", str(scenario), "--view", "--duration", "0.1", "--record", str(out)), "viewer", "display")
+    assert not out.exists()

@@ -133,6 +133,9 @@ def run(
         except KeyboardInterrupt as exc:
             interrupted = getattr(exc, "signum", signal.SIGINT)
         except (UsvsimError, OSError) as exc:
+            if recorder is not None and steps.n == 0:  # no step ran (no display for --view): the empty file
+                stack.close()  # left behind made the next try need --force
+                recorder.path.unlink(missing_ok=True)
             fail(exc)
         stack.close()
     wall = time.perf_counter() - start
