@@ -34,23 +34,22 @@ def schema_json() -> str:
 # -- did you mean ------------------------------------------------------------------------------------
 def allowed_keys(loc: tuple, data: Any) -> list[str]:
     """The keys the section at pydantic error location `loc` (ending in the unknown key) accepts."""
-    defs = scenario_schema()["$defs"]
-    node, value = _branch(scenario_schema(), data, defs), data
-    for item in loc[:-1]:
-        if isinstance(item, int):
-            node = node.get("items", {})
-            value = value[item] if isinstance(value, list | tuple) and item < len(value) else None
-        elif item in node.get("properties", {}):
-            node = node["properties"][item]
-            value = value.get(item) if isinstance(value, dict) else None
-        else:
-            continue  # pydantic's name of a tagged-union branch: `_branch` chose it already
-        node = _branch(node, value, defs)
+    node, _ = _node_at(loc[:-1], data)
     return list(node.get("properties", {}))
 
 
 def union_tags(loc: tuple, data: Any) -> tuple[str, list[str]]:
     """The tag key (`type`, ...) and the accepted tags of the tagged union at pydantic error location `loc`."""
+    node, defs = _node_at(loc, data, resolve_last=True)
+    for option in [node, *(_resolve(o, defs) for o in node.get("anyOf", []))]:  # `X | None`: the union inside
+        if "discriminator" in option:
+            return option["discriminator"]["propertyName"], list(option["discriminator"].get("mapping", {}))
+    return "type", []
+
+
+def _node_at(loc: tuple, data: Any, resolve_last: bool = False) -> tuple[dict, dict]:
+    """(the schema node at pydantic error location `loc`, the schema's definitions): at each step the tagged-union
+    branch that `data` there takes; `resolve_last`: the last step's node itself (a union stays a union)."""
     defs = scenario_schema()["$defs"]
     node, value = _branch(scenario_schema(), data, defs), data
     for depth, item in enumerate(loc):
@@ -61,12 +60,9 @@ def union_tags(loc: tuple, data: Any) -> tuple[str, list[str]]:
             node = node["properties"][item]
             value = value.get(item) if isinstance(value, dict) else None
         else:
-            continue
-        node = _resolve(node, defs) if depth == len(loc) - 1 else _branch(node, value, defs)
-    for option in [node, *(_resolve(o, defs) for o in node.get("anyOf", []))]:  # `X | None`: the union inside
-        if "discriminator" in option:
-            return option["discriminator"]["propertyName"], list(option["discriminator"].get("mapping", {}))
-    return "type", []
+            continue  # pydantic's name of a tagged-union branch: `_branch` chose it already
+        node = _resolve(node, defs) if resolve_last and depth == len(loc) - 1 else _branch(node, value, defs)
+    return node, defs
 
 
 def did_you_mean(key: str, allowed: list[str]) -> str:
