@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import json
 import os
+import shutil
 import signal
 import subprocess
 import sys
@@ -109,3 +110,30 @@ def test_a_stopped_dataset_is_a_readable_dataset_of_the_frames_written(tmp_path,
     settings = json.loads((out / "dataset.json").read_text())
     assert settings["frames"] == written and settings["frames_requested"] == 100000 and settings["stopped"] == said
     assert (out / "data.yaml").is_file() and len(list((out / "meta").glob("*.json"))) == written
+
+
+@pytest.mark.skipif(shutil.which("Xvfb") is None, reason="Xvfb is not installed")
+@pytest.mark.parametrize(("stop", "status", "said"), STOPS)
+def test_the_viewer_stopped_between_frames_counts_its_steps_and_closes_its_recording(tmp_path, stop, status, said):
+    """`usvsim run --view --record`: Ctrl-C raised anywhere (a physics step, a recorder's write) and left the steps
+    uncounted ('simulated 0.00 s'); SIGTERM killed the process with the recording unfinished."""
+    display = f":{os.getpid() % 700 + 200}"
+    xvfb = subprocess.Popen(["Xvfb", display, "-screen", "0", "1280x800x24", "-nolisten", "tcp"],
+                            stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)  # fmt: skip
+    try:
+        time.sleep(1.0)
+        record = tmp_path / "view.mcap"
+        env = {k: v for k, v in os.environ.items() if k not in ("MUJOCO_GL", "PYOPENGL_PLATFORM")}
+        proc = subprocess.Popen([*USVSIM, "run", "harbor", "--view", "--duration", "100000", "--record", str(record)],
+                                env={**env, "DISPLAY": display}, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                                text=True)  # fmt: skip
+        out, err = _stop_when(proc, lambda: record.exists() and record.stat().st_size > 50_000, stop)
+    finally:
+        xvfb.terminate()
+        xvfb.wait()
+    assert proc.returncode == status, err
+    assert "Traceback" not in err
+    simulated = float(out.split(f"stopped ({said}): simulated ")[1].split(" s")[0])
+    assert simulated > 0.0
+    clock = [t for t, _, _ in read_with_mcap_ros2(record) if t == "/clock"]  # complete: no `usvsim recover`
+    assert len(clock) >= 1

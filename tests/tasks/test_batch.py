@@ -1,6 +1,7 @@
 """usvsim.batch: the same metrics whatever the backend and worker count; the sweep CLI."""
 
 import json
+from pathlib import Path
 
 import pytest
 from typer.testing import CliRunner
@@ -49,3 +50,52 @@ def test_sweep_cli(tmp_path):
     bad.write_text("task: station_keeping\nseeds: [0]\nbackend: spark\n")
     result = CliRunner().invoke(app, ["sweep", str(bad)])
     assert result.exit_code == 2 and "backend" in result.output
+
+
+def test_a_stopped_sweep_keeps_its_finished_runs_and_ends_its_workers():
+    """`stop()` raising once a run has come in (as the CLI's Ctrl-C / SIGTERM check does): the finished runs are
+    kept, the running ones end with their workers (none is left running)."""
+    import multiprocessing
+
+    from usvsim.cli.stopping import Stopped
+
+    runs = expand({**SPEC, "seeds": {"start": 0, "count": 6}, "time_limit_s": 2.0, "grid": {}})
+    finished: list = [None] * len(runs)
+
+    def stop():
+        if any(r is not None for r in finished):
+            raise Stopped(15)
+
+    with pytest.raises(Stopped):
+        run(runs, "process", workers=2, stop=stop, finished=finished)
+    done = [r for r in finished if r is not None]
+    assert 1 <= len(done) < len(runs)
+    assert all(r["run"]["task"] == "station_keeping" and "score" in r for r in done)
+    assert multiprocessing.active_children() == []
+
+
+def test_sweep_stopped_by_sigterm_writes_the_finished_runs_and_leaves_no_worker(tmp_path):
+    import signal
+    import subprocess
+    import sys
+    import time
+
+    spec = tmp_path / "sweep.yaml"
+    spec.write_text("task: station_keeping\nseeds: {start: 0, count: 4}\ntime_limit_s: 600\nworkers: 2\n")
+    out = tmp_path / "runs.jsonl"
+    proc = subprocess.Popen([sys.executable, "-m", "usvsim", "sweep", str(spec), "--out", str(out)],
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)  # fmt: skip
+    children = Path(f"/proc/{proc.pid}/task/{proc.pid}/children")
+    deadline, workers = time.monotonic() + 240, []
+    while time.monotonic() < deadline and proc.poll() is None and len(workers) < 2:  # the pool's workers started
+        workers = children.read_text().split() if children.exists() else []
+        time.sleep(0.2)
+    assert proc.poll() is None and len(workers) >= 2, proc.communicate()
+    proc.send_signal(signal.SIGTERM)
+    stdout, stderr = proc.communicate(timeout=120)
+    assert proc.returncode == 143, stderr
+    assert "Traceback" not in stderr
+    assert "stopped (SIGTERM): 0 of 4 runs finished, no score" in stdout and str(out) in stdout
+    assert out.read_text() == ""  # 600 s trials: none finished
+    for pid in workers:  # the workers went with it (they ran on after the sweep's process before)
+        assert not Path(f"/proc/{pid}").exists() or "zombie" in Path(f"/proc/{pid}/status").read_text()

@@ -10,8 +10,9 @@ from __future__ import annotations
 import itertools
 import multiprocessing
 import os
+import signal
 from collections.abc import Callable, Sequence
-from concurrent.futures import ProcessPoolExecutor, as_completed
+from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
 from dataclasses import asdict, dataclass
 
 from usvsim.batch.spec import SweepSpec
@@ -41,26 +42,36 @@ def expand(spec: SweepSpec | dict) -> list[RunSpec]:
             for task, d, sea, mass, hold, seed in itertools.product(*axes)]  # fmt: skip
 
 
-def run_one(spec: RunSpec) -> dict:
-    """One run in this process (numba with one thread): the reference solution's trial report + the run."""
+def run_one(spec: RunSpec, after_step: Callable[[], None] | None = None) -> dict:
+    """One run in this process (numba with one thread): the reference solution's trial report + the run.
+    `after_step()` runs after every physics step (an exception from it ends the run)."""
     from usvsim.tasks.solutions import run_trial
     from usvsim.tasks.timing import TaskTiming, limit_numba_threads
 
     limit_numba_threads(1)
     report = run_trial(spec.task, spec.difficulty, spec.seed, TaskTiming(running_s=spec.time_limit_s),
-                       spec.sea_state, spec.mass_kg, dict(spec.hold))  # fmt: skip
+                       spec.sea_state, spec.mass_kg, dict(spec.hold), after_step=after_step)  # fmt: skip
     return {"run": asdict(spec), **report}
 
 
 def run(runs: Sequence[RunSpec], backend: str = "process", workers: int | None = None, address: str | None = None,
-        progress: Callable[[int, int], None] | None = None) -> list[dict]:  # fmt: skip
-    """Metrics of every run, in the order of `runs`. `progress(done, total)` is called as runs finish."""
+        progress: Callable[[int, int], None] | None = None, stop: Callable[[], None] | None = None,
+        finished: list[dict | None] | None = None) -> list[dict]:  # fmt: skip
+    """Metrics of every run, in the order of `runs`. `progress(done, total)` is called as runs finish. `stop()`
+    is called between runs (and, in this process, between steps; a few times a second while waiting on workers):
+    an exception from it ends the sweep, the workers stopped, and propagates; `finished`, if given (a list of
+    len(runs)), holds each run's result as it comes in, so the caller keeps what was done."""
     workers = workers or os.cpu_count() or 1
+    out: list[dict | None] = [None] * len(runs) if finished is None else finished
     if backend == "process":
-        return _process(runs, workers, progress)
+        return _process(runs, workers, progress, stop or _never, out)
     if backend == "ray":
-        return _ray(runs, workers, address, progress)
+        return _ray(runs, workers, address, progress, stop or _never, out)
     raise UsvsimError(f"unknown backend {backend!r}; choose process or ray")
+
+
+def _never() -> None:
+    return None
 
 
 def warm_up() -> None:
@@ -76,10 +87,22 @@ def warm_up() -> None:
 
 
 def _pool(workers: int) -> ProcessPoolExecutor:
-    """Forked from this (warm) process where the platform can fork; else fresh workers warm up once each."""
+    """Forked from this (warm) process where the platform can fork; else fresh workers warm up once each. Workers
+    leave Ctrl-C to this process (a terminal sends it to all of them), which stops them itself."""
     if "fork" in multiprocessing.get_all_start_methods():
-        return ProcessPoolExecutor(max_workers=workers, mp_context=multiprocessing.get_context("fork"))
-    return ProcessPoolExecutor(max_workers=workers, initializer=warm_up)
+        return ProcessPoolExecutor(max_workers=workers, mp_context=multiprocessing.get_context("fork"),
+                                   initializer=_ignore_interrupt)  # fmt: skip
+    return ProcessPoolExecutor(max_workers=workers, initializer=_warm_worker)
+
+
+def _ignore_interrupt() -> None:
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    signal.signal(signal.SIGTERM, signal.SIG_DFL)  # a fork copies the parent's stop handler: terminate() must end it
+
+
+def _warm_worker() -> None:
+    _ignore_interrupt()
+    warm_up()
 
 
 def _filled(out: list[dict | None]) -> list[dict]:
@@ -89,25 +112,37 @@ def _filled(out: list[dict | None]) -> list[dict]:
     return results
 
 
-def _process(runs, workers, progress) -> list[dict]:
-    out: list[dict | None] = [None] * len(runs)
+def _process(runs, workers, progress, stop, out) -> list[dict]:
     warm_up()
     if workers == 1:
         for i, r in enumerate(runs):
-            out[i] = run_one(r)
+            stop()
+            out[i] = run_one(r, after_step=stop)
             if progress:
                 progress(i + 1, len(runs))
         return _filled(out)
-    with _pool(workers) as pool:
+    pool = _pool(workers)
+    try:
         futures = {pool.submit(run_one, r): i for i, r in enumerate(runs)}
-        for done, f in enumerate(as_completed(futures), 1):
-            out[futures[f]] = f.result()
-            if progress:
-                progress(done, len(runs))
+        pending, done = set(futures), 0
+        while pending:
+            stop()
+            ready, pending = wait(pending, timeout=0.2, return_when=FIRST_COMPLETED)
+            for f in ready:
+                out[futures[f]] = f.result()
+                done += 1
+                if progress:
+                    progress(done, len(runs))
+    except BaseException:  # a stop (or an error): no more runs, the running ones ended now
+        for process in list(getattr(pool, "_processes", {}).values()):
+            process.terminate()
+        pool.shutdown(wait=True, cancel_futures=True)
+        raise
+    pool.shutdown(wait=True)
     return _filled(out)
 
 
-def _ray(runs, workers, address, progress) -> list[dict]:
+def _ray(runs, workers, address, progress, stop, out) -> list[dict]:
     try:
         import ray
     except ImportError:
@@ -116,19 +151,25 @@ def _ray(runs, workers, address, progress) -> list[dict]:
     if started:
         local = {} if address else {"num_cpus": workers, "_node_ip_address": "127.0.0.1"}  # loopback only
         ray.init(address=address, include_dashboard=False, log_to_driver=False, configure_logging=False, **local)
+    pending: list = []
     try:
         remote = ray.remote(num_cpus=1)(run_one)
         refs = [remote.remote(r) for r in runs]
         index = {ref: i for i, ref in enumerate(refs)}
-        out: list[dict | None] = [None] * len(runs)
         pending, done = list(refs), 0
         while pending:
-            ready, pending = ray.wait(pending, num_returns=1)
-            out[index[ready[0]]] = ray.get(ready[0])
-            done += 1
-            if progress:
-                progress(done, len(runs))
+            stop()
+            ready, pending = ray.wait(pending, num_returns=1, timeout=0.2)
+            for ref in ready:
+                out[index[ref]] = ray.get(ref)
+                done += 1
+                if progress:
+                    progress(done, len(runs))
         return _filled(out)
+    except BaseException:
+        for ref in pending:  # no more runs
+            ray.cancel(ref, force=True)
+        raise
     finally:
         if started:
             ray.shutdown()

@@ -244,15 +244,21 @@ def _progress_loop(sim, duration: float, realtime: bool, on_step, steps: _StepCo
 def _run_viewer(sim, duration: float, screenshot: Path | None, video: Path | None, steps: _StepCount) -> None:
     import warnings
 
+    from usvsim.cli.stopping import Stopped, StopSignals
     from usvsim.viewer import run_viewer
 
     try:
-        with warnings.catch_warnings():
+        # Ctrl-C or SIGTERM ends the viewer between two frames, as Esc does (a KeyboardInterrupt landed anywhere,
+        # a physics step or a recorder's write included, and the steps taken were not counted; SIGTERM killed it)
+        with warnings.catch_warnings(), StopSignals() as stop:
             warnings.simplefilter("ignore")  # GLFW repeats its own error as a warning
-            stats = run_viewer(sim, max_seconds=duration, screenshot=screenshot, video=video)
+            stats = run_viewer(sim, max_seconds=duration, screenshot=screenshot, video=video,
+                               stop=lambda: bool(stop.signum))  # fmt: skip
         steps.n = stats["steps"]
     except RuntimeError as exc:  # no display, no OpenGL
         raise UsvsimError(f"cannot open the viewer window: {exc}") from None
+    if stop.signum:
+        raise Stopped(stop.signum)
 
 
 @app.command()

@@ -1,7 +1,8 @@
 """Ctrl-C (SIGINT) and SIGTERM (`kill`, `timeout`, `docker stop`, a job scheduler) stop a command between two
 steps of its work, never inside one (where a recorder, a bridge or a file writer may be half-way through), so
-what it writes is closed complete. `usvsim run`, `usvsim task` and `usvsim dataset` use it; each exits with the
-shell's status for the signal (130 for Ctrl-C, 143 for SIGTERM).
+what it writes is closed complete. `usvsim run` (headless and in the viewer, between frames), `usvsim task`,
+`usvsim dataset` and `usvsim sweep` use it; each exits with the shell's status for the signal (130 for Ctrl-C, 143
+for SIGTERM).
 
     with StopSignals() as stop:
         for step in work:

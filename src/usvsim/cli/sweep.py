@@ -26,6 +26,7 @@ def sweep(
     from usvsim.batch import expand, run
     from usvsim.batch.spec import SweepSpec
     from usvsim.cli.outputs import prepare_file
+    from usvsim.cli.stopping import Stopped, StopSignals, exit_status, signal_name
     from usvsim.config import safe_yaml
 
     try:
@@ -39,10 +40,19 @@ def sweep(
         runs = expand(config)
         prepare_file(out)  # a bad --out path fails now, not after every run
         columns = (TextColumn("sweep"), BarColumn(), MofNCompleteColumn(), TimeElapsedColumn())
-        with Progress(*columns, console=console, transient=True) as bar:  # gone when done: an error stays one line
+        finished: list[dict | None] = [None] * len(runs)
+        signum = 0
+        # Ctrl-C or SIGTERM: the runs still going are ended and not written (a run is scored whole), the finished
+        # ones are (they were lost, and forked workers went on running after the sweep's process had gone)
+        with StopSignals() as stop, Progress(*columns, console=console, transient=True) as bar:
             job = bar.add_task("runs", total=len(runs))
-            results = run(runs, backend or config.backend, workers or config.workers, config.address,
-                          progress=lambda done, total: bar.update(job, completed=done))  # fmt: skip
+            try:
+                run(runs, backend or config.backend, workers or config.workers, config.address,
+                    progress=lambda done, total: bar.update(job, completed=done), stop=stop.check,
+                    finished=finished)  # fmt: skip
+            except Stopped as exc:
+                signum = exc.signum
+        results = [r for r in finished if r is not None]
     except UsvsimError as exc:
         fail(exc)
     lines = "".join(json.dumps(r, default=float) + "\n" for r in results)
@@ -52,7 +62,12 @@ def sweep(
         typer.echo(lines, nl=False)  # nothing lost: the results go to stdout instead
         fail(f"cannot write {out}: {exc.strerror or exc}; the results were printed to stdout instead")
     scores = [r["score"] for r in results]
-    typer.echo(f"{len(results)} runs, mean score {sum(scores) / len(scores):.4g}; wrote {out}")
+    mean = f"mean score {sum(scores) / len(scores):.4g}" if scores else "no score"
+    if signum:
+        typer.echo(f"stopped ({signal_name(signum)}): {len(results)} of {len(runs)} runs finished, {mean}; wrote "
+                   f"them to {out} (the runs under way are not scored)")  # fmt: skip
+        raise typer.Exit(exit_status(signum))
+    typer.echo(f"{len(results)} runs, {mean}; wrote {out}")
 
 
 def _first_error(exc: Exception) -> str:

@@ -9,7 +9,7 @@ on/off, Esc quit; mouse drag orbits, scroll zooms; a gamepad (GLFW mapping) driv
 from __future__ import annotations
 
 import time
-from collections.abc import Iterable
+from collections.abc import Callable, Iterable
 from pathlib import Path
 
 import glfw
@@ -119,12 +119,14 @@ class ViewerWindow:
 def run_viewer(sim, vessel: str | None = None, script: Iterable[ScriptEvent] = (), max_seconds: float | None = None,
                screenshot: str | Path | None = None, width: int = 1280, height: int = 720, time_scale: float = 1.0,
                max_fps: float = 60.0, points: Layer = None, inset: Layer = None, gamepad: bool = True,
-               camera: FollowCamera | None = None, video: str | Path | None = None) -> dict:  # fmt: skip
+               camera: FollowCamera | None = None, video: str | Path | None = None,
+               stop: Callable[[], bool] | None = None) -> dict:  # fmt: skip
     """Open the interactive viewer on `sim` and run until the window closes, Esc, or `max_seconds` of
     simulation time (counted from t = 0 of the clock as it is now; a reset mid-run does not add to it). `script`: (sim_time_s, key, action) events replayed like real key presses.
     `points` / `inset`: an (n, 3) world-point array / (h, w, 3) image, or callables of `sim` returning one.
     Returns {"frames", "wall_s", "sim_s", "steps", "fps"} (sim_s, steps: stepped here, across resets); writes the last frame to `screenshot` if given, every frame
-    to `video` (MP4/AVI) if given; the P key saves a screenshot in the working directory."""
+    to `video` (MP4/AVI) if given; the P key saves a screenshot in the working directory. `stop()` is asked
+    between frames (never inside a physics step): True ends the run as Esc does (the CLI's Ctrl-C and SIGTERM)."""
     driver = ManualDriver(sim, vessel, script, time_scale, gamepad=read_gamepad if gamepad else None)
     if max_seconds is not None:  # the steps to go from the clock's time now; a reset (R, /reset) adds none
         driver.stop_at_step = max(0, round(max_seconds / sim.clock.dt) - sim.clock.steps)
@@ -138,7 +140,8 @@ def run_viewer(sim, vessel: str | None = None, script: Iterable[ScriptEvent] = (
             window.frame(now - last if frames else 0.0)
             last, frames = now, frames + 1
             done = (driver.quit or glfw.window_should_close(window.window)
-                    or (driver.stop_at_step is not None and driver.steps_taken >= driver.stop_at_step))  # fmt: skip
+                    or (driver.stop_at_step is not None and driver.steps_taken >= driver.stop_at_step)
+                    or (stop is not None and stop()))  # fmt: skip
             capture.frame(window, sim.time, driver.take_screenshot_request())
             if done and screenshot is not None:
                 window.screenshot(screenshot)  # the back buffer, before it is swapped away
