@@ -112,3 +112,32 @@ def test_a_viewer_that_cannot_open_leaves_no_recording_behind(tmp_path, monkeypa
     scenario.write_text("version: 1\nvessels: [{name: a, model: otter}]\n")
     one_line_error(invoke("run", str(scenario), "--view", "--duration", "0.1", "--record", str(out)), "viewer", "display")
     assert not out.exists()
+
+
+def test_a_stop_during_the_set_up_is_taken_before_the_first_step(tmp_path, monkeypatch):
+    """SIGTERM while the run was still setting up (kernels compiling, DDS starting) killed the process and left a
+    recording with only its header (`usvsim recover` needed); now the run stops before its first step, the
+    recording closed complete, exit 143."""
+    import os
+    import signal
+
+    from mcap.reader import make_reader
+    from readers import read_with_mcap_ros2
+
+    import usvsim.cli.app as cli_app
+
+    real_open = cli_app._open_run
+
+    def open_then_terminated(*args):
+        opened = real_open(*args)
+        os.kill(os.getpid(), signal.SIGTERM)  # arrives during the set-up, once the recording is open
+        return opened
+
+    monkeypatch.setattr(cli_app, "_open_run", open_then_terminated)
+    out = tmp_path / "x.mcap"
+    result = invoke("run", "harbor", "--duration", "5", "--record", str(out))
+    assert result.exit_code == 143, result.output
+    assert "stopped (SIGTERM): simulated 0.00 s" in result.output
+    with out.open("rb") as f:  # complete: its summary written (a file cut short has none)
+        assert make_reader(f).get_summary() is not None
+    assert {t for t, _, _ in read_with_mcap_ros2(out)} <= {"/tf_static", "/usvsim/episode"}  # no step was taken

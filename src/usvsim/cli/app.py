@@ -121,11 +121,16 @@ def run(
                 fail(exc)
     if view:  # camera sensors then render in hidden GLFW windows beside the viewer's (an EGL context beside
         os.environ["MUJOCO_GL"] = "glfw"  # a GLX window fails with X BadAccess in glXMakeCurrent)
-    with ExitStack() as stack:  # closes bridges, then the recorder, then the simulation, on every path
+    from usvsim.cli.stopping import StopSignals
+
+    # closes bridges, then the recorder, then the simulation, on every path; a stop during the set-up (kernels
+    # compiling, DDS starting) is taken before the first step (it killed the process, the recording a bare header)
+    with ExitStack() as stack, StopSignals() as setup:
         sim, recorder, bridges = _open_run(stack, scenario, seed, record, force, options)
         interrupted = 0  # the signal that stopped the run (SIGINT: Ctrl-C; SIGTERM: kill, timeout, docker stop)
         start, steps = time.perf_counter(), _StepCount()
         try:
+            setup.check()
             if view:
                 _run_viewer(sim, duration, screenshot, video, steps)
             else:
