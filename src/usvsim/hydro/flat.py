@@ -20,7 +20,14 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from usvsim.hydro.hydrostatics import _clear_segment, _cut_face, _depth_moments, _store_body, _store_segment
+from usvsim.hydro.hydrostatics import (
+    _add_face,
+    _clear_segment,
+    _cut_face,
+    _depth_moments,
+    _store_body,
+    _store_segment,
+)
 
 CLUSTER_FACES = 16  # faces per cluster at most (measured: 8-32 cost about the same on the WAM-V; 16 the least)
 WIDTH = 112  # coefficients per cluster: AF 12, AT 12, AQS 36, AE 48, AS 3, area 1
@@ -215,25 +222,13 @@ def flat_hydrostatics(verts_rel, cl_vert_ptr, cl_verts, faces, face_area, face_o
                     terms, p, q = _cut_face(r0, r1, r2, h0, h1, h2, -h0, -h1, -h2, n_below)
                     w, qx, qy, qz, e, frac = terms
                     _store_segment(seg, seg_count, f, p, q, cx, cy, cz)
-                ux, uy, uz = r1[0] - r0[0], r1[1] - r0[1], r1[2] - r0[2]
-                vx, vy, vz = r2[0] - r0[0], r2[1] - r0[1], r2[2] - r0[2]
-                sx = uy * vz - uz * vy
-                sy = uz * vx - ux * vz
-                sz = ux * vy - uy * vx
-                fx += w * sx
-                fy += w * sy
-                fz += w * sz
-                tx += qy * sz - qz * sy
-                ty += qz * sx - qx * sz
-                tz += qx * sy - qy * sx
-                vol -= w * sz
-                mx -= qx * sz
-                my -= qy * sz
-                mz -= (qz + e) * sz
+                running = (fx, fy, fz, tx, ty, tz, vol, mx, my, mz, awp)
+                fx, fy, fz, tx, ty, tz, vol, mx, my, mz, awp = _add_face(
+                    running, r0, r1, r2, w, qx, qy, qz, w, qx, qy, qz, e, frac
+                )
                 a_sub = frac * face_area[f]
                 face_area_sub[f] = a_sub
                 wet += a_sub
-                awp -= frac * sz
         if wet_clusters:  # the submerged clusters' sums, body frame → world
             bx, by, bz = acc[0], acc[1], acc[2]
             fx += r00 * bx + r01 * by + r02 * bz

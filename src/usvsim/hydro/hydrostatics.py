@@ -206,6 +206,32 @@ def _store_body(b, sums, c, rho_g, force, torque, volume, cob, wetted_area, wate
 FACE_UNKNOWN, FACE_DRY, FACE_WET, FACE_CUT = 0, 1, 2, 3
 
 
+@njit(cache=True, inline="always")
+def _add_face(sums, r0, r1, r2, wp, qxp, qyp, qzp, w, qx, qy, qz, e, frac):
+    """`sums` (fx, fy, fz, tx, ty, tz, vol, mx, my, mz, awp) plus one face's submerged part: pressure force and
+    moment from its depth moments (`wp`, `qxp`..: with Froude–Krylov heads, else the hydrostatic `w`, `qx`..),
+    displaced volume and its moments (`w`, `qx`.., `e`), waterplane area (`frac` of the face under water). C = 2 A n,
+    twice the parent's area vector; sub-triangles share its normal."""
+    fx, fy, fz, tx, ty, tz, vol, mx, my, mz, awp = sums
+    ux, uy, uz = r1[0] - r0[0], r1[1] - r0[1], r1[2] - r0[2]
+    vx, vy, vz = r2[0] - r0[0], r2[1] - r0[1], r2[2] - r0[2]
+    sx = uy * vz - uz * vy
+    sy = uz * vx - ux * vz
+    sz = ux * vy - uy * vx
+    fx += wp * sx
+    fy += wp * sy
+    fz += wp * sz
+    tx += qyp * sz - qzp * sy
+    ty += qzp * sx - qxp * sz
+    tz += qxp * sy - qyp * sx
+    vol -= w * sz
+    mx -= qx * sz
+    my -= qy * sz
+    mz -= (qz + e) * sz
+    awp -= frac * sz
+    return fx, fy, fz, tx, ty, tz, vol, mx, my, mz, awp
+
+
 @njit(cache=True, inline="always")  # inlined into the caller: one loop in its body (see hull_hydrostatics)
 def _body_faces(vertices, faces, face_area, f_lo, f_hi, v_off, out_off, eta, head, fk, cx, cy, cz,
                 face_area_sub, seg, seg_count, face_state):  # fmt: skip
@@ -258,29 +284,16 @@ def _body_faces(vertices, faces, face_area, f_lo, f_hi, v_off, out_off, eta, hea
                 face_state[o] = FACE_CUT
         if not fk:
             wp, qxp, qyp, qzp = w, qx, qy, qz
-        # C = 2 A n, twice the parent's area vector; sub-triangles share its normal
-        ux, uy, uz = r1[0] - r0[0], r1[1] - r0[1], r1[2] - r0[2]
-        vx, vy, vz = r2[0] - r0[0], r2[1] - r0[1], r2[2] - r0[2]
-        sx = uy * vz - uz * vy
-        sy = uz * vx - ux * vz
-        sz = ux * vy - uy * vx
-        fx += wp * sx
-        fy += wp * sy
-        fz += wp * sz
-        tx += qyp * sz - qzp * sy
-        ty += qzp * sx - qxp * sz
-        tz += qxp * sy - qyp * sx
-        vol -= w * sz
-        mx -= qx * sz
-        my -= qy * sz
-        mz -= (qz + e) * sz
+        running = (fx, fy, fz, tx, ty, tz, vol, mx, my, mz, awp)
+        fx, fy, fz, tx, ty, tz, vol, mx, my, mz, awp = _add_face(
+            running, r0, r1, r2, wp, qxp, qyp, qzp, w, qx, qy, qz, e, frac
+        )
         a_sub = frac * face_area[f]
         if face_state[o] != FACE_WET:  # (a wet face's row holds 1.0 * face_area already)
             face_area_sub[o] = a_sub
             if n_below == 3:
                 face_state[o] = FACE_WET
         wet += a_sub
-        awp -= frac * sz
     return fx, fy, fz, tx, ty, tz, vol, mx, my, mz, wet, awp
 
 
@@ -345,26 +358,13 @@ def hull_hydrostatics(vertices, faces, face_area, face_offsets, eta, head, com, 
                 _store_segment(seg, seg_count, f, p, q, cx, cy, cz)
             if not fk:
                 wp, qxp, qyp, qzp = w, qx, qy, qz
-            # C = 2 A n, twice the parent's area vector; sub-triangles share its normal
-            ux, uy, uz = r1[0] - r0[0], r1[1] - r0[1], r1[2] - r0[2]
-            vx, vy, vz = r2[0] - r0[0], r2[1] - r0[1], r2[2] - r0[2]
-            sx = uy * vz - uz * vy
-            sy = uz * vx - ux * vz
-            sz = ux * vy - uy * vx
-            fx += wp * sx
-            fy += wp * sy
-            fz += wp * sz
-            tx += qyp * sz - qzp * sy
-            ty += qzp * sx - qxp * sz
-            tz += qxp * sy - qyp * sx
-            vol -= w * sz
-            mx -= qx * sz
-            my -= qy * sz
-            mz -= (qz + e) * sz
+            running = (fx, fy, fz, tx, ty, tz, vol, mx, my, mz, awp)
+            fx, fy, fz, tx, ty, tz, vol, mx, my, mz, awp = _add_face(
+                running, r0, r1, r2, wp, qxp, qyp, qzp, w, qx, qy, qz, e, frac
+            )
             a_sub = frac * face_area[f]
             face_area_sub[f] = a_sub
             wet += a_sub
-            awp -= frac * sz
         sums = (fx, fy, fz, tx, ty, tz, vol, mx, my, mz, wet, awp)
         _store_body(b, sums, (cx, cy, cz), rho * g, force, torque, volume, cob, wetted_area, waterplane_area)
 
