@@ -7,7 +7,8 @@
 3. Two `noisy` peers are started and killed (SIGKILL) in turn while they send garbage; the step times
    of this phase are compared with phase 2.
 4. A `match` peer with Kilted's default settings only (no profile at all) takes a few messages of every topic.
-Prints one JSON object.
+Every phase is bounded in wall time (at most ~520 s in all on a machine at load ~15; ~20 s when idle); a
+peer still running at its bound is killed and reported as `{"timed_out": true}`. Prints one JSON object.
 """
 
 from __future__ import annotations
@@ -17,6 +18,7 @@ import os
 import statistics
 import subprocess
 import sys
+import tempfile
 import time
 from pathlib import Path
 
@@ -46,7 +48,10 @@ def peer(mode: str, *args: str, buffers: bool = True) -> subprocess.Popen:
         profile.write_text(FASTDDS_PROFILE)
         env["FASTDDS_DEFAULT_PROFILES_FILE"] = str(profile)
     cmd = [sys.executable, str(HERE / "dds_rclpy_peer.py"), mode, *args]
-    return subprocess.Popen(cmd, env=env, stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, text=True)
+    report = tempfile.TemporaryFile("w+")  # not a pipe: a report larger than the pipe would block the peer
+    proc = subprocess.Popen(cmd, env=env, stdout=report, stderr=subprocess.DEVNULL, text=True)
+    proc.report = report  # type: ignore[attr-defined]
+    return proc
 
 
 def step_while(sim: Simulation, alive, wall_limit_s: float) -> list[float]:
@@ -62,6 +67,16 @@ def step_while(sim: Simulation, alive, wall_limit_s: float) -> list[float]:
     return durations
 
 
+def collect(proc: subprocess.Popen) -> dict:
+    """A peer's JSON report; a peer still running past its wall bound is killed and reported as timed out."""
+    if proc.poll() is None:
+        proc.kill()
+        proc.wait()
+        return {"timed_out": True}
+    proc.report.seek(0)  # type: ignore[attr-defined]
+    return json.loads(proc.report.read() or "{}")  # type: ignore[attr-defined]
+
+
 def main(seconds: float) -> dict:
     sim = Simulation.from_scenario("harbor_sensors")
     bridge = DdsBridge(sim)
@@ -70,8 +85,8 @@ def main(seconds: float) -> dict:
             sim.step()  # /tf_static is written now, long before the peer exists
         start = {name: v.position.copy() for name, v in sim.vessels.items()}
         accept = peer("accept", str(seconds))
-        steps = step_while(sim, lambda: accept.poll() is None, 200.0)
-        result = json.loads(accept.stdout.read() or "{}")
+        steps = step_while(sim, lambda: accept.poll() is None, 250.0)  # the peer's own bounds: 240 s
+        result = collect(accept)
         moved = {name: float(abs(v.position - start[name])[:2].max()) for name, v in sim.vessels.items()}
         noisy_steps = []
         for _ in range(2):
@@ -88,8 +103,8 @@ def main(seconds: float) -> dict:
             noisy.wait()
         after = step_while(sim, lambda: True, 1.0)
         defaults = peer("match", "3", buffers=False)
-        step_while(sim, lambda: defaults.poll() is None, 150.0)
-        defaults_result = json.loads(defaults.stdout.read() or "{}")
+        step_while(sim, lambda: defaults.poll() is None, 140.0)  # the peer's own bound: 120 s
+        defaults_result = collect(defaults)
     finally:
         bridge.close()
         sim.close()

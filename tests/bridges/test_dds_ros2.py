@@ -40,7 +40,7 @@ def exchange() -> dict:
     if reason:
         pytest.skip(reason)
     cmd = isolated(sys.executable, str(HERE / "dds_workload.py"), "2.0")
-    done = subprocess.run(cmd, capture_output=True, text=True, timeout=400)
+    done = subprocess.run(cmd, capture_output=True, text=True, timeout=600)  # phases bounded: ~520 s
     lines = [ln for ln in done.stdout.splitlines() if ln.startswith("RESULT ")]
     assert done.returncode == 0 and lines, done.stderr[-3000:]
     return json.loads(lines[-1][len("RESULT ") :])
@@ -48,7 +48,7 @@ def exchange() -> dict:
 
 def test_every_topic_arrives_at_its_rate_in_sim_time(exchange):
     peer = exchange["peer"]
-    assert peer, "the rclpy peer reported nothing (no /clock received?)"
+    assert peer and not peer.get("timed_out"), f"the rclpy peer reported nothing or timed out: {peer}"
     t0, t1 = peer["window_ns"]
     window_s = (t1 - t0) / 1e9
     for topic, rate in RATES_HZ.items():
@@ -62,7 +62,7 @@ def test_kilted_with_default_settings_matches_every_type(exchange):
     name instead, so every topic reaches a default Kilted node, valid. (Rates are checked above with larger
     socket buffers: with the kernel's default 208 KiB a best-effort reader may lose MB-size samples.)"""
     peer = exchange["defaults_peer"]
-    assert peer, "the default-settings rclpy peer reported nothing"
+    assert peer and not peer.get("timed_out"), f"the default-settings rclpy peer reported nothing or timed out: {peer}"
     assert peer["problems"] == []
     missing = {topic: n for topic, n in peer["counts"].items() if n < (1 if topic == "/tf_static" else 3)}
     assert not missing, f"too few messages with Kilted's default settings: {missing}"
