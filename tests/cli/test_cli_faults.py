@@ -118,7 +118,6 @@ def test_a_stop_during_the_set_up_is_taken_before_the_first_step(tmp_path, monke
     """SIGTERM while the run was still setting up (kernels compiling, DDS starting) killed the process and left a
     recording with only its header (`usvsim recover` needed); now the run stops before its first step, the
     recording closed complete, exit 143."""
-    import os
     import signal
 
     from mcap.reader import make_reader
@@ -130,7 +129,9 @@ def test_a_stop_during_the_set_up_is_taken_before_the_first_step(tmp_path, monke
 
     def open_then_terminated(*args):
         opened = real_open(*args)
-        os.kill(os.getpid(), signal.SIGTERM)  # arrives during the set-up, once the recording is open
+        # arrives during the set-up, once the recording is open (raise_signal: to this thread, so its handler runs
+        # now; a process-directed kill may be taken by a worker thread and handled steps later)
+        signal.raise_signal(signal.SIGTERM)
         return opened
 
     monkeypatch.setattr(cli_app, "_open_run", open_then_terminated)

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import os
 import signal
 from pathlib import Path
 
@@ -178,7 +177,9 @@ def test_ctrl_c_during_close_is_deferred(tmp_path: Path, monkeypatch):
     real_finish = rec._writer.finish
 
     def finish_with_ctrl_c():
-        os.kill(os.getpid(), signal.SIGINT)  # arrives while the summary is being written
+        # arrives while the summary is being written; raise_signal, not os.kill: a process-directed signal may be
+        # taken by another thread (numba's workers), whose handler can run after close() has returned
+        signal.raise_signal(signal.SIGINT)
         real_finish()
 
     monkeypatch.setattr(rec._writer, "finish", finish_with_ctrl_c)
