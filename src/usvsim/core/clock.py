@@ -29,6 +29,8 @@ def _digits(rate_hz: float) -> str:
 
 def steps_per_period(rate_hz: float, step_ns: int) -> int:
     """How many physics steps make one period of `rate_hz`; ValueError if it is not a whole number."""
+    if not isinstance(rate_hz, (int, float)) or not math.isfinite(rate_hz) or rate_hz <= 0:
+        raise ValueError(f"a rate must be a finite number of Hz > 0, not {rate_hz!r}")
     period = NS_PER_S / rate_hz
     steps = round(period / step_ns)
     if steps < 1 or abs(steps * step_ns - period) > 1e-6 * period:

@@ -44,9 +44,9 @@ class Task:
 
     def __init__(self, difficulty: int = 0, seed: int = 0, timing: TaskTiming | None = None,
                  sea_state: int | None = None):  # fmt: skip
+        self.environment = levels.environment(difficulty, sea_state)  # checks both (1.5 is no level)
         self.difficulty, self.sea_state = int(difficulty), sea_state
         self.timing = timing or TaskTiming()
-        self.environment = levels.environment(self.difficulty, sea_state)
         self.collisions = CollisionCounter(self.collision_buffer_s)
         self.seed = int(seed)
         self.sample(np.random.default_rng(self.seed))

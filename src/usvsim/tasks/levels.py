@@ -17,6 +17,8 @@ def environment(difficulty: int, sea_state: int | None = None) -> dict:
     """The scenario `environment` section (a plain dict) of a difficulty level."""
     if difficulty not in LEVELS:
         raise UsvsimError(f"difficulty must be one of {sorted(LEVELS)}, not {difficulty!r}")
+    if sea_state is not None and (isinstance(sea_state, bool) or sea_state not in range(10)):
+        raise UsvsimError(f"sea_state must be a WMO sea-state code 0-9 or None, not {sea_state!r}")
     preset = LEVELS[difficulty]
     sea = {"type": "flat"} if preset == "calm" else {"type": "vrx", "preset": preset}
     if sea_state is not None:

@@ -15,6 +15,14 @@ class TaskTiming:
     ready_s: float = 0.0
     running_s: float = 300.0
 
+    def __post_init__(self) -> None:
+        for key in ("initial_s", "ready_s", "running_s"):
+            value = getattr(self, key)
+            if not isinstance(value, (int, float)) or not math.isfinite(value) or value < 0 \
+                    or (key == "running_s" and value == 0):  # fmt: skip
+                bound = "> 0" if key == "running_s" else ">= 0"
+                raise ValueError(f"TaskTiming.{key} must be a finite number of seconds {bound}, not {value!r}")
+
     @property
     def start_s(self) -> float:
         return self.initial_s + self.ready_s

@@ -41,9 +41,7 @@ class TaskEnv(gym.Env):
         from usvsim.simulation import Simulation
 
         observation = (observation,) if isinstance(observation, str) else tuple(observation)
-        if task not in TASKS or action_type not in ("thrusters", "velocity") or not set(observation) <= set(OBSERVATIONS) \
-                or not observation:
-            raise ValueError(f"task in {list(TASKS)}, action_type thrusters|velocity, observation in {OBSERVATIONS}")
+        _check_options(task, action_type, observation, time_limit_s)
         self.observation = observation
         limit_numba_threads(numba_threads)
         self.render_mode, self.action_type = render_mode, action_type
@@ -76,7 +74,7 @@ class TaskEnv(gym.Env):
         return self._observe(), self.task.info() | {"seed": episode_seed}
 
     def step(self, action):
-        self._act(np.asarray(action, dtype=float))
+        self._act(action)
         for _ in range(self._every):
             self.sim.step()
             self.task.update()
@@ -111,9 +109,7 @@ class TaskEnv(gym.Env):
             self._controller.reset()
 
     def _act(self, action: np.ndarray) -> None:
-        if not np.all(np.isfinite(action)):
-            raise ValueError(f"action must be finite, got {action}")
-        action = np.clip(action, -1.0, 1.0)
+        action = check_action(action, self.action_space.shape[0])
         if self.action_type == "thrusters":
             for t, u in zip(self._thrusters, action):
                 t.command(float(u))
@@ -140,3 +136,30 @@ class TaskEnv(gym.Env):
         head = [u, w, float(s.omega_body[i, 2]), roll, pitch]
         thrust = (self.sim.thrusters.thrust[self._thruster_ids] / self._max_thrust).tolist()
         return np.array(head + thrust + self.task.features().tolist(), dtype=np.float32)
+
+
+def _check_options(task: str, action_type: str, observation: tuple, time_limit_s: float) -> None:
+    """ValueError naming the first bad constructor argument."""
+    if task not in TASKS:
+        raise ValueError(f"task must be one of {list(TASKS)}, not {task!r}")
+    if action_type not in ("thrusters", "velocity"):
+        raise ValueError(f"action_type must be 'thrusters' or 'velocity', not {action_type!r}")
+    unknown = [o for o in observation if o not in OBSERVATIONS]
+    if unknown or not observation:
+        raise ValueError(f"observation must be one or more of {OBSERVATIONS}, not {observation!r}")
+    if not isinstance(time_limit_s, (int, float)) or not math.isfinite(time_limit_s) or time_limit_s <= 0:
+        raise ValueError(f"time_limit_s must be a finite number of seconds > 0, not {time_limit_s!r}")
+
+
+def check_action(action, n: int) -> np.ndarray:
+    """An action as n floats clipped to [-1, 1]; ValueError for another shape or a non-finite value (a
+    shorter action used to leave the remaining thrusters at their last command)."""
+    try:
+        values = np.asarray(action, dtype=float)
+    except (TypeError, ValueError):
+        raise ValueError(f"action must be {n} numbers in [-1, 1], got {action!r}") from None
+    if values.shape != (n,):
+        raise ValueError(f"action must have shape ({n},), got shape {values.shape}")
+    if not np.all(np.isfinite(values)):
+        raise ValueError(f"action must be finite, got {values}")
+    return np.clip(values, -1.0, 1.0)

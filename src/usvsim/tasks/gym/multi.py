@@ -18,6 +18,7 @@ from pettingzoo import ParallelEnv
 from usvsim.config.scenario import Scenario
 from usvsim.core.clock import steps_per_period
 from usvsim.tasks import levels
+from usvsim.tasks.gym.env import check_action
 from usvsim.tasks.pose_error import StationKeepingScorer
 from usvsim.tasks.timing import limit_numba_threads
 
@@ -29,6 +30,10 @@ class MultiStationKeeping(ParallelEnv):
                  time_limit_s: float = 60.0, numba_threads: int | None = 1):  # fmt: skip
         from usvsim.simulation import Simulation
 
+        if not isinstance(vessels, int) or vessels < 1:
+            raise ValueError(f"vessels must be a whole number >= 1, not {vessels!r}")
+        if not isinstance(time_limit_s, (int, float)) or not math.isfinite(time_limit_s) or time_limit_s <= 0:
+            raise ValueError(f"time_limit_s must be a finite number of seconds > 0, not {time_limit_s!r}")
         limit_numba_threads(numba_threads)
         self.possible_agents = [f"wamv_{k}" for k in range(vessels)]
         self.starts = {a: (0.0, 20.0 * (k - (vessels - 1) / 2)) for k, a in enumerate(self.possible_agents)}
@@ -63,8 +68,13 @@ class MultiStationKeeping(ParallelEnv):
         return {a: self._observe(a) for a in self.agents}, {a: {} for a in self.agents}
 
     def step(self, actions):
+        if not self.agents:
+            raise RuntimeError("every agent is done: call reset() before step()")
+        unknown = [a for a in actions if a not in self.agents]
+        if unknown:
+            raise ValueError(f"actions for unknown or finished agents {unknown}; agents are {self.agents}")
         for a, act in actions.items():
-            for t, u in zip(self.sim.vessels[a].thrusters.values(), np.clip(act, -1.0, 1.0)):
+            for t, u in zip(self.sim.vessels[a].thrusters.values(), check_action(act, 4)):
                 t.command(float(u))
         sums = dict.fromkeys(self.agents, 0.0)
         for _ in range(self._every):

@@ -1,0 +1,105 @@
+"""Bad arguments and actions to the Gymnasium and PettingZoo envs: a clear exception naming the value.
+
+Before: an action with 3 values for the WAM-V's 4 thrusters was taken (zip dropped the 4th thruster, which
+kept its last command); time_limit_s=nan failed with 'cannot convert float NaN to integer', -1 gave an
+episode that ended at once; difficulty=1.5 ran level 1; sea_state=12 raised pydantic's multi-line
+ValidationError; a wrong action_type or observation listed the options without naming the bad one."""
+
+import math
+
+import numpy as np
+import pytest
+
+gymnasium = pytest.importorskip("gymnasium")
+
+import usvsim.tasks.gym  # noqa: E402
+from usvsim.core.errors import UsvsimError  # noqa: E402
+from usvsim.tasks.timing import TaskTiming  # noqa: E402
+
+
+@pytest.fixture(scope="module")
+def env():
+    env = gymnasium.make("usvsim/StationKeeping-v0", time_limit_s=5.0).unwrapped
+    env.reset(seed=0)
+    yield env
+    env.close()
+
+
+@pytest.mark.parametrize(
+    ("action", "words"),
+    [
+        (np.zeros(3, np.float32), r"shape \(4,\), got shape \(3,\)"),
+        (np.zeros(5), r"shape \(4,\), got shape \(5,\)"),
+        (np.zeros((1, 4)), r"shape \(4,\), got shape \(1, 4\)"),
+        (0.5, r"shape \(4,\), got shape \(\)"),
+        ([0.1, math.nan, 0.0, 0.0], "finite"),
+        (["a", "b", "c", "d"], "4 numbers"),
+    ],
+)
+def test_a_bad_action_is_refused_and_commands_nothing(env, action, words):
+    env.step(np.full(4, 0.3, np.float32))
+    clock = env.sim.clock.steps
+    with pytest.raises(ValueError, match=words):
+        env.step(action)
+    assert env.sim.clock.steps == clock  # nothing stepped
+    assert env.sim.thrusters.cmd_u[env._thruster_ids].tolist() == pytest.approx([0.3] * 4)  # nothing commanded
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "words"),
+    [
+        ({"time_limit_s": math.nan}, "time_limit_s .* not nan"),
+        ({"time_limit_s": -1.0}, "time_limit_s .* not -1.0"),
+        ({"time_limit_s": 0}, "time_limit_s .* not 0"),
+        ({"action_type": "thrust"}, "action_type .* not 'thrust'"),
+        ({"observation": ("state", "radar")}, r"observation .* not \('state', 'radar'\)"),
+        ({"task": "stationkeeping"}, "task must be one of .* not 'stationkeeping'"),
+        ({"control_rate_hz": 0.0}, "rate .* not 0.0"),
+        ({"control_rate_hz": math.nan}, "rate .* not nan"),
+    ],
+)
+def test_bad_env_arguments_name_the_value(kwargs, words):
+    with pytest.raises(ValueError, match=words):
+        usvsim.tasks.gym.TaskEnv(**({"time_limit_s": 1.0} | kwargs))
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "words"),
+    [
+        ({"difficulty": 1.5}, "difficulty must be one of .* not 1.5"),
+        ({"sea_state": 12}, "sea_state must be .* 0-9 .* not 12"),
+        ({"sea_state": -1}, "sea_state must be .* not -1"),
+    ],
+)
+def test_bad_levels_name_the_value(kwargs, words):
+    with pytest.raises(UsvsimError, match=words):
+        usvsim.tasks.gym.TaskEnv(time_limit_s=1.0, **kwargs)
+
+
+def test_task_timing_refuses_non_finite_or_negative_durations():
+    for kwargs in ({"running_s": math.nan}, {"running_s": 0.0}, {"ready_s": -1.0}, {"initial_s": math.inf}):
+        with pytest.raises(ValueError, match=f"TaskTiming.{next(iter(kwargs))}"):
+            TaskTiming(**kwargs)
+    assert TaskTiming(ready_s=20.0, running_s=1.0).start_s == 20.0
+
+
+def test_multi_env_refuses_bad_actions_and_steps_after_the_end():
+    from usvsim.tasks.gym.multi import MultiStationKeeping
+
+    with pytest.raises(ValueError, match="time_limit_s .* not nan"):
+        MultiStationKeeping(vessels=2, time_limit_s=math.nan)
+    with pytest.raises(ValueError, match="vessels .* not 0"):
+        MultiStationKeeping(vessels=0)
+    env = MultiStationKeeping(vessels=2, time_limit_s=0.1)
+    env.reset(seed=0)
+    with pytest.raises(ValueError, match=r"shape \(4,\), got shape \(2,\)"):
+        env.step({"wamv_0": np.zeros(2, np.float32)})
+    with pytest.raises(ValueError, match="finite"):
+        env.step({"wamv_1": np.full(4, np.nan, np.float32)})
+    with pytest.raises(ValueError, match=r"unknown or finished agents \['wamv_7'\]"):
+        env.step({"wamv_7": np.zeros(4, np.float32)})
+    *_, truncs, _ = env.step({a: np.zeros(4, np.float32) for a in env.agents})
+    assert all(truncs.values()) and env.agents == []
+    with pytest.raises(RuntimeError, match="reset"):
+        env.step({})
+    env.close()
