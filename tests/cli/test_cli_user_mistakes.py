@@ -480,6 +480,16 @@ def test_brackets_in_an_error_are_printed_as_they_are(tmp_path):
     one_line_error(invoke("dataset", tmp_path / "runs[ab].yaml", "--out", tmp_path / "ds"), "runs[ab].yaml")
 
 
+def test_a_look_range_past_a_keys_bounds_is_refused_before_any_frame(tmp_path):
+    """uniform: [-50, 100] on fog.visibility_m (> 0) passed the check of one draw and failed with a traceback
+    at the first frame that drew a negative value, leaving frames without annotations or dataset.json."""
+    rnd = tmp_path / "rnd.yaml"
+    rnd.write_text("version: 1\nlook: {fog.visibility_m: {uniform: [-50, 100]}}\n")
+    result = invoke("dataset", "buoy_field", "--frames", "1", "--randomize", rnd, "--out", tmp_path / "ds")
+    one_line_error(result, f"randomization {rnd}", "look.fog.visibility_m", "greater than 0, got -50")
+    assert not list((tmp_path / "ds").glob("*"))  # no frame written
+
+
 @pytest.mark.parametrize(
     ("text", "words"),
     [
@@ -492,6 +502,11 @@ def test_brackets_in_an_error_are_printed_as_they_are(tmp_path):
         ("look: {sun.azimuth_dg: 30}\n", ["look.sun.azimuth_dg: unknown key", "rendering"]),  # was a tuple repr
         ("environment: {sea.hs_m: 1.0}\n",  # the scenario has no sea: it blamed the scenario file for sea.type
          ["randomization", "environment", "the drawn values make the scenario's environment.sea.type invalid"]),
+        # these three were a traceback ('ValueError: high - low < 0', 'scale < 0') or silently all one value
+        ("look: {sun.elevation_deg: {uniform: [60, 5]}}\n", ["look.sun.elevation_deg: uniform: low 60 is above high 5"]),
+        ("scene: {buoy_offset_m: {normal: [0, -1]}}\n", ["scene.buoy_offset_m: normal: the stddev -1 is negative"]),
+        ("look: {sun.elevation_deg: {normal: [10, 5], clip: [20, 0]}}\n",
+         ["look.sun.elevation_deg: clip: low 20 is above high 0"]),
     ],
 )
 def test_randomization_file_mistakes_are_one_line_in_its_words(tmp_path, text, words):

@@ -126,6 +126,23 @@ def test_bad_randomization_and_cli_errors(tmp_path):
     assert not (tmp_path / "z").exists()  # nothing written
 
 
+def test_a_bad_draw_mid_run_keeps_the_frames_before_it(tmp_path):
+    """A normal without clip on a bounded key (fog visibility > 0) draws a bad value some frames in: it was a
+    pydantic traceback, with the frames written so far left without annotations, data.yaml or dataset.json.
+    Now a UsvsimError naming the key and the value, and a complete set of the frames before it."""
+    rnd = tmp_path / "r.yaml"
+    rnd.write_text("version: 1\nper: frame\nlook: {fog.visibility_m: {normal: [100, 60]}}\n")
+    out = tmp_path / "set"
+    with pytest.raises(UsvsimError, match=r"look.fog.visibility_m: .*greater than 0, got -.*stopped at frame 6") as e:
+        generate(DatasetSpec("buoy_field", 30, out, seed=4, randomize=str(rnd), resolution=(64, 48)))  # 7th draw < 0
+    assert "\n" not in str(e.value)
+    meta = json.loads((out / "dataset.json").read_text())
+    assert (meta["frames"], meta["frames_requested"], meta["stopped"]) == (6, 30, "error")
+    coco = [json.loads((out / "annotations" / f"{s}.json").read_text()) for s in ("train", "val", "test")]
+    assert sum(len(c["images"]) for c in coco) == 6 == len(list((out / "images").rglob("*.png")))
+    assert (out / "data.yaml").is_file()
+
+
 def test_docs_blocks_run(tmp_path, monkeypatch):
     import re
     from pathlib import Path

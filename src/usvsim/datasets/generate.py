@@ -32,7 +32,7 @@ from usvsim.core.transforms import quat_from_rpy, quat_multiply
 from usvsim.datasets.amodal import AmodalCounter
 from usvsim.datasets.labels import Labeller
 from usvsim.datasets.look import LookAdapter
-from usvsim.datasets.randomization import draw, draw_all, load_randomization, nested
+from usvsim.datasets.randomization import Choice, Normal, Uniform, draw, draw_all, load_randomization, nested
 from usvsim.datasets.writers import FORMATS, SPLITS, DatasetWriter
 from usvsim.sensors.base import OPTICAL_ROT
 from usvsim.sensors.camera.clip import camera_planes
@@ -167,14 +167,11 @@ class DatasetGenerator:
         self.rng = np.random.default_rng(spec.seed)
         self.environment = draw_all(self.rnd.environment, self.rng) if environment is None else environment
         scenario, camera_cfgs = _scenario(spec, self.environment)
-        try:  # a wrong key path in `look` fails here, before any frame
-            scenario.rendering.updated(nested(draw_all(self.rnd.look, np.random.default_rng(0))))
-        except ValidationError as exc:  # said "look: ('sun', 'azimuth_dg'): Extra inputs are not permitted"
-            err = exc.errors()[0]
-            path = ".".join(str(p) for p in err["loc"])
-            what = "unknown key" if err["type"] == "extra_forbidden" else err["msg"]
-            raise UsvsimError(f"randomization {spec.randomize}: look.{path}: {what} (keys of the scenario's "
-                              "rendering: section, docs/rendering.md)") from None  # fmt: skip
+        # a wrong key path in `look`, or a range reaching past a key's bounds, fails here, before any frame
+        for key, value in self.rnd.look.items():
+            for end in support_ends(value):
+                updated_look(scenario.rendering, {key: end}, spec.randomize)
+        updated_look(scenario.rendering, draw_all(self.rnd.look, np.random.default_rng(0)), spec.randomize)
         self.sim = Simulation(scenario, seed=spec.seed)
         self.shared: dict = {}
         self.cameras = [
@@ -198,14 +195,18 @@ class DatasetGenerator:
         (dataset.json: `frames` written, `frames_requested`, `stopped`). `self.frames_written` counts them."""
         spec, per_episode = self.spec, (1 if self.rnd.per == "frame" else self.rnd.frames_per_episode)
         workers = max(1, spec.workers)
-        stopped = None
+        stopped, failed = None, None
         with ThreadPoolExecutor(workers) as pool:
             pending: deque = deque()
             for i in range(spec.frames):
                 if stop is not None and (stopped := stop()):
                     break
                 if i % per_episode == 0:
-                    look, scene = self._episode()
+                    try:
+                        look, scene = self._episode()
+                    except UsvsimError as exc:  # a draw outside a key's bounds (a normal without clip)
+                        stopped, failed = "error", exc
+                        break
                 else:
                     self.sim.run(spec.frame_interval_s)
                 split = SPLITS[
@@ -224,6 +225,9 @@ class DatasetGenerator:
         if stopped:
             settings |= {"frames": self.frames_written, "frames_requested": spec.frames, "stopped": stopped}
         self.writer.finish(settings)
+        if failed is not None:  # the frames before it are a complete, smaller set
+            raise UsvsimError(f"{failed}; stopped at frame {self.frames_written}: the {self.frames_written} frames "
+                              f"before it are in {spec.out} (dataset.json: stopped)")  # fmt: skip
         return spec.out
 
     def close(self) -> None:
@@ -237,7 +241,7 @@ class DatasetGenerator:
     def _episode(self):
         sim = self.sim
         sim.reset(seed=int(self.rng.integers(2**31)))  # a new ocean (wave phases) every episode
-        look = sim.scenario.rendering.updated(nested(draw_all(self.rnd.look, self.rng)))
+        look = updated_look(sim.scenario.rendering, draw_all(self.rnd.look, self.rng), self.spec.randomize)
         scene = draw_scene(self.rnd.scene, self.buoys, self.rng)
         apply_scene(sim, scene, self.cameras[0][0])
         sim.run(self.spec.settle_s)
@@ -280,6 +284,29 @@ class DatasetGenerator:
         records = self.writer.coco_records(split, stem, image_id, rgb.shape, instance, labels)
         self.writer.frame(split, stem, image_id, rgb, instance, semantic, labels, meta)
         return records
+
+
+def updated_look(rendering, values: dict, randomize: str | None):
+    """The scenario's `rendering:` with drawn `look` values; a UsvsimError naming the key and the drawn value."""
+    try:
+        return rendering.updated(nested(values))
+    except ValidationError as exc:  # said "look: ('sun', 'azimuth_dg'): Extra inputs are not permitted"
+        err = exc.errors()[0]
+        path = ".".join(str(p) for p in err["loc"])
+        what = "unknown key" if err["type"] == "extra_forbidden" else f"{err['msg']}, got {err.get('input')!r}"
+        raise UsvsimError(f"randomization {randomize}: look.{path}: {what} (keys of the scenario's "
+                          "rendering: section, docs/rendering.md)") from None  # fmt: skip
+
+
+def support_ends(value) -> tuple:
+    """The values a distribution reaches at its ends (a normal without clip: its mean only)."""
+    if isinstance(value, Uniform):
+        return value.uniform
+    if isinstance(value, Normal):
+        return value.clip if value.clip else (value.normal[0],)
+    if isinstance(value, Choice):
+        return value.choice
+    return (value,)
 
 
 def _camera_config(cfg: dict) -> CameraConfig:

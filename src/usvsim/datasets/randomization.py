@@ -27,7 +27,7 @@ from typing import Annotated, Any, Literal
 
 import numpy as np
 import yaml
-from pydantic import Field, ValidationError
+from pydantic import Field, ValidationError, model_validator
 
 from usvsim.config import safe_yaml
 from usvsim.config.base import Section
@@ -47,10 +47,24 @@ Pair = Annotated[tuple[float, float], Field(min_length=2, max_length=2)]
 class Uniform(Section):
     uniform: Pair
 
+    @model_validator(mode="after")
+    def _ordered(self):
+        if self.uniform[0] > self.uniform[1]:
+            raise ValueError(f"uniform: low {self.uniform[0]:g} is above high {self.uniform[1]:g}")
+        return self
+
 
 class Normal(Section):
     normal: Pair
     clip: Pair | None = None
+
+    @model_validator(mode="after")
+    def _spread(self):
+        if self.normal[1] < 0:
+            raise ValueError(f"normal: the stddev {self.normal[1]:g} is negative")
+        if self.clip is not None and self.clip[0] > self.clip[1]:
+            raise ValueError(f"clip: low {self.clip[0]:g} is above high {self.clip[1]:g}")
+        return self
 
 
 class Choice(Section):
@@ -154,6 +168,9 @@ def _first_error(exc: ValidationError, data) -> str:
         return f"{loc[0]}: unknown key {excerpt(loc[1])}{did_you_mean(str(loc[1]), list(SCENE))}"
     if len(loc) >= 3 and loc[0] in SECTIONS:  # a value: every branch of the union failed
         key, value = f"{loc[0]}.{loc[1]}", data[loc[0]][loc[1]]
+        checked = next((e for e in errors if e["type"] == "value_error" and e["loc"][:2] == loc[:2]), None)
+        if checked is not None:  # the distribution's form is right, its parameters are not
+            return f"{key}: {str(checked['ctx']['error'])}"
         form = next((f for d, f in FORMS.items() if isinstance(value, dict) and d in value), None)
         if form is not None:
             return f"{key}: {_shown(value)} is not {form}"
