@@ -170,7 +170,7 @@ def _first_error(exc: ValidationError, data) -> str:
         key, value = f"{loc[0]}.{loc[1]}", data[loc[0]][loc[1]]
         checked = next((e for e in errors if e["type"] == "value_error" and e["loc"][:2] == loc[:2]), None)
         if checked is not None:  # the distribution's form is right, its parameters are not
-            return f"{key}: {str(checked['ctx']['error'])}"
+            return f"{key}: {checked.get('ctx', {}).get('error', checked['msg'])}"
         form = next((f for d, f in FORMS.items() if isinstance(value, dict) and d in value), None)
         if form is not None:
             return f"{key}: {_shown(value)} is not {form}"

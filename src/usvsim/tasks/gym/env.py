@@ -56,7 +56,7 @@ class TaskEnv(gym.Env):
         self._max_thrust = np.array([t.thrust.max_forward_n for t in self.vessel.model.thrusters])
         self._every = steps_per_period(control_rate_hz, self.sim.clock.step_ns)
         self._controller, self._renderer = None, None
-        n_act = len(self._thrusters) if action_type == "thrusters" else 3
+        n_act = self._n_act = len(self._thrusters) if action_type == "thrusters" else 3
         self.action_space = spaces.Box(-1.0, 1.0, (n_act,), np.float32)
         n_obs = 5 + len(self._thrusters) + self.task.n_features
         state = spaces.Box(-np.inf, np.inf, (n_obs,), np.float32)
@@ -109,7 +109,7 @@ class TaskEnv(gym.Env):
             self._controller.reset()
 
     def _act(self, action: np.ndarray) -> None:
-        action = check_action(action, self.action_space.shape[0])
+        action = check_action(action, self._n_act)
         if self.action_type == "thrusters":
             for t, u in zip(self._thrusters, action):
                 t.command(float(u))
