@@ -103,3 +103,44 @@ def test_ais_csv_values_that_cannot_be_replayed_name_the_row(tmp_path, row, mess
     with pytest.raises(ScenarioError, match=message) as info:
         read_ais_csv(tmp_path / "t.csv", GeodeticOrigin(), "s.yaml", "traffic.ships[0].motion.path")
     assert "(row 2)" in str(info.value) or "row 2 " in str(info.value)
+
+
+@pytest.mark.parametrize(
+    ("text", "message"),
+    [  # the first two were TypeError / UnicodeDecodeError tracebacks; the third was read with the extra field dropped
+        (b"time,lat,lon,sog,cog,heading\n0,59.43,10.43,5,180,511\n60,59.425,10.43,5,180\n", "row 3 has 5 fields, the header 6"),
+        (b"\xff\xfe time,lat", "not a UTF-8 text"),
+        (b"time,lat,lon,sog,cog,heading\n0,59.43,10.43,5,180,511\n\n60,59.425,10.43,5,180,180,9\n",
+         "row 4 has 7 fields, the header 6"),  # a blank line counts as a row of the file
+        (b"time,lat,lon,sog,cog,heading\n0,59.43,10.43,5,180,511\n60,abc,10.43,5,180,180\n", "row 3: lat 'abc' is not a number"),
+        (b"time,lat,lon,sog,cog,heading\n0,59.43,10.43,5,180,511\n60,59.425,10.43,5,180,180\n30,59.42,10.43,5,180,180\n",
+         r"time must increase from row to row \(row 4\)"),
+        (b"time,lat,lon,sog,cog,heading\n2026-01-01T00:00:00Z,59.43,10.43,5,180,511\n60,59.425,10.43,5,180,180\n",
+         "row 3: time '60' is not an ISO 8601 time"),
+    ],
+)
+def test_ais_csv_malformed_rows_are_one_error_naming_the_row(tmp_path, text, message):
+    (tmp_path / "t.csv").write_bytes(text)
+    with pytest.raises(ScenarioError, match=message) as info:
+        read_ais_csv(tmp_path / "t.csv", GeodeticOrigin(), "s.yaml", "traffic.ships[0].motion.path")
+    assert str(info.value).startswith("s.yaml: traffic.ships[0].motion.path: ") and "\n" not in str(info.value)
+    (tmp_path / "d.csv").mkdir()
+    with pytest.raises(ScenarioError, match="cannot read it"):
+        read_ais_csv(tmp_path / "d.csv", GeodeticOrigin(), "s.yaml", "traffic.ships[0].motion.path")
+
+
+def test_ais_csv_with_a_bom_and_utc_times_without_a_zone(tmp_path, monkeypatch):
+    """A spreadsheet's UTF-8 BOM is not part of the header ('needs a header row' before); a time without a zone
+    is UTC (as with 'Z'), not the machine's local time (here Tokyo's: the second row was 9 h before the first)."""
+    import time
+
+    rows = "2026-01-01T00:00:00Z,59.43,10.43,5,180,511\n2026-01-01T00:01:00,59.425,10.43,5,180,180\n"
+    (tmp_path / "t.csv").write_bytes(b"\xef\xbb\xbftime,lat,lon,sog,cog,heading\n" + rows.encode())
+    monkeypatch.setenv("TZ", "Asia/Tokyo")
+    time.tzset()
+    try:
+        track = read_ais_csv(tmp_path / "t.csv", GeodeticOrigin())
+    finally:
+        monkeypatch.undo()
+        time.tzset()
+    assert track.t1[-1] == 60.0

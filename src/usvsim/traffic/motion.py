@@ -10,8 +10,9 @@ from __future__ import annotations
 import csv
 import math
 from dataclasses import dataclass
-from datetime import datetime
+from datetime import UTC, datetime
 from pathlib import Path
+from typing import NoReturn
 
 import numpy as np
 import pymap3d
@@ -86,50 +87,95 @@ def hermite_track(t_s, pos_enu, vel_enu, yaw_rad) -> Track:
     return Track(t[:-1], t[1:], p[:-1], p[1:], v[:-1], v[1:], yaw[:-1], yaw_next, np.zeros(len(t) - 1, bool))
 
 
-def _time_column(values: list[str]) -> np.ndarray:
+COLUMNS = ("time", "lat", "lon", "sog", "cog", "heading")
+
+
+def _stamp(text: str) -> float:
+    """An ISO 8601 time in seconds (a time without a zone is UTC, as AIS's)."""
+    when = datetime.fromisoformat(text.replace("Z", "+00:00"))
+    return (when if when.tzinfo else when.replace(tzinfo=UTC)).timestamp()
+
+
+def _fail(where: tuple[str, str], message: str) -> NoReturn:
+    raise ScenarioError(where[0], where[1], message)
+
+
+def _column(name: str, values: list[str], rows: list[int], where: tuple[str, str], path: Path) -> np.ndarray:
+    """One CSV column as floats (`time`: seconds, or ISO 8601 times made seconds from the first)."""
+    iso = name == "time" and bool(values) and not _is_number(values[0])
+    out = np.empty(len(values))
+    for k, text in enumerate(values):
+        try:
+            out[k] = _stamp(text) if iso else float(text)
+        except ValueError:
+            what = "an ISO 8601 time like the first row's" if iso else "a number"
+            _fail(where, f"{path}: row {rows[k]}: {name} {text[:40]!r} is not {what}")
+    return out - out[0] if iso else out
+
+
+def _is_number(text: str) -> bool:
     try:
-        return np.array([float(v) for v in values])
+        float(text)
     except ValueError:
-        stamps = [datetime.fromisoformat(v.replace("Z", "+00:00")).timestamp() for v in values]
-        return np.array(stamps) - stamps[0]
+        return False
+    return True
 
 
-def _first(mask: np.ndarray) -> int:
+def _first(mask: np.ndarray, rows: list[int]) -> int:
     """The CSV row number (the header is row 1) of the first True in `mask`."""
-    return int(np.argmax(mask)) + 2
+    return rows[int(np.argmax(mask))]
+
+
+def _read_rows(path: Path, where: tuple[str, str]) -> tuple[list[list[str]], list[int], dict[str, int]]:
+    """The data rows (blank lines skipped), their row numbers and the columns' indices."""
+    try:
+        with open(path, newline="", encoding="utf-8-sig") as f:  # a BOM (spreadsheet export) is not part of the header
+            reader = csv.reader(f)
+            header = [h.strip() for h in next(reader, [])]
+            rows, numbers = [], []
+            for row in reader:
+                if row:
+                    rows.append(row)
+                    numbers.append(reader.line_num)
+    except FileNotFoundError:
+        _fail(where, f"AIS CSV not found: {path}")
+    except UnicodeDecodeError:
+        _fail(where, f"{path}: not a UTF-8 text (CSV) file")
+    except csv.Error as exc:
+        _fail(where, f"{path}: not a CSV file ({exc})")
+    except OSError as exc:
+        _fail(where, f"{path}: cannot read it: {exc.strerror or exc}")
+    if any(c not in header for c in COLUMNS):
+        _fail(where, f"{path}: needs a header row {','.join(COLUMNS)}")
+    for row, number in zip(rows, numbers):
+        if len(row) != len(header):
+            _fail(where, f"{path}: row {number} has {len(row)} fields, the header {len(header)}")
+    return rows, numbers, {c: header.index(c) for c in COLUMNS}
 
 
 def read_ais_csv(path: Path, origin, source: str = "", key: str = "") -> Track:
     """An AIS track CSV (see `config.traffic.AisReplay`) as a Hermite track in the world frame of `origin`
     (a `GeodeticOrigin`)."""
-    try:
-        with open(path, newline="") as f:
-            rows = list(csv.DictReader(f))
-        cols = {name: [r[name] for r in rows] for name in ("time", "lat", "lon", "sog", "cog", "heading")}
-    except FileNotFoundError:
-        raise ScenarioError(source, key, f"AIS CSV not found: {path}") from None
-    except (KeyError, TypeError):
-        raise ScenarioError(source, key, f"{path}: needs a header row time,lat,lon,sog,cog,heading") from None
-    try:
-        t = _time_column(cols["time"])
-        lat, lon, sog, cog, hdg = (np.array([float(v) for v in cols[c]]) for c in ("lat", "lon", "sog", "cog", "heading"))
-    except ValueError as exc:
-        raise ScenarioError(source, key, f"{path}: not a number: {exc}") from None
+    where = (source, key)
+    data, lines, index = _read_rows(path, where)
+    t, lat, lon, sog, cog, hdg = (_column(c, [r[index[c]].strip() for r in data], lines, where, path) for c in COLUMNS)
     for name, values in (("time", t), ("lat", lat), ("lon", lon), ("sog", sog), ("cog", cog), ("heading", hdg)):
         if not np.all(np.isfinite(values)):  # float() reads 'nan' and 'inf'
-            raise ScenarioError(source, key, f"{path}: {name} must be finite numbers (row {_first(~np.isfinite(values))})")
+            raise ScenarioError(source, key, f"{path}: {name} must be finite numbers (row {_first(~np.isfinite(values), lines)})")
     for name, values, lo, hi in (("lat", lat, -90, 90), ("lon", lon, -180, 180), ("sog", sog, 0, 102.2), ("cog", cog, 0, 360)):
         if np.any((values < lo) | (values > hi)):  # sog: AIS's largest, 102.2 kn
-            raise ScenarioError(source, key, f"{path}: {name} must be in [{lo}, {hi}] (row {_first((values < lo) | (values > hi))})")
+            raise ScenarioError(source, key, f"{path}: {name} must be in [{lo}, {hi}] (row {_first((values < lo) | (values > hi), lines)})")
     bad_heading = (hdg != AIS_NO_HEADING) & ((hdg < 0) | (hdg >= 360))
     if np.any(bad_heading):
-        raise ScenarioError(source, key, f"{path}: heading must be in [0, 360) or 511 (row {_first(bad_heading)})")
-    if len(t) < 2 or np.any(np.diff(t) <= 0):
+        raise ScenarioError(source, key, f"{path}: heading must be in [0, 360) or 511 (row {_first(bad_heading, lines)})")
+    if len(t) < 2:
         raise ScenarioError(source, key, f"{path}: needs at least two rows with increasing time")
+    if np.any(np.diff(t) <= 0):
+        raise ScenarioError(source, key, f"{path}: time must increase from row to row (row {_first(np.diff(t) <= 0, lines[1:])})")
     e, n, _ = pymap3d.geodetic2enu(lat, lon, 0.0, origin.latitude_deg, origin.longitude_deg, 0.0)
     far = np.maximum(np.abs(e), np.abs(n)) > MAX_COORDINATE_M
     if np.any(far):
-        raise ScenarioError(source, key, f"{path}: row {_first(far)} is more than {MAX_COORDINATE_M / 1000:.0f} km "
+        raise ScenarioError(source, key, f"{path}: row {_first(far, lines)} is more than {MAX_COORDINATE_M / 1000:.0f} km "
                             "from the world origin (world.origin)")  # fmt: skip
     course = np.radians(cog)
     vel = (sog * KNOT_MPS)[:, None] * np.stack([np.sin(course), np.cos(course)], axis=1)
