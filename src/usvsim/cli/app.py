@@ -324,7 +324,10 @@ def experiment(
     except UsvsimError as exc:
         fail(exc)
     module = importlib.import_module(EXPERIMENTS[name][0])
-    result = module.run(out)
+    try:
+        result = module.run(out)
+    except UsvsimError as exc:
+        fail(exc)
     passed = result.get("passed")
     typer.echo(json.dumps(result.get("summary", {}), indent=2, default=str))
     stem = out / name.replace("-", "_")

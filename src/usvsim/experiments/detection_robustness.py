@@ -20,6 +20,7 @@ from __future__ import annotations
 import importlib.util
 import json
 import os
+import shutil
 import subprocess
 import sys
 from pathlib import Path
@@ -44,20 +45,32 @@ def yolo_python() -> str:
     """The interpreter that runs the YOLO job: USVSIM_YOLO_PYTHON, else this one if it has ultralytics."""
     python = os.environ.get("USVSIM_YOLO_PYTHON")
     if python:
-        return python
+        found = shutil.which(python)  # a path or a name on PATH; checked before the data sets are made
+        if found is None:
+            raise UsvsimError(f"USVSIM_YOLO_PYTHON={python!r}: no such executable (a Python that has torch, "
+                              "torchvision and ultralytics; docs/datasets.md)")  # fmt: skip
+        probe = "import importlib.util, sys; sys.exit(importlib.util.find_spec('ultralytics') is None)"
+        try:
+            has = subprocess.run([found, "-c", probe], capture_output=True, timeout=120).returncode == 0
+        except (OSError, subprocess.TimeoutExpired):
+            has = False
+        if not has:
+            raise UsvsimError(f"USVSIM_YOLO_PYTHON={python!r}: cannot import ultralytics with it (it needs torch, "
+                              "torchvision and ultralytics; docs/datasets.md)")  # fmt: skip
+        return found
     if importlib.util.find_spec("ultralytics") is not None:
         return sys.executable
     raise UsvsimError("detection-robustness needs Ultralytics YOLO: set USVSIM_YOLO_PYTHON to a Python that has "
                       "torch, torchvision and ultralytics (docs/datasets.md)")  # fmt: skip
 
 
-def run_yolo(job: dict, out: Path) -> dict:
+def run_yolo(job: dict, out: Path, python: str | None = None) -> dict:
     """Runs experiments/yolo_job.py on `job` in its own process; returns its yolo_result.json."""
     out.mkdir(parents=True, exist_ok=True)
     (out / "job.json").write_text(json.dumps({**job, "out": str(out)}))
     env = dict(os.environ, YOLO_OFFLINE="1", YOLO_VERBOSE="false")
     proc = subprocess.run(
-        [yolo_python(), str(JOB), str(out / "job.json")], capture_output=True, text=True, env=env
+        [python or yolo_python(), str(JOB), str(out / "job.json")], capture_output=True, text=True, env=env
     )
     if proc.returncode != 0:
         raise UsvsimError(
@@ -153,15 +166,29 @@ def coco_map50(root: Path, predictions: dict) -> dict:
     return {"map50": float(np.mean(list(per_class.values()))), "per_class": per_class}
 
 
+SIZES = {  # key: (environment variable, default, least value)
+    "clear_frames": ("USVSIM_DR_TRAIN", 120, 2), "foggy_frames": ("USVSIM_DR_FOGGY", 40, 1),
+    "epochs": ("USVSIM_DR_EPOCHS", 40, 1), "imgsz": ("USVSIM_DR_IMGSZ", 256, 32),
+    "min_visible_pixels": ("USVSIM_DR_MIN_PIXELS", 40, 0)}  # fmt: skip
+
+
 def _sizes() -> dict:
-    env = os.environ.get
-    return {"clear_frames": int(env("USVSIM_DR_TRAIN", 120)), "foggy_frames": int(env("USVSIM_DR_FOGGY", 40)),
-            "epochs": int(env("USVSIM_DR_EPOCHS", 40)), "imgsz": int(env("USVSIM_DR_IMGSZ", 256)),
-            "min_visible_pixels": int(env("USVSIM_DR_MIN_PIXELS", 40))}  # fmt: skip
+    """The run's sizes from the environment; a UsvsimError naming the variable for a value that is not a whole
+    number at or above its least value (it was a ValueError traceback, or a data set error naming no variable)."""
+    sizes = {}
+    for key, (var, default, least) in SIZES.items():
+        text = os.environ.get(var, str(default))
+        try:
+            sizes[key] = int(text)
+        except ValueError:
+            sizes[key] = least - 1
+        if sizes[key] < least:
+            raise UsvsimError(f"{var}={text!r}: must be a whole number >= {least}")
+    return sizes
 
 
 def run(out_dir: Path) -> dict:
-    sizes = _sizes()
+    sizes, python = _sizes(), yolo_python()  # both fail now, not after the data sets are made
     work, imgsz = Path(out_dir) / "detection_robustness_data", sizes["imgsz"]
     size, formats, min_px = (imgsz, imgsz * 3 // 4), ("yolo", "coco"), sizes["min_visible_pixels"]
     clear = generate(DatasetSpec("buoy_field", sizes["clear_frames"], work / "clear", formats, 11, "clear_calm",
@@ -171,7 +198,7 @@ def run(out_dir: Path) -> dict:
     job = {"train": str(clear / "data.yaml"), "epochs": sizes["epochs"], "imgsz": imgsz, "batch": 8,
            "conf": 0.001, "train_args": TRAIN_ARGS,
            "evals": {"clear": str(clear / "data.yaml"), "foggy": str(foggy / "data.yaml")}}  # fmt: skip
-    result = run_yolo(job, work / "yolo")
+    result = run_yolo(job, work / "yolo", python)
     present = sorted({int(line.split()[0]) for root in (clear, foggy) for f in (root / "labels").rglob("*.txt")
                       for line in f.read_text().splitlines()})  # fmt: skip
     keep = [*present, len(DETECTABLE)]
