@@ -7,6 +7,8 @@ Step: queued commands (usvsim.commands) → vessel controllers (at their rates) 
 
 from __future__ import annotations
 
+import math
+import numbers
 import time
 from collections.abc import Callable, Iterable, Iterator, Mapping
 from contextlib import contextmanager
@@ -19,6 +21,7 @@ from usvsim.commands import CommandInbox
 from usvsim.config.loader import load_scenario
 from usvsim.config.scenario import Scenario
 from usvsim.control.factory import control_loop, initial_reference
+from usvsim.core.errors import UsvsimError
 from usvsim.ground_truth import GroundTruth
 from usvsim.messages.envelope import Envelope
 from usvsim.rendering.wakes import WakeTracks
@@ -156,6 +159,9 @@ class Simulation:
         self, seconds: float, realtime: bool = False, on_step: Callable[[Simulation], None] | None = None
     ):
         """Run for `seconds` of simulation time, as fast as possible or paced to the wall clock."""
+        if isinstance(seconds, bool) or not isinstance(seconds, numbers.Real) or not math.isfinite(seconds) \
+                or seconds < 0:  # fmt: skip
+            raise UsvsimError(f"run: seconds must be a finite number >= 0, not {seconds!r}")  # -1 ran no step
         clock = self.world.clock
         steps = round(seconds * 1e9 / clock.step_ns)
         start_wall = time.perf_counter()
@@ -195,6 +201,8 @@ class Simulation:
 
     def subscribe(self, callback: Callable[[Envelope], None]) -> Callable[[], None]:
         """Receive every message the simulation emits; returns a function that unsubscribes."""
+        if not callable(callback):  # it failed at the next step, far from the mistake
+            raise UsvsimError(f"subscribe: the callback must be callable (a function of one Envelope), not {callback!r}")
         self._subscribers.append(callback)
         return lambda: self._subscribers.remove(callback)
 
@@ -205,6 +213,7 @@ class Simulation:
         messages (episode marker, /tf_static). Yields the `McapRecorder`; the file is complete at exit."""
         from usvsim.io.mcap_recorder import McapRecorder
 
+        topics = [topics] if isinstance(topics, str) else topics  # one name: set("/clock") was its characters
         recorder = McapRecorder(path, compression=compression)  # type: ignore[arg-type]
         wanted = None if topics is None else set(topics)
 
