@@ -312,6 +312,10 @@ def test_errors_found_under_a_progress_bar_are_still_one_line(tmp_path):
         ("seeds: []\n", ["seeds", "at least one"]),  # no run: a ZeroDivisionError traceback after the sweep
         ("task: []\n", ["task", "at least one"]),
         ("difficulty: []\n", ["difficulty", "at least one"]),
+        ("grid: {mass_kg: []}\n", ["grid.mass_kg: give at least one"]),  # was 0 runs, exit status 0
+        ("grid: {hold: {position_gain_1ps: []}}\n", ["grid.hold.position_gain_1ps: give at least one"]),
+        # was "seeds.list[int]: Input should be a valid list" (the list branch of the union)
+        ("seeds: {start: 0, count: -2}\n", ["seeds.count: Input should be greater than or equal to 1"]),
         ("task: wayfinding\ntask: station_keeping\n", ["line 2", "task", "twice"]),  # ran the second one only
         ("task: [\n", ["not valid YAML"]),  # was the parser's several-line message
     ],

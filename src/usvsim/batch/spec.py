@@ -54,7 +54,10 @@ class SweepSpec(Section):
         from usvsim.tasks.levels import LEVELS
         from usvsim.tasks.library import TASKS
 
-        for key, values in (("task", self.task), ("difficulty", self.difficulty), ("seeds", self.seed_list())):
+        axes = [("task", self.task), ("difficulty", self.difficulty), ("seeds", self.seed_list()),
+                ("grid.mass_kg", self.grid.mass_kg), ("grid.sea_state", self.grid.sea_state),
+                *((f"grid.hold.{k}", v) for k, v in self.grid.hold.items())]  # fmt: skip
+        for key, values in axes:  # an empty grid list was 0 runs, exit status 0
             if isinstance(values, list) and not values:  # no run at all (was a ZeroDivisionError in the mean score)
                 raise ValueError(f"{key}: give at least one")
         for name in [self.task] if isinstance(self.task, str) else self.task:

@@ -74,8 +74,10 @@ def _first_error(exc: Exception) -> str:
     from pydantic import ValidationError
 
     if isinstance(exc, ValidationError):
-        e = exc.errors()[0]
-        where = ".".join(str(p) for p in e["loc"])
+        errors = exc.errors()  # a union (seeds: list or {start, count}) fails in every branch: the first error
+        # said the list branch's "Input should be a valid list" for a {start, count} with a bad count
+        e = next((x for x in errors if not x["type"].endswith("_type")), errors[0])
+        where = ".".join(str(p) for p in e["loc"] if not (isinstance(p, str) and (p[:1].isupper() or "[" in p)))
         message = e["msg"].removeprefix("Value error, ")
         if e["type"] == "extra_forbidden":
             from difflib import get_close_matches
