@@ -131,6 +131,28 @@ def test_perception_errors_capped_and_unmatched():
     assert q.score == 2.0
 
 
+def test_perception_score_before_every_object_has_gone():
+    """A time limit under the last window (30 s) gave the score NaN: 'mean score nan' and NaN in the JSON
+    report. Objects not yet shown count 10 m, one being shown its error so far."""
+    p = PerceptionScorer([PerceptionObject("red", 1.0, 10.0, 0.0), PerceptionObject("green", 10.0, 0.0, 10.0)])
+    assert p.score == 10.0
+    p.update(2.0)
+    p.report("red", 10.0, 0.5)
+    p.update(2.1)
+    assert not p.finished and p.score == pytest.approx((0.5 + 10.0) / 2)
+
+
+def test_perception_trial_shorter_than_its_objects_has_a_score():
+    import json
+
+    from usvsim.tasks import TaskTiming
+    from usvsim.tasks.solutions import run_trial
+
+    report = run_trial("perception", timing=TaskTiming(running_s=3.0))  # the first object shows at 5 s
+    assert report["score"] == 10.0
+    json.dumps(report, allow_nan=False)
+
+
 def test_timing_and_collision_buffer():
     timing = TaskTiming(10.0, 10.0, 300.0)
     assert [timing.state(t) for t in (0.0, 10.0, 20.0, 320.0)] == ["initial", "ready", "running", "finished"]

@@ -6,7 +6,8 @@ Per object (VRX `PerceptionScoringPlugin`): the object is active during (t, t + 
 time; each active object adds one attempt to the balance and removing it takes one away. Every report
 burns one attempt (ignored at balance 0); a report of the right class sets the object's error to
 min(2.0, its error, planar distance in m) while the object is active. An object never matched keeps
-10.0. When all objects are gone the score is the mean error per object (lower is better).
+10.0. The score is the mean error per object (lower is better), final when all objects are gone; before
+that, objects not yet shown count 10.0.
 """
 
 from __future__ import annotations
@@ -39,7 +40,15 @@ class PerceptionScorer:
     def reset(self) -> None:
         self.objects = [PerceptionObject(*t) for t in self.template]
         self.balance, self.pending, self.total, self.finished = 0, [], 0.0, False
-        self.score = math.nan
+
+    @property
+    def score(self) -> float:
+        """The mean error per object: its final error once shown, its error so far while shown, 10 m before.
+        It was NaN until the last object had gone (a time limit under 30 s: 'mean score nan', NaN in the JSON
+        report, which strict JSON readers refuse)."""
+        if self.finished:
+            return self.total / len(self.objects)
+        return sum(o.error_m for o in self.objects) / len(self.objects)
 
     def report(self, kind: str, x_m: float, y_m: float) -> None:
         """A team's report (class, world ENU position), processed at the next update like VRX's queue."""
@@ -59,7 +68,7 @@ class PerceptionScorer:
                 o.active, o.done = False, True
                 self.total += o.error_m
         if all(o.done for o in self.objects):
-            self.score, self.finished = self.total / len(self.objects), True
+            self.finished = True
         self._process()
 
     def _process(self) -> None:
