@@ -4,6 +4,7 @@ masks, amodal boxes containing visible ones, byte-identical output for one seed,
 from __future__ import annotations
 
 import json
+import math
 
 import numpy as np
 import pytest
@@ -141,6 +142,33 @@ def test_a_bad_draw_mid_run_keeps_the_frames_before_it(tmp_path):
     coco = [json.loads((out / "annotations" / f"{s}.json").read_text()) for s in ("train", "val", "test")]
     assert sum(len(c["images"]) for c in coco) == 6 == len(list((out / "images").rglob("*.png")))
     assert (out / "data.yaml").is_file()
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "words"),
+    [  # before: a TypeError, numpy's 'expected non-negative integer', a pydantic Camera error, or taken silently
+        ({"frames": 1.5}, "frames must be a whole number >= 1, got 1.5"),
+        ({"seed": -1}, "seed must be a whole number >= 0, got -1"),
+        ({"splits": (0.5, 0.5)}, r"splits must be three .* got \(0.5, 0.5\)"),  # was taken (no test split)
+        ({"resolution": (64.5, 48)}, "--resolution 64.5x48"),
+        ({"settle_s": math.nan}, "settle_s must be a finite number of seconds >= 0, got nan"),
+        ({"frame_interval_s": -1.0}, "frame_interval_s must be .* got -1.0"),
+    ],
+)
+def test_dataset_spec_names_a_bad_value(tmp_path, kwargs, words):
+    with pytest.raises(UsvsimError, match=words):
+        DatasetSpec(**({"scenario": "buoy_field", "frames": 1, "out": tmp_path / "x"} | kwargs))
+    assert not (tmp_path / "x").exists()
+
+
+def test_dataset_spec_takes_a_format_string_and_a_str_folder(tmp_path):
+    """formats="yolo,coco" was read letter by letter ('unknown [',', 'c', 'l', ...]'); out as a str made
+    generate() return a str (docs: a Path)."""
+    spec = DatasetSpec("buoy_field", 1, str(tmp_path / "s"), formats="yolo,coco", seed=np.int64(2),
+                       resolution=(64, 48))  # fmt: skip
+    assert spec.formats == ("yolo", "coco") and spec.out == tmp_path / "s"
+    root = generate(spec)
+    assert root == tmp_path / "s" and (root / "annotations" / "train.json").is_file() and not (root / "masks").exists()
 
 
 def test_docs_blocks_run(tmp_path, monkeypatch):

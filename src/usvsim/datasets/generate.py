@@ -13,6 +13,7 @@ fixed order: the same seed gives the same bytes.
 from __future__ import annotations
 
 import math
+import numbers
 from collections import deque
 from collections.abc import Callable
 from concurrent.futures import ThreadPoolExecutor
@@ -64,16 +65,31 @@ class DatasetSpec:
     renderer: str | None = None  # "shader" (the marine look) or "mujoco" for every camera; None: the scenario's
 
     def __post_init__(self):
+        if isinstance(self.formats, str):  # "yolo,coco" was taken letter by letter
+            object.__setattr__(self, "formats", tuple(f.strip() for f in self.formats.split(",")))
+        object.__setattr__(self, "out", Path(self.out))  # a str made generate() return a str
         bad = set(self.formats) - set(FORMATS)
         if bad or not self.formats:
             raise UsvsimError(f"--format: unknown {sorted(bad)}; choose from {', '.join(FORMATS)}")
-        if (self.frames < 1 or not all(math.isfinite(f) and f >= 0 for f in self.splits)
+        for key in ("frames", "seed"):  # 1.5 frames was a TypeError, seed -1 numpy's 'expected non-negative integer'
+            value = getattr(self, key)
+            if isinstance(value, bool) or not isinstance(value, numbers.Integral) or value < (1 if key == "frames" else 0):
+                raise UsvsimError(f"{key} must be a whole number >= {1 if key == 'frames' else 0}, got {value!r}")
+            object.__setattr__(self, key, int(value))  # numpy's int64 failed writing dataset.json, after the frames
+        if (len(self.splits) != 3 or not all(math.isfinite(f) and f >= 0 for f in self.splits)
                 or abs(sum(self.splits) - 1.0) > 1e-9):  # fmt: skip
-            raise UsvsimError("frames must be >= 1 and the splits non-negative fractions summing to 1")
-        if self.resolution and not all(8 <= n <= 4096 for n in self.resolution):
+            raise UsvsimError(f"splits must be three non-negative fractions (train, val, test) summing to 1, "
+                              f"got {tuple(self.splits)}")  # fmt: skip
+        for key in ("settle_s", "frame_interval_s"):
+            value = getattr(self, key)
+            if not (isinstance(value, numbers.Real) and math.isfinite(value) and float(value) >= 0):
+                raise UsvsimError(f"{key} must be a finite number of seconds >= 0, got {value!r}")
+        if self.resolution and not all(isinstance(n, numbers.Integral) and 8 <= n <= 4096 for n in self.resolution):
             raise UsvsimError(
                 f"--resolution {self.resolution[0]}x{self.resolution[1]}: width and height are 8-4096 px"
             )
+        if self.resolution:
+            object.__setattr__(self, "resolution", (int(self.resolution[0]), int(self.resolution[1])))
         if not 0.0 <= self.min_visible_fraction <= 1.0:  # NaN fails too
             raise UsvsimError(f"--min-visible-fraction must be in [0, 1], got {self.min_visible_fraction}")
         if self.renderer not in (None, "shader", "mujoco"):
