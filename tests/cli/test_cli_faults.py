@@ -129,9 +129,7 @@ def test_a_stop_during_the_set_up_is_taken_before_the_first_step(tmp_path, monke
 
     def open_then_terminated(*args):
         opened = real_open(*args)
-        # arrives during the set-up, once the recording is open (raise_signal: to this thread, so its handler runs
-        # now; a process-directed kill may be taken by a worker thread and handled steps later)
-        signal.raise_signal(signal.SIGTERM)
+        signal.raise_signal(signal.SIGTERM)  # arrives during the set-up, once the recording is open
         return opened
 
     monkeypatch.setattr(cli_app, "_open_run", open_then_terminated)

@@ -66,7 +66,7 @@ def test_a_task_stopped_in_its_second_trial_reports_the_first(tmp_path, monkeypa
         def each_step():
             steps[0] += 1
             if len(calls) == 2 and steps[0] == 20:
-                signal.raise_signal(signal.SIGTERM)  # as `kill PID` does, but taken by this thread at once
+                signal.raise_signal(signal.SIGTERM)  # as `kill PID` does
             after_step()
 
         return real_drive(task, sim, controller, trace, each_step, realtime)
