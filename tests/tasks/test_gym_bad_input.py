@@ -103,3 +103,16 @@ def test_multi_env_refuses_bad_actions_and_steps_after_the_end():
     with pytest.raises(RuntimeError, match="reset"):
         env.step({})
     env.close()
+
+
+def test_numpy_numbers_are_taken():
+    """The checks above must not refuse numpy scalars (np.float32(1.0) was refused by the first version)."""
+    from usvsim.tasks.solutions import run_trial
+
+    report = run_trial("station_keeping", difficulty=np.int64(0), seed=np.int64(2),
+                       timing=TaskTiming(running_s=np.float32(0.5), ready_s=np.float64(0.0)))  # fmt: skip
+    assert report["sim_time_s"] == pytest.approx(0.5)
+    env = usvsim.tasks.gym.TaskEnv(time_limit_s=np.float32(0.5), control_rate_hz=np.float64(10.0))
+    env.reset(seed=0)
+    env.step(np.zeros(4, np.float32))
+    env.close()

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+import numbers
 from dataclasses import dataclass
 
 NS_PER_S = 1_000_000_000
@@ -29,7 +30,7 @@ def _digits(rate_hz: float) -> str:
 
 def steps_per_period(rate_hz: float, step_ns: int) -> int:
     """How many physics steps make one period of `rate_hz`; ValueError if it is not a whole number."""
-    if not isinstance(rate_hz, (int, float)) or not math.isfinite(rate_hz) or rate_hz <= 0:
+    if not isinstance(rate_hz, numbers.Real) or not math.isfinite(rate_hz) or float(rate_hz) <= 0:
         raise ValueError(f"a rate must be a finite number of Hz > 0, not {rate_hz!r}")
     period = NS_PER_S / rate_hz
     steps = round(period / step_ns)

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+import numbers
 from dataclasses import dataclass
 
 
@@ -18,7 +19,7 @@ class TaskTiming:
     def __post_init__(self) -> None:
         for key in ("initial_s", "ready_s", "running_s"):
             value = getattr(self, key)
-            if not isinstance(value, (int, float)) or not math.isfinite(value) or value < 0 \
+            if not isinstance(value, numbers.Real) or not math.isfinite(value) or float(value) < 0 \
                     or (key == "running_s" and value == 0):  # fmt: skip
                 bound = "> 0" if key == "running_s" else ">= 0"
                 raise ValueError(f"TaskTiming.{key} must be a finite number of seconds {bound}, not {value!r}")

@@ -18,6 +18,7 @@ exact (bit for bit a fresh start with seed s), no model rebuild.
 from __future__ import annotations
 
 import math
+import numbers
 
 import gymnasium as gym
 import numpy as np
@@ -147,7 +148,7 @@ def _check_options(task: str, action_type: str, observation: tuple, time_limit_s
     unknown = [o for o in observation if o not in OBSERVATIONS]
     if unknown or not observation:
         raise ValueError(f"observation must be one or more of {OBSERVATIONS}, not {observation!r}")
-    if not isinstance(time_limit_s, (int, float)) or not math.isfinite(time_limit_s) or time_limit_s <= 0:
+    if not isinstance(time_limit_s, numbers.Real) or not math.isfinite(time_limit_s) or float(time_limit_s) <= 0:
         raise ValueError(f"time_limit_s must be a finite number of seconds > 0, not {time_limit_s!r}")
 
 

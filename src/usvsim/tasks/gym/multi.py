@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import functools
 import math
+import numbers
 from typing import cast
 
 import numpy as np
@@ -32,7 +33,7 @@ class MultiStationKeeping(ParallelEnv):
 
         if not isinstance(vessels, int) or vessels < 1:
             raise ValueError(f"vessels must be a whole number >= 1, not {vessels!r}")
-        if not isinstance(time_limit_s, (int, float)) or not math.isfinite(time_limit_s) or time_limit_s <= 0:
+        if not isinstance(time_limit_s, numbers.Real) or not math.isfinite(time_limit_s) or float(time_limit_s) <= 0:
             raise ValueError(f"time_limit_s must be a finite number of seconds > 0, not {time_limit_s!r}")
         limit_numba_threads(numba_threads)
         self.possible_agents = [f"wamv_{k}" for k in range(vessels)]
