@@ -211,6 +211,8 @@ def test_dataset_out_under_a_file_is_one_line_and_the_result_line_is_on_stdout(t
     ("args", "words"),
     [
         (["--goals", "nan,0"], ["--goals"]),  # was accepted and drove nowhere
+        # was accepted: no path was ever planned to it, the boat stayed put until --max-time, metrics all FAIL
+        (["--goals", "10,0;1e9,5"], ["goal 1e+09,5 is outside the map", "objects + 10 m"]),
     ],
 )
 def test_navigate_bad_numbers_are_one_line(tmp_path, args, words):

@@ -9,7 +9,7 @@ from pathlib import Path
 import numpy as np
 
 from usvsim.autonomy import report
-from usvsim.autonomy.run import build_navigator, navigate
+from usvsim.autonomy.run import MAP_MARGIN_M, build_navigator, map_bounds, navigate
 from usvsim.autonomy.truth import true_occupancy
 from usvsim.core.errors import UsvsimError
 
@@ -56,6 +56,13 @@ def check_demo(scenario: str, goals=None) -> list[tuple[float, float]]:
     if not goals:
         raise UsvsimError(f"scenario {loaded.name!r} has no default goals: pass --goals 'x,y;x,y'")
     pick(loaded, None, None)
+    lo, hi = map_bounds(loaded)
+    if not loaded.objects:
+        raise UsvsimError(f"scenario {loaded.name!r} has no objects: the map covers the objects + {MAP_MARGIN_M:g} m")
+    for x, y in goals:  # a goal off the map was never planned to: the boat stayed put until --max-time
+        if not (lo[0] <= x <= hi[0] and lo[1] <= y <= hi[1]):
+            raise UsvsimError(f"goal {x:g},{y:g} is outside the map (x {lo[0]:g} to {hi[0]:g} m, y {lo[1]:g} to "
+                              f"{hi[1]:g} m: the scenario's objects + {MAP_MARGIN_M:g} m)")  # fmt: skip
     return goals
 
 

@@ -44,14 +44,23 @@ def pose_matrix(vessel) -> np.ndarray:
     return out
 
 
+MAP_MARGIN_M = 10.0
+
+
+def map_bounds(scenario) -> tuple[np.ndarray, np.ndarray]:
+    """The mapped area (x, y world ENU m, low and high corners): the scenario's objects + MAP_MARGIN_M."""
+    lo, hi = np.full(2, math.inf), np.full(2, -math.inf)
+    for obj in scenario.objects:
+        lo, hi = np.minimum(lo, obj.position[:2]), np.maximum(hi, obj.position[:2])
+    return lo - MAP_MARGIN_M, hi + MAP_MARGIN_M
+
+
 def build_navigator(sim, vessel: str, lidar: str, goals, resolution_m: float = 0.25, odometry: str = "auto",
                     planner: str = "astar"):  # fmt: skip
     """A Navigator on a grid covering the scenario's objects (+10 m), with KISS-ICP when available; `planner`
     astar (A* with fillets) or hybrid (hybrid A*, arcs of the turning radius)."""
-    lo, hi = np.full(2, math.inf), np.full(2, -math.inf)
-    for obj in sim.scenario.objects:
-        lo, hi = np.minimum(lo, obj.position[:2]), np.maximum(hi, obj.position[:2])
-    grid = OccupancyGrid.around(lo[0] - 10.0, lo[1] - 10.0, hi[0] + 10.0, hi[1] + 10.0, resolution_m)
+    lo, hi = map_bounds(sim.scenario)
+    grid = OccupancyGrid.around(lo[0], lo[1], hi[0], hi[1], resolution_m)
     tap = Tap(sim, [f"/{vessel}/{lidar}/points", f"/{vessel}/odometry"])
     sim.step()  # /tf_static goes out before the first step
     base_from_lidar = tap.static[f"{vessel}/{lidar}"]
