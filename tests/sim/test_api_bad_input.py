@@ -51,3 +51,11 @@ def test_record_takes_one_topic_name_as_a_string(tmp_path):
     with (tmp_path / "one.mcap").open("rb") as f:
         topics = {channel.topic for _, channel, _ in make_reader(f).iter_messages()}
     assert topics == {"/clock"}
+
+
+@pytest.mark.parametrize("point", [([math.nan], [0.0]), (0.0, math.inf), ([1.0, math.nan], [0.0, 0.0])])
+def test_depth_at_refuses_a_position_that_is_not_finite(sim, point):
+    """depth_at([nan], [0]) gave the default depth (20 m in a geo place, inf without one) as if it were a place."""
+    with pytest.raises(UsvsimError, match="depth_at: ._m must be finite numbers"):
+        sim.world.depth_at(*point)
+    assert sim.world.depth_at([0.0, 5.0], [0.0, 1.0]).shape == (2,)

@@ -24,7 +24,7 @@ from usvsim.config.objects import Buoy
 from usvsim.config.scenario import Scenario
 from usvsim.config.vessel import TriangleBuoyancy, VoxelBuoyancy
 from usvsim.core.clock import Clock, period_ns
-from usvsim.core.errors import DivergenceError, ScenarioError
+from usvsim.core.errors import DivergenceError, ScenarioError, UsvsimError
 from usvsim.core.overlap import Overlap
 from usvsim.core.rng import RngStreams
 from usvsim.core.transforms import matrix_from_quat, quat_from_rpy
@@ -414,7 +414,13 @@ class World:
 
     def depth_at(self, x_m, y_m) -> np.ndarray:
         """Water depth (m, positive down from still water) at ENU points: the place's seabed (geo/; minus the
-        land height on land), else the environment's `water_depth_m` (inf: deep water)."""
+        land height on land), else the environment's `water_depth_m` (inf: deep water). UsvsimError for a
+        position that is not a finite number (NaN read the default depth)."""
+        for name, v in (("x_m", x_m), ("y_m", y_m)):
+            values = np.asarray(v, float)
+            if not np.all(np.isfinite(values)):
+                bad = values[~np.isfinite(values)] if values.ndim else values
+                raise UsvsimError(f"depth_at: {name} must be finite numbers (m), got {np.ravel(bad)[0]!r}")
         if self.place is not None:
             return self.place.depth_at(x_m, y_m)
         return np.full(np.shape(np.atleast_1d(x_m)), self.scenario.environment.water_depth_m or math.inf)
