@@ -59,3 +59,21 @@ def test_depth_at_refuses_a_position_that_is_not_finite(sim, point):
     with pytest.raises(UsvsimError, match="depth_at: ._m must be finite numbers"):
         sim.world.depth_at(*point)
     assert sim.world.depth_at([0.0, 5.0], [0.0, 1.0]).shape == (2,)
+
+
+def test_a_bad_velocity_reference_is_refused_and_does_not_stall_the_controller():
+    """A NaN reference was taken: the controller's state became NaN for good and the boat never moved again,
+    whatever came next; (1.0,) failed at the next step with 'not enough values to unpack'."""
+    from usvsim.config.scenario import Scenario
+
+    scenario = Scenario.model_validate({"version": 1, "vessels": [
+        {"name": "wamv", "model": "wamv", "controller": {"type": "velocity", "rate_hz": 20}}]})  # fmt: skip
+    sim = Simulation(scenario, seed=0)
+    loop = sim.controllers["wamv"]
+    for bad in ((math.nan, 0.0, 0.0), (1.0,), "fast", None):
+        with pytest.raises(UsvsimError, match="reference must be 3 finite numbers"):
+            loop.reference = bad
+    loop.reference = np.array([1.5, 0.0, 0.0])
+    sim.run(8.0)
+    assert sim.vessels["wamv"].velocity_body[0] > 1.0  # still under way at the good reference
+    sim.close()

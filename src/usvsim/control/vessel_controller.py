@@ -19,6 +19,7 @@ from usvsim.control.plant import PlantModel, com_velocity, reference_at_com
 from usvsim.control.station_keeping import Pose2D, StationKeeping
 from usvsim.control.velocity import VelocityController, actuator_time_constant
 from usvsim.core.clock import steps_per_period
+from usvsim.core.errors import UsvsimError
 
 
 @dataclass(frozen=True)
@@ -129,6 +130,24 @@ class ControlLoop:
         self.reference = reference
         self.force = None
         self._next = sim.clock.steps
+
+    @property
+    def reference(self):
+        """The velocity (u m/s, v m/s, r rad/s; base_link, FLU) or the Pose2D the controller tracks."""
+        return self._reference
+
+    @reference.setter
+    def reference(self, value) -> None:
+        # checked here: a NaN was taken and poisoned the controller's state for good (the boat never moved
+        # again, whatever the later references), and (1.0,) failed at the next step, far from the mistake
+        numbers = (value.x_m, value.y_m, value.yaw_rad) if isinstance(value, Pose2D) else value
+        try:
+            ok = len(numbers) == 3 and all(math.isfinite(float(v)) for v in numbers)
+        except (TypeError, ValueError):
+            ok = False
+        if not ok:
+            raise UsvsimError(f"reference must be 3 finite numbers (u m/s, v m/s, r rad/s) or a Pose2D, not {value!r}")
+        self._reference = value
 
     def reset(self) -> None:
         """Controller state cleared, next update at the next step (after a simulation reset)."""
