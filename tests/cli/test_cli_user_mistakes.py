@@ -352,6 +352,29 @@ def test_a_directory_given_as_scenario_says_so(tmp_path):
     one_line_error(invoke("validate", tmp_path), "a directory")
 
 
+def test_task_record_with_several_trials_keeps_every_trial(tmp_path):
+    """`usvsim task --trials 2 --record r.mcap` wrote each trial to the same file: the second replaced the
+    first (the MCAP held 1 s of /clock for 2 s simulated). Now r_trial0.mcap and r_trial1.mcap, named in the
+    report, and both checked before the first trial."""
+    from mcap.reader import make_reader
+
+    record, report = tmp_path / "r.mcap", tmp_path / "r.json"
+    result = invoke("task", "station_keeping", "--time-limit", "1", "--trials", "2", "--record", record,
+                    "--report", report)  # fmt: skip
+    assert result.exit_code == 0, result.output
+    trials = json.loads(report.read_text())["trials"]
+    for k, trial in enumerate(trials):
+        path = tmp_path / f"r_trial{k}.mcap"
+        assert trial["recording"] == str(path) and trial["seed"] == k
+        with path.open("rb") as f:
+            clocks = sum(1 for _ in make_reader(f).iter_messages(topics=["/clock"]))
+        assert clocks == 101  # 0 to 1 s at the 100 Hz clock
+    assert not record.exists()
+    again = invoke("task", "station_keeping", "--time-limit", "1", "--trials", "2", "--record", record,
+                   "--report", report)  # fmt: skip
+    one_line_error(again, "r_trial0.mcap exists", "--force")
+
+
 def test_task_record_is_never_overwritten_without_force_and_is_checked_first(tmp_path, monkeypatch):
     """`usvsim task --record` replaced an existing recording silently, and an unwritable one was a traceback."""
     import usvsim.tasks.live

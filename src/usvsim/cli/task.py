@@ -44,6 +44,7 @@ def task(
 
     stopped: tuple[int, int] | None = None  # (signal, trial) of a Ctrl-C or SIGTERM
     results: list[dict] = []
+    records: list[Path | None] = [record] * trials
     try:
         if name not in TASKS:
             raise UsvsimError(f"unknown task {name!r}; choose one of: {', '.join(TASKS)}")
@@ -52,8 +53,10 @@ def task(
         if landmark_type not in ("pose", "geopose"):
             raise UsvsimError(f"--landmark-type must be pose or geopose, got {landmark_type!r}")
         prepare_file(report)  # a bad --report path fails now, not after the trials
-        if record is not None:
-            check_output(record, force)  # never overwritten without --force, as `usvsim run --record`
+        records = trial_recordings(record, trials)  # one file per trial: each trial overwrote the one before
+        for path in records:
+            if path is not None:
+                check_output(path, force)  # never overwritten without --force, as `usvsim run --record`
         timing = TaskTiming(ready_s=ready_s, running_s=time_limit)
         with StopSignals() as stop:  # SIGTERM used to end the process with the recording unfinished, no report
             for k in range(trials):
@@ -61,7 +64,9 @@ def task(
                     try:
                         if ros2 or record is not None:
                             results.append(_live(name, difficulty, seed + k, timing, ros2, external, domain_id,
-                                                 ros2_interface, landmark_type, record, stop.check))  # fmt: skip
+                                                 ros2_interface, landmark_type, records[k], stop.check))  # fmt: skip
+                            if records[k] is not None:
+                                results[-1]["recording"] = str(records[k])
                         else:
                             results.append(run_trial(name, difficulty, seed + k, timing, after_step=stop.check))
                     except Stopped as exc:
@@ -70,7 +75,7 @@ def task(
     except UsvsimError as exc:
         fail(exc)
     if stopped is not None:
-        _report_stopped(name, difficulty, trials, seed, results, stopped, report, record)
+        _report_stopped(name, difficulty, trials, seed, results, stopped, report, records[stopped[1]])
     _print_table(results)
     scores = [r["score"] for r in results]
     summary = {"task": name, "difficulty": difficulty, "trials": results, "mean_score": sum(scores) / len(scores),
@@ -82,6 +87,13 @@ def task(
         typer.echo(text)  # nothing lost: the report goes to stdout instead
         fail(f"cannot write {report}: {exc.strerror or exc}; the report was printed to stdout instead")
     typer.echo(f"{name}: mean score {summary['mean_score']:.4g} over {trials} trial(s); wrote {report}")
+
+
+def trial_recordings(record: Path | None, trials: int) -> list[Path | None]:
+    """The --record file of each trial: RECORD itself for one trial, RECORD's stem + _trialK for several."""
+    if record is None or trials == 1:
+        return [record] * trials
+    return [record.with_name(f"{record.stem}_trial{k}{record.suffix}") for k in range(trials)]
 
 
 def _report_stopped(name, difficulty, trials, seed, results, stopped, report: Path, record: Path | None):
