@@ -475,3 +475,22 @@ def test_bodies_moved_by_hand_between_runs_meet_the_ships(scenario_of):
     assert any("far" in c[:2] for c in touched)
     lazy.close()
     eager.close()
+
+
+@pytest.mark.parametrize(
+    ("traffic", "sensor_topic", "where", "words"),
+    [  # the traffic topic set to a sensor's: this blamed the sensor's topic as "one of the simulation's own"
+        ({"ais": {"topic": "/wamv/imu/data"}}, None, "traffic.ais.topic", "is also the topic of sensor wamv/imu"),
+        ({"awareness": {"own_ship": "wamv"}}, "/traffic/situation", "vessels[0].sensors[0].topic",
+         r"is traffic.awareness.topic \(default\)"),  # the sensor set to a traffic default: the sensor is named
+    ],
+)
+def test_a_topic_clash_with_traffic_names_the_key_that_was_set(scenario_of, traffic, sensor_topic, where, words):
+    imu = {"type": "imu", "name": "imu", **({"topic": sensor_topic} if sensor_topic else {})}
+    ship = {"name": "ferry", "mmsi": 257000001, "motion": {"type": "constant", "position": [0, 400], "course_deg": 180,
+                                                          "speed_mps": 5}}  # fmt: skip
+    scenario = scenario_of({"vessels": [{"name": "wamv", "model": "wamv", "sensors": [imu]}],
+                            "traffic": {"ships": [ship], **traffic}})  # fmt: skip
+    with pytest.raises(ScenarioError, match=words) as info:
+        Simulation(scenario)
+    assert info.value.key_path == where

@@ -56,14 +56,18 @@ REGISTRY = {"imu": _plain(Imu), "odometry": _plain(Odometry), "gnss": _plain(Gns
             "detections": _detections, "radar": _radar}  # fmt: skip
 
 
-def _simulation_topics(sim: World) -> set[str]:
+def _simulation_topics(sim: World) -> dict[str, str]:
     """Topics the simulation publishes or takes commands on besides its sensors' (ground_truth.py, commands.py,
-    traffic/): a sensor there would put a second message type on one topic."""
+    traffic/): a sensor there would put a second message type on one topic. Each maps to the scenario key that
+    sets it ('' for the fixed ones)."""
     topics = {"/clock", "/tf", "/tf_static", EPISODE_TOPIC, "/reset"}
     for vessel in sim.scenario.vessels:
         topics |= {f"/{vessel.name}/ground_truth/odometry", f"/{vessel.name}/cmd_vel"}
-    traffic = sim.scenario.traffic
-    return topics | {traffic.ais.topic, traffic.awareness.topic}
+    out = dict.fromkeys(topics, "")
+    for key in ("ais", "awareness"):  # a traffic topic left at its default: the sensor's topic is the mistake
+        section = getattr(sim.scenario.traffic, key)
+        out[section.topic] = f"traffic.{key}.topic" + ("" if "topic" in section.model_fields_set else " (default)")
+    return out
 
 
 class SensorSuite:
@@ -97,7 +101,14 @@ class SensorSuite:
         other = next((s.name for s in self.sensors.values() if s.topic == sensor.topic), None)
         if other is not None:  # one topic carries one message type (the recorder and the bridges refuse a second)
             raise ScenarioError(source, f"{key}.topic", f"topic {sensor.topic} is already the topic of sensor {other!r}")
-        if sensor.topic in self._reserved:
+        owner = self._reserved.get(sensor.topic)
+        if owner and not owner.endswith("(default)"):  # the traffic topic set to a sensor's was blamed on the sensor
+            raise ScenarioError(source, owner, f"{sensor.topic} is also the topic of sensor {name} ({key}); one "
+                                "topic carries one message type")  # fmt: skip
+        if owner:
+            raise ScenarioError(source, f"{key}.topic", f"topic {sensor.topic} is {owner}; one topic carries one "
+                                "message type")  # fmt: skip
+        if owner is not None:
             raise ScenarioError(source, f"{key}.topic", f"topic {sensor.topic} is one of the simulation's own topics")
         # /tf_static gives each sensor frame one parent: a second sensor on the frame, or a frame of the TF tree
         # itself (a base_link would be its own child or get a second parent, `world` a parent), breaks the tree
