@@ -150,3 +150,19 @@ def test_arpa_tracks_a_moving_target_course_and_speed(scenario_of):
     assert tr.range == pytest.approx(np.linalg.norm(rel), abs=3.0 + 2 * radar.bin_m)  # its near side, bins
     assert tr.bearing == pytest.approx(math.atan2(rel[0], rel[1]), abs=math.radians(1.8))
     sim.close()
+
+
+def test_blind_sectors_of_a_whole_turn_and_across_the_stern():
+    """[0, 360] made one blind spoke (both ends reduced to 0); a sector of 360° or more is the whole turn. A sector
+    whose start is past its end wraps through the bow. Spoke k looks at -k·360/n degrees (clockwise turning)."""
+    from types import SimpleNamespace
+
+    from usvsim.sensors.radar.sensor import Radar
+
+    fake = SimpleNamespace(n=360)
+    assert Radar._blind_spokes(fake, [(0.0, 360.0)]).all()  # type: ignore[arg-type]
+    assert Radar._blind_spokes(fake, [(-10.0, 400.0)]).all()  # type: ignore[arg-type]
+    across = Radar._blind_spokes(fake, [(350.0, 10.0)])  # type: ignore[arg-type]
+    assert across[0] and across[5] and across[355] and not across[180] and 19 <= across.sum() <= 21
+    astern = Radar._blind_spokes(fake, [(170.0, 190.0)])  # type: ignore[arg-type]
+    assert astern[180] and not astern[0] and not astern[90] and 19 <= astern.sum() <= 21

@@ -74,6 +74,9 @@ class Radar(Sensor):
         angle = np.degrees(-np.arange(self.n) * 2 * np.pi / self.n) % 360.0
         blind = np.zeros(self.n, bool)
         for a, b in sectors:
+            if b - a >= 360.0:  # all round: [0, 360] was reduced to [0, 0], one spoke
+                blind[:] = True
+                continue
             a, b = a % 360.0, b % 360.0
             blind |= (angle >= a) & (angle <= b) if a <= b else (angle >= a) | (angle <= b)
         return blind
