@@ -584,6 +584,8 @@ def test_a_dataset_is_not_written_over_another_without_force(tmp_path):
 def test_a_missing_sweep_file_and_a_mesh_that_is_a_folder_say_so(tmp_path):
     one_line_error(invoke("sweep", tmp_path / "nosuch.yaml"), "nosuch.yaml: no such sweep file")  # was [Errno 2]
     one_line_error(invoke("sweep", tmp_path), "a directory, not sweep file")
+    one_line_error(invoke("recover", tmp_path), "is a directory, not a recording")  # was "no such recording"
+    one_line_error(invoke("recover", tmp_path / "gone.mcap"), "no such recording", "gone.mcap")
     path = tmp_path / "hull.yaml"
     path.write_text("version: 1\nvessels: [{name: a, model: custom, hull_mesh: ., mass: {mass_kg: 9.0}}]\n")
     one_line_error(invoke("validate", path), "vessels[0].hull_mesh", "is a directory; give a mesh file")

@@ -23,7 +23,8 @@ def recover(
     target = out or file.with_suffix(".recovered.mcap")
     try:
         if not file.is_file():
-            raise UsvsimError(f"no such recording: {file}")
+            raise UsvsimError(f"{file} is a directory, not a recording (an .mcap file)" if file.is_dir()
+                              else f"no such recording: {file}")  # a directory said 'no such recording'
         check_output(target, force)
         result = recover_file(file, target)
     except (UsvsimError, OSError) as exc:
