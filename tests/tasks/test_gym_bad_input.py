@@ -56,6 +56,7 @@ def test_a_bad_action_is_refused_and_commands_nothing(env, action, words):
         ({"task": "stationkeeping"}, "task must be one of .* not 'stationkeeping'"),
         ({"control_rate_hz": 0.0}, "rate .* not 0.0"),
         ({"control_rate_hz": math.nan}, "rate .* not nan"),
+        ({"render_mode": "rgb_aray"}, "render_mode must be None or 'rgb_array', not 'rgb_aray'"),  # render(): None
     ],
 )
 def test_bad_env_arguments_name_the_value(kwargs, words):

@@ -43,6 +43,8 @@ class TaskEnv(gym.Env):
 
         observation = (observation,) if isinstance(observation, str) else tuple(observation)
         _check_options(task, action_type, observation, time_limit_s)
+        if render_mode not in (None, *self.metadata["render_modes"]):  # 'rgb_aray' was taken: render() gave None
+            raise ValueError(f"render_mode must be None or 'rgb_array', not {render_mode!r}")
         self.observation = observation
         limit_numba_threads(numba_threads)
         self.render_mode, self.action_type = render_mode, action_type
