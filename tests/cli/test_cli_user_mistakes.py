@@ -35,8 +35,8 @@ def never(*_args, **_kw):
 @pytest.mark.parametrize(
     ("args", "words"),
     [
-        (["run", "harbor", "--duration", "-1"], ["--duration", "greater than or equal to 0", "--help"]),
-        (["run", "harbor", "--duration", "nan"], ["--duration"]),
+        (["run", "harbor", "--duration", "-1"], ["--duration", "finite number of seconds in [0, 1e7]", "-1"]),
+        (["run", "harbor", "--duration", "nan"], ["--duration", "finite number of seconds", "nan"]),  # not ">= 0"
         (["task", "station_keeping", "--trials", "0"], ["--trials"]),
         (["task", "station_keeping", "--time-limit", "inf"], ["--time-limit"]),
         (["imazu", "23"], ["case", "22"]),

@@ -66,8 +66,7 @@ def run(
         float,
         typer.Option(
             help="simulated seconds in all: a /reset (ROS 2, ROS-TCP, Foxglove) or R in the viewer starts a new "
-            "episode at t = 0 but does not lengthen the run",
-            min=0.0,
+            "episode at t = 0 but does not lengthen the run (0 to 1e7)",
         ),
     ] = 60.0,
     realtime: Annotated[bool, typer.Option(help="pace to the wall clock")] = False,
