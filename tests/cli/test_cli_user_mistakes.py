@@ -4,6 +4,7 @@ before any work is done (so nothing is lost), and results go to stdout. In-proce
 from __future__ import annotations
 
 import json
+import math
 import sys
 
 import pytest
@@ -279,8 +280,36 @@ def test_the_traffic_report_of_a_run_is_on_stdout(tmp_path):
     assert invoke("imazu", "2", "--out", scenario).exit_code == 0
     result = invoke("run", scenario, "--duration", "1")
     assert result.exit_code == 0, result.output
-    assert "min predicted CPA" in result.stdout and "target_1" in result.stdout
+    assert "min CPA (m)" in result.stdout and "target_1" in result.stdout
     assert "CPA" not in result.stderr
+
+
+def test_the_traffic_report_counts_a_cpa_only_within_the_tcpa_limit(tmp_path):
+    """A ship stopped 200 m off the drifting WAM-V: the relative velocity is mm/s, the CPA ~0 m hours away; the
+    report said 'min predicted CPA 0.4 m'. Now a CPA counts only with 0 <= TCPA <= tcpa_limit_s (ARPA's alarm
+    window): '-' for it, its range at the end ~200 m. A ship crossing 30 m ahead of it in 20 s is counted."""
+    scenario = tmp_path / "still.yaml"
+    scenario.write_text(
+        "version: 1\nvessels:\n  - {name: wamv, model: wamv}\ntraffic:\n  ships:\n"
+        "    - name: still\n      mmsi: 257000009\n      motion:\n        type: route\n        waypoints:\n"
+        "          - {position: [200, 0], speed_mps: 0}\n          - {position: [0, 0], speed_mps: 0}\n"
+        "    - name: crosser\n      mmsi: 257000010\n"
+        "      motion: {type: constant, position: [100, 30], course_deg: 270, speed_mps: 5}\n"
+    )
+    result = invoke("run", scenario, "--duration", "10")
+    assert result.exit_code == 0, result.output
+    rows = {line.split()[0]: line.split() for line in result.stdout.splitlines() if line.split()}
+    assert rows["target"] == ["target", "min", "dist", "(m)", "at", "t", "(s)", "min", "CPA", "(m)", "at", "TCPA",
+                              "(s)", "range", "(m)", "TCPA", "(s)"]  # fmt: skip
+    _, min_dist, _, min_cpa, tcpa_at, range_end, tcpa_end = rows["still"]
+    assert (min_cpa, tcpa_at) == ("-", "-")
+    assert tcpa_end in ("steady", "opening") or float(tcpa_end) > 1200.0  # the hull settling: µm/s either way
+    assert float(min_dist) == pytest.approx(200.0, abs=1.0) and float(range_end) == pytest.approx(200.0, abs=1.0)
+    _, _, _, min_cpa, tcpa_at, range_end, tcpa_end = rows["crosser"]
+    assert float(min_cpa) == pytest.approx(30.0, abs=1.0) and 0.0 <= float(tcpa_at) <= 1200.0
+    assert float(range_end) == pytest.approx(math.hypot(50.0, 30.0), abs=1.0)  # 10 s later: 50 m east, 30 m north
+    assert float(tcpa_end) == pytest.approx(10.0, abs=0.5)
+    assert "0 <= TCPA <= 1200 s" in result.stdout
 
 
 def test_errors_found_under_a_progress_bar_are_still_one_line(tmp_path):

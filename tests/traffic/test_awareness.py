@@ -93,7 +93,8 @@ def test_situation_kernel_matches_the_definitions():
     yaw[::7] = own[4] + np.pi + rng.uniform(-0.1, 0.1, len(yaw[::7]))  # some reciprocal courses
     targets = np.arange(n, dtype=np.int64)
     out, min_dist, t_min, min_cpa = np.zeros((n, 10)), np.full(n, np.inf), np.zeros(n), np.full(n, np.inf)
-    aw.situation(own, pos, vel, yaw, targets, out, 30.0, 100.0, min_dist, t_min, min_cpa)
+    tcpa_at = np.full(n, np.nan)
+    aw.situation(own, pos, vel, yaw, targets, out, 30.0, 100.0, min_dist, t_min, min_cpa, tcpa_at, 300.0)
     rel, w, cpa, tcpa, bearing, rel_bearing, enc = _reference(own, pos, vel, yaw)
     np.testing.assert_allclose(out[:, aw.X : aw.Y + 1], rel)
     np.testing.assert_allclose(out[:, aw.VX : aw.VY + 1], w)
@@ -102,9 +103,72 @@ def test_situation_kernel_matches_the_definitions():
                                np.c_[cpa, tcpa, bearing, rel_bearing], atol=1e-9)  # fmt: skip
     np.testing.assert_array_equal(out[:, aw.ENCOUNTER], enc)
     assert set(enc) == set(range(6))
-    np.testing.assert_allclose(min_cpa, np.where(tcpa > 0, cpa, np.inf))
+    counted = (tcpa >= 0) & (tcpa <= 300.0)  # ARPA's window: only these predictions count in the run report
+    assert 0 < counted.sum() < n
+    np.testing.assert_allclose(min_cpa, np.where(counted, cpa, np.inf))
+    np.testing.assert_allclose(tcpa_at, np.where(counted, tcpa, np.nan))
     back = np.linspace(0.0, 30.0, 30001)  # brute force: the least distance over the last 30 s
     for k in range(0, n, 97):
         d = np.linalg.norm(rel[k] - w[k] * back[:, None], axis=1)
         assert min_dist[k] == pytest.approx(d.min(), abs=1e-3)
         assert t_min[k] == pytest.approx(100.0 - back[d.argmin()], abs=2e-3)
+
+
+def _independent(p_own, v_own, p_tgt, v_tgt):
+    """Two constant-velocity ships, closed form in plain Python: r = p_t - p_o, v = v_t - v_o,
+    t* = -r·v/|v|², CPA = |r + v t*|; with v = 0 the range never changes: t* = 0, CPA = |r|."""
+    rx, ry = p_tgt[0] - p_own[0], p_tgt[1] - p_own[1]
+    vx, vy = v_tgt[0] - v_own[0], v_tgt[1] - v_own[1]
+    v2 = vx * vx + vy * vy
+    t = -(rx * vx + ry * vy) / v2 if v2 > 0 else 0.0
+    return math.hypot(rx + vx * t, ry + vy * t), t
+
+
+@pytest.mark.parametrize(
+    "p_own, v_own, p_tgt, v_tgt, cpa, tcpa",
+    [
+        ((0, 0), (0, 5), (0, 1000), (0, -5), 0.0, 100.0),  # head-on on one line: collision at t = 100 s
+        ((0, 0), (0, 5), (30, 1000), (0, -5), 30.0, 100.0),  # head-on, 30 m apart abeam at the pass
+        ((0, 0), (0, 5), (50, -100), (0, -5), 50.0, -10.0),  # diverging: passed 50 m apart 10 s ago
+        ((0, 0), (3, 4), (300, 400), (3, 4), 500.0, 0.0),  # same velocity: no relative motion, CPA = range
+        ((0, 0), (0, 0), (200, 0), (0, 0), 200.0, 0.0),  # both stopped
+        ((0, 0), (0, 0), (200, 0), (-0.01, 0.0), 0.0, 20000.0),  # a target 200 m off creeping in at 1 cm/s
+    ],
+)
+def test_cpa_tcpa_against_the_closed_form_of_two_straight_tracks(p_own, v_own, p_tgt, v_tgt, cpa, tcpa):
+    """The kernel (`situation`, what the simulation publishes and reports) and `cpa_tcpa` against the textbook
+    values and an independent closed form, degenerate cases included."""
+    ref_cpa, ref_tcpa = _independent(p_own, v_own, p_tgt, v_tgt)
+    assert (ref_cpa, ref_tcpa) == (pytest.approx(cpa, abs=1e-9), pytest.approx(tcpa, abs=1e-9))
+    c, t = aw.cpa_tcpa(np.subtract([p_tgt], p_own), np.subtract([v_tgt], v_own))
+    assert (c[0], t[0]) == (pytest.approx(cpa, abs=1e-9), pytest.approx(tcpa, abs=1e-9))
+    own = np.array([*p_own, *v_own, 0.3])
+    out = np.zeros((1, 10))
+    aw.situation(own, np.array([p_tgt], float), np.array([v_tgt], float), np.zeros(1), np.zeros(1, np.int64), out,
+                 -1.0, 0.0, np.zeros(1), np.zeros(1), np.zeros(1), np.zeros(1), 1200.0)  # fmt: skip
+    assert out[0, aw.CPA] == pytest.approx(cpa, abs=1e-9) and out[0, aw.TCPA] == pytest.approx(tcpa, abs=1e-9)
+    assert out[0, aw.RANGE] == pytest.approx(math.dist(p_own, p_tgt))
+
+
+@pytest.mark.parametrize(
+    "v_tgt, counted",
+    [
+        ((0.0, 0.0), False),  # no relative motion: TCPA 0, CPA = the range: nothing approaches
+        ((0.0, 0.5e-6), False),  # below STEADY_MPS: no relative motion either
+        ((0.0, 1.0), True),  # passing abeam now: TCPA 0, CPA = the range (200 m)
+        ((-0.01, 0.0), False),  # closing at 1 cm/s: CPA 0 m but TCPA 20000 s, beyond the 1200 s limit
+        ((-1.0, 0.0), True),  # closing at 1 m/s: CPA 0 m at TCPA 200 s
+        ((1.0, 0.0), False),  # opening: the closest point is past
+    ],
+)
+def test_the_run_report_counts_a_cpa_only_within_the_tcpa_limit(v_tgt, counted):
+    """ARPA's rule: a CPA is a warning only with 0 <= TCPA <= the limit; the run report's min_cpa follows it."""
+    own, out = np.zeros(5), np.zeros((1, 10))
+    min_cpa, tcpa_at = np.full(1, np.inf), np.full(1, np.nan)
+    aw.situation(own, np.array([[200.0, 0.0]]), np.array([v_tgt]), np.zeros(1), np.zeros(1, np.int64), out, 1.0,
+                 1.0, np.full(1, np.inf), np.zeros(1), min_cpa, tcpa_at, 1200.0)  # fmt: skip
+    if counted:
+        assert min_cpa[0] == pytest.approx(out[0, aw.CPA]) and tcpa_at[0] == pytest.approx(out[0, aw.TCPA])
+        assert 0.0 <= tcpa_at[0] <= 1200.0
+    else:
+        assert min_cpa[0] == np.inf and np.isnan(tcpa_at[0])

@@ -46,14 +46,38 @@ def imazu(
         typer.echo(f"wrote Imazu case {case} to {out}; run it with: usvsim run {out} --duration {2 * encounter:g}")
 
 
+def _num(x: float | None) -> str:
+    return "-" if x is None else f"{x:.1f}"
+
+
+def _tcpa(r: dict) -> str:
+    """TCPA at the end: seconds ahead, 'opening' once the closest point is past, 'steady' without relative
+    motion (the range stays)."""
+    from usvsim.traffic.awareness import STEADY_MPS
+
+    if r["tcpa_s"] is None:
+        return "-"
+    if r["relative_speed_mps"] <= STEADY_MPS:
+        return "steady"
+    return "opening" if r["tcpa_s"] < 0.0 else f"{r['tcpa_s']:.1f}"
+
+
 def print_report(sim, console) -> None:
-    """Per target: the least distance to the own ship during the run, when, and the least CPA predicted."""
+    """Per target: the least distance to the own ship during the run and when; the least CPA predicted within
+    the TCPA limit and its TCPA ('-': none was, e.g. a target that never closed, or closed so slowly that its
+    closest point stayed beyond the limit); the range and TCPA at the end of the run."""
     report = sim.traffic.report()
     if not report:
         return
-    from rich.table import Table
+    from rich.table import Column, Table
 
-    table = Table("target", "min distance (m)", "at t (s)", "min predicted CPA (m)", box=None)
+    columns = ("target", "min dist (m)", "at t (s)", "min CPA (m)", "at TCPA (s)", "range (m)", "TCPA (s)")
+    table = Table(*(Column(c, no_wrap=True) for c in columns), box=None, pad_edge=False)
     for name, r in report.items():
-        table.add_row(name, f"{r['min_distance_m']:.1f}", f"{r['t_min_distance_s']:.1f}", f"{r['min_cpa_m']:.1f}")
+        table.add_row(name, _num(r["min_distance_m"]), _num(r["t_min_distance_s"]), _num(r["min_cpa_m"]),
+                      _num(r["tcpa_at_min_cpa_s"]), _num(r["range_m"]), _tcpa(r))  # fmt: skip
     console.print(table)
+    limit = sim.traffic.situation.cfg.tcpa_limit_s
+    console.print(f"min CPA: the least CPA predicted while 0 <= TCPA <= {limit:g} s (traffic.awareness.tcpa_limit_s), "
+                  "at that TCPA; '-': none was. range, TCPA: at the end of the run ('opening': the closest point is "
+                  "past; 'steady': no relative motion).")  # fmt: skip

@@ -106,11 +106,16 @@ class Ais(Section):
 
 class Awareness(Section):
     """Ground-truth situational awareness of `own_ship`: per target range, bearing, CPA, TCPA and COLREG
-    encounter, on `topic` at `rate_hz`; the minimum CPA per target goes into the run report."""
+    encounter, on `topic` at `rate_hz`; the least CPA per target predicted with 0 <= TCPA <= `tcpa_limit_s`
+    (ARPA's CPA/TCPA alarm window) goes into the run report."""
 
     own_ship: Name | None = Field(default=None, description="default: the first scenario vessel")
     rate_hz: PositiveFloat = 1.0
     topic: Topic = "/traffic/situation"
+    tcpa_limit_s: PositiveFloat = Field(
+        default=1200.0,
+        description="run report: a predicted CPA counts only while 0 <= TCPA <= this, s (ARPA's TCPA limit; 20 min)",
+    )
 
 
 class Traffic(Section):

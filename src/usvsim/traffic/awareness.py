@@ -5,8 +5,13 @@ Bearings are nautical (rad, clockwise from north); relative bearings are clockwi
 heading, in (-π, π] (starboard positive).
 
 CPA/TCPA for straight-line motion: with relative position r = p_target − p_own and relative velocity
-w = v_target − v_own, TCPA = −r·w / |w|² (0 when |w| = 0) and CPA = |r + w·TCPA|. A negative TCPA means the
-closest point is past (the ships are opening).
+w = v_target − v_own, TCPA = −r·w / |w|² (0 when |w| = 0: the range never changes, so the closest point is now
+and CPA = range) and CPA = |r + w·TCPA|. A negative TCPA means the closest point is past (the ships are
+opening). Like an ARPA display, the situation gives every target's CPA with its TCPA whatever their values; a
+CPA means something only together with its TCPA (a target 200 m off closing at 1 cm/s has a CPA of 0 m some 5 h
+from now). The run report (`situation`'s min_cpa) follows ARPA's CPA/TCPA alarm rule (IMO MSC.192(79)): a
+predicted CPA counts only while 0 ≤ TCPA ≤ tcpa_limit_s (`traffic.awareness.tcpa_limit_s`) and there is
+relative motion (|w| > STEADY_MPS; without it the range stays, nothing approaches: the least distance says it).
 
 Encounters (COLREG rules 13–15, the usual geometric reading): a target that is opening (TCPA ≤ 0) is `NONE`;
 `HEAD_ON` when it is within ±HEAD_ON_RAD of the bow and its heading is reciprocal within ±HEAD_ON_RAD;
@@ -26,6 +31,7 @@ NONE, HEAD_ON, CROSSING_GIVE_WAY, CROSSING_STAND_ON, OVERTAKING, OVERTAKEN = ran
 ENCOUNTER_NAMES = ("none", "head_on", "crossing_give_way", "crossing_stand_on", "overtaking", "overtaken")
 HEAD_ON_RAD = math.radians(10.0)
 ABAFT_BEAM_RAD = math.radians(112.5)  # 22.5° abaft the beam, from the bow
+STEADY_MPS = 1e-6  # relative speeds up to this are no relative motion: TCPA 0, CPA = range
 
 
 def wrap_pi(a):
@@ -42,7 +48,7 @@ def _wrap(a):
 def _cpa(rx, ry, wx, wy):
     """(CPA m, TCPA s) of one target at (rx, ry) moving at (wx, wy) relative to the own ship."""
     w2 = wx * wx + wy * wy
-    tcpa = -(rx * wx + ry * wy) / w2 if w2 > 1e-12 else 0.0
+    tcpa = -(rx * wx + ry * wy) / w2 if w2 > STEADY_MPS * STEADY_MPS else 0.0
     return math.hypot(rx + wx * tcpa, ry + wy * tcpa), tcpa
 
 
@@ -113,12 +119,15 @@ X, Y, VX, VY, RANGE, BEARING, REL_BEARING, CPA, TCPA, ENCOUNTER = range(10)
 
 
 @njit(cache=True)
-def situation(own, tgt_pos, tgt_vel, tgt_yaw, targets, out, horizon_s, now_s, min_dist, t_min, min_cpa):
+def situation(own, tgt_pos, tgt_vel, tgt_yaw, targets, out, horizon_s, now_s, min_dist, t_min, min_cpa, tcpa_at_min_cpa,
+              tcpa_limit_s):  # fmt: skip
     """Every target's situation in one call. own = (x, y, vx, vy, ENU yaw); targets: indices into the fleet's
     tgt_pos (N, 2), tgt_vel (N, 2), tgt_yaw (N,); out (T, 10): columns above (relative position and velocity,
     range, true and relative bearing, CPA, TCPA, encounter code). With horizon_s >= 0, also the run report:
     the least distance over the last horizon_s seconds of straight motion back from now_s lowers min_dist (and
-    sets t_min), and the CPA of a closing target lowers min_cpa."""
+    sets t_min), and a CPA predicted with 0 <= TCPA <= tcpa_limit_s and relative motion (ARPA's alarm window; a
+    target closing so slowly that its closest point is hours away predicts nothing yet) lowers min_cpa (and sets
+    tcpa_at_min_cpa, the TCPA it was predicted with)."""
     own_speed = math.hypot(own[2], own[3])
     own_heading = 0.5 * math.pi - own[4]
     for j in range(len(targets)):
@@ -139,5 +148,5 @@ def situation(own, tgt_pos, tgt_vel, tgt_yaw, targets, out, horizon_s, now_s, mi
         d = math.hypot(rx - wx * ago, ry - wy * ago)
         if d < min_dist[j]:
             min_dist[j], t_min[j] = d, now_s - ago
-        if tcpa > 0.0 and cpa < min_cpa[j]:
-            min_cpa[j] = cpa
+        if 0.0 <= tcpa <= tcpa_limit_s and math.hypot(wx, wy) > STEADY_MPS and cpa < min_cpa[j]:
+            min_cpa[j], tcpa_at_min_cpa[j] = cpa, tcpa

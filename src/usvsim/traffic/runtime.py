@@ -58,7 +58,8 @@ class Traffic:
         return out
 
     def report(self) -> dict:
-        """Run report: per target the least distance to the own ship, when, and the least CPA predicted."""
+        """Run report: per target the least distance to the own ship, when, the least CPA predicted within the
+        TCPA limit and its TCPA, the range and TCPA at the end (SituationPublisher.report)."""
         return self.situation.report() if self.situation is not None else {}
 
     def reset(self, world: World) -> None:

@@ -1,7 +1,10 @@
 """The ground-truth situation of the own ship on `traffic.awareness.topic` (usvsim_msgs/TrafficSituation, frame
 `world`), and the run report: per target the least distance to the own ship (between samples the motion is
-taken as straight, so a closest pass between two samples is found exactly), when it happened, and the least
-CPA predicted while the target was closing."""
+taken as straight, so a closest pass between two samples is found exactly), when it happened, the least CPA
+predicted with 0 <= TCPA <= `tcpa_limit_s` (ARPA's CPA/TCPA alarm window) and the TCPA it came with, and the
+range, CPA, TCPA and relative speed at the last sample. The message's `cpa` (m) and `tcpa` (s) are every
+target's straight-line prediction as an ARPA shows it, whatever its TCPA: negative TCPA: opening, the closest
+point is past; 0 with CPA = range: no relative motion."""
 
 from __future__ import annotations
 
@@ -43,6 +46,7 @@ class SituationPublisher:
     def reset(self, world: World) -> None:
         n = len(self.targets)
         self.min_dist, self.t_min, self.min_cpa = np.full(n, np.inf), np.zeros(n), np.full(n, np.inf)
+        self.tcpa_at_min_cpa, self._last, self.sampled = np.full(n, np.nan), np.zeros((n, 4)), False
 
     def _run(self, world: World, horizon_s: float) -> np.ndarray:
         """One call of the situation kernel (awareness.situation); horizon_s >= 0 also updates the run report."""
@@ -50,7 +54,7 @@ class SituationPublisher:
         _own_state(self.own.index, s.pos, s.rot, s.omega_body, s.vcom_world, s.com_world, own)
         f = self.fleet
         aw.situation(own, f.pos_enu, f.vel_enu, f.yaw_rad, self.targets, self._out, horizon_s, world.time,
-                     self.min_dist, self.t_min, self.min_cpa)  # fmt: skip
+                     self.min_dist, self.t_min, self.min_cpa, self.tcpa_at_min_cpa, self.cfg.tcpa_limit_s)  # fmt: skip
         return self._out
 
     def compute(self, world: World) -> dict[str, Any]:
@@ -69,6 +73,9 @@ class SituationPublisher:
         # present (a look ahead reported passes after the run's end, e.g. t = 31 s in a 30 s run with targets
         # still closing)
         self._run(world, min(self.period_s, world.time))
+        self.sampled = True
+        self._last[:, :3] = self._out[:, [aw.RANGE, aw.CPA, aw.TCPA]]
+        self._last[:, 3] = np.hypot(self._out[:, aw.VX], self._out[:, aw.VY])
         if not publish:  # building the message costs more than the rest of the traffic for 50 ships
             return []
         return [Envelope(self.cfg.topic, world.clock.now_ns, self._message(world.clock.now_ns, self.compute(world)))]
@@ -91,9 +98,20 @@ class SituationPublisher:
             own_velocity=ros.vector3([*s["own_vel"], 0.0]), own_heading=(0.5 * math.pi - s["own_yaw"]) % (2 * math.pi),
             targets=targets)  # fmt: skip
 
-    def report(self) -> dict[str, dict[str, float]]:
-        return {self.fleet.names[k]: {"min_distance_m": float(self.min_dist[j]), "t_min_distance_s": float(self.t_min[j]),
-                                      "min_cpa_m": float(self.min_cpa[j])}
+    def report(self) -> dict[str, dict[str, float | None]]:
+        """Per target: min_distance_m and t_min_distance_s (when, s of simulated time); min_cpa_m and
+        tcpa_at_min_cpa_s, the least CPA predicted with 0 <= TCPA <= tcpa_limit_s and its TCPA (None: none was);
+        range_m, cpa_m, tcpa_s and relative_speed_mps at the last sample (None before the first). Metres,
+        seconds, m/s."""
+
+        def opt(x):
+            return float(x) if self.sampled and np.isfinite(x) else None
+
+        return {self.fleet.names[k]: {
+                    "min_distance_m": opt(self.min_dist[j]), "t_min_distance_s": opt(self.t_min[j]),
+                    "min_cpa_m": opt(self.min_cpa[j]), "tcpa_at_min_cpa_s": opt(self.tcpa_at_min_cpa[j]),
+                    "range_m": opt(self._last[j, 0]), "cpa_m": opt(self._last[j, 1]), "tcpa_s": opt(self._last[j, 2]),
+                    "relative_speed_mps": opt(self._last[j, 3])}
                 for j, k in enumerate(self.targets)}  # fmt: skip
 
 
