@@ -7,6 +7,12 @@ import numbers
 from dataclasses import dataclass
 
 
+def check_seconds(name: str, value, positive: bool) -> None:
+    """ValueError naming `name` unless `value` is a finite real number of seconds, > 0 if `positive` else >= 0."""
+    if not isinstance(value, numbers.Real) or not math.isfinite(value) or float(value) < 0 or (positive and value == 0):
+        raise ValueError(f"{name} must be a finite number of seconds {'> 0' if positive else '>= 0'}, not {value!r}")
+
+
 @dataclass(frozen=True)
 class TaskTiming:
     """Durations (s). VRX's 2023 worlds use initial 10, ready 10, running 300; episodes for learning start
@@ -18,11 +24,7 @@ class TaskTiming:
 
     def __post_init__(self) -> None:
         for key in ("initial_s", "ready_s", "running_s"):
-            value = getattr(self, key)
-            if not isinstance(value, numbers.Real) or not math.isfinite(value) or float(value) < 0 \
-                    or (key == "running_s" and value == 0):  # fmt: skip
-                bound = "> 0" if key == "running_s" else ">= 0"
-                raise ValueError(f"TaskTiming.{key} must be a finite number of seconds {bound}, not {value!r}")
+            check_seconds(f"TaskTiming.{key}", getattr(self, key), positive=key == "running_s")
 
     @property
     def start_s(self) -> float:

@@ -18,7 +18,6 @@ exact (bit for bit a fresh start with seed s), no model rebuild.
 from __future__ import annotations
 
 import math
-import numbers
 
 import gymnasium as gym
 import numpy as np
@@ -27,7 +26,7 @@ from gymnasium import spaces
 from usvsim.core.clock import steps_per_period
 from usvsim.tasks.gym.observations import SENSORS, sensor_arrays, sensor_configs, sensor_spaces
 from usvsim.tasks.library import TASKS
-from usvsim.tasks.timing import TaskTiming, limit_numba_threads
+from usvsim.tasks.timing import TaskTiming, check_seconds, limit_numba_threads
 
 VELOCITY_SCALE = np.array([2.0, 1.0, 0.5])  # m/s, m/s, rad/s at action ±1
 OBSERVATIONS = ("state", *SENSORS)
@@ -150,8 +149,7 @@ def _check_options(task: str, action_type: str, observation: tuple, time_limit_s
     unknown = [o for o in observation if o not in OBSERVATIONS]
     if unknown or not observation:
         raise ValueError(f"observation must be one or more of {OBSERVATIONS}, not {observation!r}")
-    if not isinstance(time_limit_s, numbers.Real) or not math.isfinite(time_limit_s) or float(time_limit_s) <= 0:
-        raise ValueError(f"time_limit_s must be a finite number of seconds > 0, not {time_limit_s!r}")
+    check_seconds("time_limit_s", time_limit_s, positive=True)
 
 
 def check_action(action, n: int) -> np.ndarray:

@@ -9,7 +9,6 @@ from __future__ import annotations
 
 import functools
 import math
-import numbers
 from typing import cast
 
 import numpy as np
@@ -21,7 +20,7 @@ from usvsim.core.clock import steps_per_period
 from usvsim.tasks import levels
 from usvsim.tasks.gym.env import check_action
 from usvsim.tasks.pose_error import StationKeepingScorer
-from usvsim.tasks.timing import limit_numba_threads
+from usvsim.tasks.timing import check_seconds, limit_numba_threads
 
 
 class MultiStationKeeping(ParallelEnv):
@@ -33,8 +32,7 @@ class MultiStationKeeping(ParallelEnv):
 
         if not isinstance(vessels, int) or vessels < 1:
             raise ValueError(f"vessels must be a whole number >= 1, not {vessels!r}")
-        if not isinstance(time_limit_s, numbers.Real) or not math.isfinite(time_limit_s) or float(time_limit_s) <= 0:
-            raise ValueError(f"time_limit_s must be a finite number of seconds > 0, not {time_limit_s!r}")
+        check_seconds("time_limit_s", time_limit_s, positive=True)
         limit_numba_threads(numba_threads)
         self.possible_agents = [f"wamv_{k}" for k in range(vessels)]
         self.starts = {a: (0.0, 20.0 * (k - (vessels - 1) / 2)) for k, a in enumerate(self.possible_agents)}
