@@ -103,3 +103,67 @@ def test_reused_buffers_equal_a_fresh_hull_set():
         x, y = getattr(b, name), getattr(c, name)
         assert np.abs(x - y).max() <= 1e-9 * max(float(np.abs(y).max()), 1e-3), name
     assert not c.waterline_segments[c.waterline_count == 0].any()
+
+
+def _fleet():
+    """Repeated hulls as in a fleet: three WAM-Vs (one with its centre of mass moved: a kind of its own), two
+    Otters and a sphere, in an order that interleaves them."""
+    meshes, coms = _hulls()
+    order = [0, 1, 0, 2, 0, 1]
+    fleet_coms = coms[order].copy()
+    fleet_coms[4] += [0.1, 0.0, -0.05]  # the same mesh with another centre of mass: other coefficients
+    return [meshes[i] for i in order], fleet_coms
+
+
+def test_bodies_of_one_hull_share_tables_and_keep_their_own_states():
+    """One table per (mesh, centre of mass); every body's results still equal the per-face kernel's, and each
+    body's clusters change state on their own (identical hulls in different poses)."""
+    meshes, coms = _fleet()
+    exact, flat = HullSet(meshes), HullSet(meshes)
+    use_flat(flat, coms)
+    fc = flat._flat
+    assert fc.kind_of.tolist() == [0, 1, 0, 2, 3, 1]
+    single = HullSet(meshes[:1])
+    use_flat(single, coms[:1])
+    wamv_clusters = len(single._flat.coef)
+    assert int(fc.kind_clusters[1] - fc.kind_clusters[0]) == wamv_clusters
+    assert len(fc.state) == sum(int(fc.kind_clusters[k + 1] - fc.kind_clusters[k]) for k in fc.kind_of.astype(int))
+    rng = np.random.default_rng(11)
+    for trial in range(150):
+        pos, rot, com = _pose(rng, coms, 0.03 if trial % 3 else 0.6)
+        level = rng.normal(0.0, 0.3)
+        world = exact.world_vertices(pos, rot)
+        a = exact.compute(world, np.full(len(world), level), com, RHO, G)
+        b = flat.compute_flat(rot, com, level, RHO, G)
+        for name in a.__dataclass_fields__:
+            x, y = getattr(a, name), getattr(b, name)
+            if name == "cob":
+                x, y = x[a.volume > 1e-6], y[a.volume > 1e-6]
+            if x.size:
+                assert np.abs(x - y).max() <= 1e-9 * max(float(np.abs(x).max()), 1e-3), (trial, name)
+        # body 2 (a WAM-V sharing body 0's table) gives the bits of a hull set holding it alone
+        single_res = single.compute_flat(rot[2:3], com[2:3], level, RHO, G)
+        assert np.array_equal(single_res.force[0], b.force[2]) and np.array_equal(single_res.cob[0], b.cob[2])
+        lo, hi = int(flat.face_offsets[2]), int(flat.face_offsets[3])
+        assert np.array_equal(single_res.face_submerged_area, b.face_submerged_area[lo:hi])
+
+
+def test_the_split_over_two_threads_gives_the_same_bits():
+    """Half the bodies on the overlap worker (large fleets): every output bit for bit that of one thread."""
+    from usvsim.core.overlap import Overlap
+
+    meshes, coms = _fleet()
+    one, two = HullSet(meshes), HullSet(meshes)
+    use_flat(one, coms)
+    use_flat(two, coms)
+    overlap = Overlap()
+    rng = np.random.default_rng(5)
+    try:
+        for trial in range(40):
+            pos, rot, com = _pose(rng, coms, 0.03 if trial % 2 else 0.6)
+            a = one.compute_flat(rot, com, 0.0, RHO, G)
+            b = two.compute_flat(rot, com, 0.0, RHO, G, overlap)
+            for name in a.__dataclass_fields__:
+                assert np.array_equal(getattr(a, name), getattr(b, name)), (trial, name)
+    finally:
+        overlap.close()

@@ -66,50 +66,85 @@ def _cluster_tensors(v0: np.ndarray, v1: np.ndarray, v2: np.ndarray) -> np.ndarr
 
 
 class FlatClusters:
-    """Cluster tables of a HullSet for `flat_hydrostatics` (body frame, relative to each body's CoM)."""
+    """Cluster tables of a HullSet for `flat_hydrostatics` (body frame, relative to each body's CoM).
 
-    def __init__(self, vertices_body, faces, face_offsets, vert_body, com_body, size: int = CLUSTER_FACES):
-        rel = np.asarray(vertices_body, float) - np.asarray(com_body, float)[vert_body]
-        self.vertices = np.ascontiguousarray(rel)
-        tri = rel[faces.astype(np.intp)]
-        centroids = tri.mean(1)
-        groups, body_ptr = [], [0]
-        for b in range(len(face_offsets) - 1):
-            f0, f1 = int(face_offsets[b]), int(face_offsets[b + 1])
-            groups += _clusters(centroids, np.arange(f0, f1), size) if f1 > f0 else []
-            body_ptr.append(len(groups))
-        self.body_ptr = np.array(body_ptr, dtype=np.uint64)  # unsigned: no negative-index handling in the kernel
-        self.ptr = np.concatenate([[0], np.cumsum([len(g) for g in groups])]).astype(np.uint64)
-        groups = [np.sort(g) for g in groups]  # faces in mesh order within a cluster (memory locality)
-        self.faces = np.concatenate(groups).astype(np.uint64) if groups else np.zeros(0, np.uint64)
-        verts = [np.unique(faces[g].astype(np.int64)) for g in groups]  # each cluster's vertices
+    Bodies with the same hull mesh (`HullSet.mesh_of`: byte-identical vertices and faces) and the same centre of mass
+    share one set of tables (a *kind*): a fleet of one model reads one table (the WAM-V's 128 clusters: 120 kB) that
+    stays in the core's caches, where a copy per body (11.5 MB at 100 WAM-Vs) was streamed from memory every step.
+    Each body keeps only its clusters' states (`state`, a byte per cluster and body). A kind's tables are the numbers a
+    table of one body would hold (the same clusters, faces and coefficients), so the sums are bit for bit the same."""
+
+    def __init__(self, hulls, com_body, size: int = CLUSTER_FACES):
+        com_body = np.asarray(com_body, float).reshape(-1, 3)
+        kinds: dict[tuple[int, bytes], int] = {}  # (mesh, CoM bytes) → kind
+        kind_of = [kinds.setdefault((int(hulls.mesh_of[b]), com_body[b].tobytes()), len(kinds))
+                   for b in range(hulls.n_bodies)]  # fmt: skip
+        self.kind_of = np.array(kind_of, dtype=np.uint64)
+        rels, local_faces, groups, verts, kind_clusters = [], [], [], [], [0]
+        for (m, com), _ in sorted(kinds.items(), key=lambda item: item[1]):
+            mv0, mv1 = hulls.mesh_vert_offsets[m], hulls.mesh_vert_offsets[m + 1]
+            mf0, mf1 = hulls.mesh_face_offsets[m], hulls.mesh_face_offsets[m + 1]
+            rel = hulls.mesh_vertices[mv0:mv1] - np.frombuffer(com)
+            faces = hulls.mesh_faces[mf0:mf1].astype(np.int64)  # indices into this mesh's vertices
+            tri = rel[faces]
+            mine = [np.sort(g) for g in _clusters(tri.mean(1), np.arange(len(faces)), size)] if len(faces) else []
+            groups += [(tri, g) for g in mine]  # faces in mesh order within a cluster (memory locality)
+            verts += [np.unique(faces[g]) for g in mine]  # each cluster's vertices
+            rels.append(rel)
+            local_faces.append(faces)
+            kind_clusters.append(kind_clusters[-1] + len(mine))
+        self.vertices = np.ascontiguousarray(np.concatenate(rels)) if rels else np.zeros((0, 3))
+        self.kind_verts = np.concatenate([[0], np.cumsum([len(r) for r in rels])]).astype(np.uint64)
+        self.mesh_faces = (np.ascontiguousarray(np.concatenate(local_faces)) if local_faces
+                           else np.zeros((0, 3))).astype(np.uint64)  # fmt: skip
+        self.kind_faces = np.concatenate([[0], np.cumsum([len(f) for f in local_faces])]).astype(np.uint64)
+        self.kind_clusters = np.array(kind_clusters, dtype=np.uint64)
+        per_body = np.diff(self.kind_clusters)[self.kind_of.astype(np.intp)] if len(kind_of) else np.zeros(0, int)
+        self.body_clusters = np.concatenate([[0], np.cumsum(per_body)]).astype(np.uint64)  # rows of `state`
+        self.ptr = np.concatenate([[0], np.cumsum([len(g) for _, g in groups])]).astype(np.uint64)
+        self.faces = (np.concatenate([g for _, g in groups]) if groups else np.zeros(0)).astype(np.uint64)  # mesh-local
         self.vert_ptr = np.concatenate([[0], np.cumsum([len(v) for v in verts])]).astype(np.uint64)
-        self.verts = (np.concatenate(verts) if verts else np.zeros(0)).astype(np.uint64)
+        self.verts = (np.concatenate(verts) if verts else np.zeros(0)).astype(np.uint64)  # kind-local vertex indices
         nc = len(groups)
         self.coef = np.zeros((nc, WIDTH))
         self.box = np.zeros((nc, 6))  # centre (3), half extents (3), m
-        for c, g in enumerate(groups):
+        for c, (tri, g) in enumerate(groups):
             t = tri[g]
             self.coef[c] = _cluster_tensors(t[:, 0], t[:, 1], t[:, 2])
             lo, hi = t.reshape(-1, 3).min(0), t.reshape(-1, 3).max(0)
             self.box[c, :3], self.box[c, 3:] = 0.5 * (lo + hi), 0.5 * (hi - lo)
-        self.state = np.full(nc, UNKNOWN, dtype=np.int8)
-        self.scratch = np.zeros_like(self.vertices)  # vertices of crossing clusters' bodies, CoM-relative, world axes
+        self.state = np.full(int(self.body_clusters[-1]), UNKNOWN, dtype=np.int8)  # per body and cluster
+        rows = int(np.diff(self.kind_verts).max()) if rels else 0
+        self._scratch = (np.zeros((rows, 3)), np.zeros((rows, 3)))  # a kind's rotated vertices: this thread, worker
 
     def invalidate(self) -> None:
         """Per-face outputs were written by someone else (the general kernel): rewrite them all next time."""
         self.state[:] = UNKNOWN
 
-    def compute(self, hulls, rot, com_world, level: float, rho: float, g: float, out) -> None:
-        """`flat_hydrostatics` of `hulls` (the HullSet these clusters were made for) into its output buffers `out`."""
-        flat_hydrostatics(self.vertices, self.vert_ptr, self.verts, hulls.faces, hulls.face_area, hulls.face_offsets,
-                          self.body_ptr, self.ptr, self.faces, self.coef, self.box, self.state, self.scratch, rot,
-                          com_world, level, rho, g, *out)  # fmt: skip
+    def compute(self, hulls, rot, com_world, level: float, rho: float, g: float, out, overlap=None) -> None:
+        """`flat_hydrostatics` of `hulls` (the HullSet these clusters were made for) into its output buffers `out`;
+        with `overlap` (core/overlap.py) the bodies split where the faces halve, the first part on its worker thread
+        (each body's sums are the same either way)."""
+        args = (self.kind_of, self.kind_verts, self.kind_faces, self.kind_clusters, self.vertices, self.mesh_faces,
+                hulls.face_area, hulls.face_offsets, self.body_clusters, self.ptr, self.faces, self.vert_ptr,
+                self.verts, self.coef, self.box, self.state)  # fmt: skip
+        tail = (rot, com_world, level, rho, g, *out)
+        nb = hulls.n_bodies
+        if overlap is None or nb < 2:
+            flat_hydrostatics(0, nb, *args, self._scratch[0], *tail)
+            return
+        cut = int(np.searchsorted(hulls.face_offsets, hulls.face_offsets[-1] // 2))
+        cut = min(max(cut, 1), nb - 1)
+        wait = overlap.submit(flat_hydrostatics, 0, cut, *args, self._scratch[1], *tail)
+        try:
+            flat_hydrostatics(cut, nb, *args, self._scratch[0], *tail)
+        finally:
+            wait()
 
 
 def use_flat(hulls, com_body: np.ndarray) -> None:
     """Prepare `hulls.compute_flat` (a HullSet) for bodies whose centres of mass are `com_body` (nb,3) m, body frame."""
-    hulls.use_flat(FlatClusters(hulls.vertices_body, hulls.faces, hulls.face_offsets, hulls.vert_body, com_body))
+    hulls.use_flat(FlatClusters(hulls, com_body))
 
 
 @njit(cache=True)
@@ -149,17 +184,24 @@ def _add_cluster(coef, c, u0, u1, u2, u3, acc):
     acc[21] += coef[c, k]
 
 
-@njit(cache=True)
-def flat_hydrostatics(verts_rel, cl_vert_ptr, cl_verts, faces, face_area, face_offsets, cl_body_ptr, cl_ptr, cl_faces, cl_coef, cl_box,
-                      cl_state, r, rot, com, level, rho, g, force, torque, volume, cob, wetted_area, waterplane_area,
+@njit(cache=True, nogil=True)  # nogil: half the bodies may run on the overlap worker (FlatClusters.compute)
+def flat_hydrostatics(b0, b1, kind_of, kind_verts, kind_faces, kind_clusters, verts_rel, mesh_faces, face_area,
+                      face_offsets, body_clusters, cl_ptr, cl_faces, cl_vert_ptr, cl_verts, cl_coef, cl_box, cl_state,
+                      r, rot, com, level, rho, g, force, torque, volume, cob, wetted_area, waterplane_area,
                       face_area_sub, seg, seg_count):  # fmt: skip
-    """`hull_hydrostatics` for eta = level (m) at every vertex and no pressure heads (see the module text).
+    """`hull_hydrostatics` of bodies b0:b1 for eta = level (m) at every vertex and no pressure heads (see the module
+    text), from the shared tables of each body's kind (`FlatClusters`).
 
-    verts_rel (Nv,3) m: vertices in the body frame relative to the CoM; r (Nv,3) scratch (kept between calls:
-    a large array made per call would cost page faults every step); rot (nb,3,3) body → world; com (nb,3)
-    m world. Outputs as `hull_hydrostatics`' (per-face rows of clusters whose state did not change are kept)."""
+    verts_rel (kind vertices, 3) m: each kind's vertices in the body frame relative to the CoM, mesh_faces its faces
+    (kind-local vertex indices); r (largest kind's vertex count, 3) scratch (kept between calls: a large array made
+    per call would cost page faults every step); rot (nb,3,3) body → world; com (nb,3) m world. Outputs as
+    `hull_hydrostatics`' (the face rows of body b at face_offsets[b] + its mesh-local face index; rows of clusters
+    whose state did not change are kept)."""
     acc = np.zeros(22)
-    for b in range(face_offsets.shape[0] - 1):
+    for b in range(b0, b1):
+        k = kind_of[b]
+        v0, fl0, c0k, c1k = kind_verts[k], kind_faces[k], kind_clusters[k], kind_clusters[k + 1]
+        fg0, s0 = face_offsets[b], body_clusters[b]  # the body's first face row and first cluster state
         cx, cy, cz = com[b, 0], com[b, 1], com[b, 2]
         r00, r01, r02 = rot[b, 0, 0], rot[b, 0, 1], rot[b, 0, 2]
         r10, r11, r12 = rot[b, 1, 0], rot[b, 1, 1], rot[b, 1, 2]
@@ -168,37 +210,39 @@ def flat_hydrostatics(verts_rel, cl_vert_ptr, cl_verts, faces, face_area, face_o
         acc[:] = 0.0
         wet_clusters = 0
         fx = fy = fz = tx = ty = tz = vol = mx = my = mz = wet = awp = 0.0
-        for c in range(cl_body_ptr[b], cl_body_ptr[b + 1]):
+        for c in range(c0k, c1k):
+            cs = s0 + (c - c0k)  # this body's state of cluster c
             centre = n0 * cl_box[c, 0] + n1 * cl_box[c, 1] + n2 * cl_box[c, 2] - c0  # height above water
             spread = abs(n0) * cl_box[c, 3] + abs(n1) * cl_box[c, 4] + abs(n2) * cl_box[c, 5]
             if centre - spread > EPS_M:
-                if cl_state[c] != DRY:
+                if cl_state[cs] != DRY:
                     for j in range(cl_ptr[c], cl_ptr[c + 1]):
-                        f = cl_faces[j]
+                        f = fg0 + cl_faces[j]
                         face_area_sub[f] = 0.0
                         _clear_segment(seg, seg_count, f)
-                    cl_state[c] = DRY
+                    cl_state[cs] = DRY
                 continue
             if centre + spread < -EPS_M:
                 _add_cluster(cl_coef, c, c0, -n0, -n1, -n2, acc)
                 wet_clusters += 1
-                if cl_state[c] != WET:
+                if cl_state[cs] != WET:
                     for j in range(cl_ptr[c], cl_ptr[c + 1]):
-                        f = cl_faces[j]
+                        f = fg0 + cl_faces[j]
                         face_area_sub[f] = face_area[f]
                         _clear_segment(seg, seg_count, f)
-                    cl_state[c] = WET
+                    cl_state[cs] = WET
                 continue
-            cl_state[c] = MIXED
+            cl_state[cs] = MIXED
             for j in range(cl_vert_ptr[c], cl_vert_ptr[c + 1]):  # the cluster's vertices (shared ones: same values)
                 v = cl_verts[j]
-                x, y, z = verts_rel[v, 0], verts_rel[v, 1], verts_rel[v, 2]
+                x, y, z = verts_rel[v0 + v, 0], verts_rel[v0 + v, 1], verts_rel[v0 + v, 2]
                 r[v, 0] = r00 * x + r01 * y + r02 * z
                 r[v, 1] = r10 * x + r11 * y + r12 * z
                 r[v, 2] = n0 * x + n1 * y + n2 * z
             for j in range(cl_ptr[c], cl_ptr[c + 1]):
-                f = cl_faces[j]
-                i0, i1, i2 = faces[f, 0], faces[f, 1], faces[f, 2]
+                lf = cl_faces[j]
+                f = fg0 + lf
+                i0, i1, i2 = mesh_faces[fl0 + lf, 0], mesh_faces[fl0 + lf, 1], mesh_faces[fl0 + lf, 2]
                 r0 = (r[i0, 0], r[i0, 1], r[i0, 2])
                 r1 = (r[i1, 0], r[i1, 1], r[i1, 2])
                 r2 = (r[i2, 0], r[i2, 1], r[i2, 2])

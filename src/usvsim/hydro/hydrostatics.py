@@ -458,14 +458,15 @@ class HullSet:
         """Whether `use_flat` prepared `compute_flat`."""
         return self._flat is not None
 
-    def compute_flat(self, rot: np.ndarray, com_world: np.ndarray, level: float, rho: float, g: float
-                     ) -> HydrostaticsResult:  # fmt: skip
+    def compute_flat(self, rot: np.ndarray, com_world: np.ndarray, level: float, rho: float, g: float,
+                     overlap=None) -> HydrostaticsResult:  # fmt: skip
         """Hydrostatics of all bodies under flat water at height `level` (m): `compute` with eta = level at every
         vertex and no pressure heads, from rotations (nb,3,3) body → world and CoMs (nb,3) m (no world vertices
-        needed). Equal to `compute` up to rounding (hydro/flat.py); needs `use_flat` first."""
+        needed). Equal to `compute` up to rounding (hydro/flat.py); needs `use_flat` first. `overlap`
+        (core/overlap.py): half the bodies on its worker thread (the same result)."""
         if self._flat is None:
             raise RuntimeError("compute_flat() needs use_flat() first (usvsim.hydro.flat.use_flat)")
-        self._flat.compute(self, rot, com_world, level, rho, g, self._out)
+        self._flat.compute(self, rot, com_world, level, rho, g, self._out, overlap)
         self._rows_untracked = True
         return self._result
 

@@ -49,12 +49,16 @@ from usvsim.world.obstacles import static_parts
 from usvsim.world.poses import PoseLike, pose_arrays, twist_array
 from usvsim.world.state import BodyState
 
-FLAT_MAX_FACES = 30_000  # still water: clustered hydrostatics up to this many hull faces (hydro/flat.py). A/B in one
-# process, CPU µs per step, clustered vs per-face kernel (load 4.2-4.5): 1 WAM-V 17.8 vs 19.7, 3: 37.3 vs 41.9,
-# harbor 41.0 vs 44.0, 10: 110 vs 119, 20 (22,400 faces): 198 vs 214, 40 (44,800): 486 vs 443, 100: 1,014-1,098
-# vs 934-967 (the per-face kernel streams a mesh that outgrows the caches better)
+FLAT_MAX_FACES = 30_000  # still water: clustered hydrostatics (hydro/flat.py) while the distinct hulls (one cluster
+# table per mesh, shared by the bodies using it) have at most this many faces. A/B in one process, calm WAM-V fleets,
+# clustered vs per-face kernel, wall / CPU µs per step (both split over two cores from 8,000 faces; load 0.3):
+# 1 WAM-V 16.2 vs 17.7, 10: 109 / 131 vs 126 / 152, 40: 246 / 356 vs 298 / 430, 100: 520 / 829 vs 654 / 1,005,
+# 200: 1,024 / 1,665 vs 1,533 / 2,391 (with a table per body, 11.5 MB at 100 WAM-Vs, the clusters lost from ~40 on)
 OVERLAP_MIN_FACES = 8000  # below this the thread hand-off costs more than overlapping the two kernels saves
 SPLIT_MIN_FACES = 8000  # per-face hydrostatics of this many faces or more: half the bodies on the second core
+FLAT_SPLIT_MIN_FACES = 30_000  # the same for the clustered kernel (cheaper per face). Calm WAM-V fleets, split vs one
+# thread, wall / CPU µs per step (load 0.4): 10: 111 / 133 vs 80 / 80, 20: 158 / 208 vs 156 / 156, 40: 249 / 360 vs
+# 304 / 304, 100: 525 / 829 vs 755 / 756
 BAD_QPOS, BAD_QVEL, BAD_QACC = (int(mujoco.mjtWarning.mjWARN_BADQPOS), int(mujoco.mjtWarning.mjWARN_BADQVEL),
                                 int(mujoco.mjtWarning.mjWARN_BADQACC))  # fmt: skip
 
@@ -130,8 +134,10 @@ class World:
         self.qpos_adr, self.qvel_adr = m.jnt_qposadr[joints].copy(), m.jnt_dofadr[joints].copy()
         self.hulls = HullSet([(fb.model.hull.vertices, fb.model.hull.faces) for fb in floating])
         self._com_body = np.array([fb.model.com for fb in floating], dtype=float).reshape(n, 3)
-        if len(self.hulls.faces) <= FLAT_MAX_FACES:
+        if self.hulls.mesh_face_offsets[-1] <= FLAT_MAX_FACES:  # the distinct hulls' faces
             use_flat(self.hulls, self._com_body)  # clustered still-water hydrostatics (hydro/flat.py)
+        big = len(self.hulls.faces) >= FLAT_SPLIT_MIN_FACES and self.hulls.n_bodies > 1
+        self._flat_overlap = self._overlap if big else None  # clustered hydrostatics: half the bodies on the second core
         self._body_wrenches = np.zeros((2, n, 6))  # body-frame: marine (damping + wind), thrust
         self._xfrc = self.data.xfrc_applied[1 : n + 1]  # floating bodies are bodies 1..n (world frame, CoM)
         self._air = np.zeros((n, 3))
@@ -332,14 +338,16 @@ class World:
         flat = still and self.hulls.has_flat  # clustered hydrostatics from the poses (hydro/flat.py)
         simple = self.marine.simple
         if flat and simple:  # no world vertices needed
-            hydrostatics = self.hulls.compute_flat(s.rot, s.com_world, ocean.level_m, self.rho, self.g)
+            hydrostatics = self.hulls.compute_flat(s.rot, s.com_world, ocean.level_m, self.rho, self.g,
+                                                   self._flat_overlap)  # fmt: skip
         elif (fused := self._fused_hull_pass(t)) is not None:  # a wavy fleet: a body at a time (hydro/fused.py)
             hydrostatics, verts, eta = fused, self.hulls.world_buffer, self._eta
         else:
             verts = self.hulls.world_vertices(s.pos, s.rot)
             eta, head = self._water(verts, t)
             if flat:
-                hydrostatics = self.hulls.compute_flat(s.rot, s.com_world, ocean.level_m, self.rho, self.g)
+                hydrostatics = self.hulls.compute_flat(s.rot, s.com_world, ocean.level_m, self.rho, self.g,
+                                                       self._flat_overlap)  # fmt: skip
             elif self.marine.has_kerner and len(self.hulls.faces) >= OVERLAP_MIN_FACES:  # both kernels, two cores
                 hydrostatics = self._overlap.submit(self.hulls.compute, verts, eta, s.com_world, self.rho, self.g,
                                                     head)  # fmt: skip
