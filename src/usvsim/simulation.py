@@ -37,7 +37,13 @@ __all__ = ["BodyState", "Simulation", "World"]
 class Simulation:
     """A scenario running in MuJoCo with marine physics. `seed` drives every random stream."""
 
-    def __init__(self, scenario: Scenario, seed: int = 0):
+    def __init__(self, scenario: Scenario | str | Path, seed: int = 0):
+        """`scenario`: a `Scenario`, or a built-in scenario's name (see `usvsim scenarios`) or a YAML file's path."""
+        if isinstance(scenario, str | Path):  # Simulation("harbor") failed deep inside with an AttributeError
+            scenario = load_scenario(scenario)
+        elif not isinstance(scenario, Scenario):
+            raise UsvsimError(f"Simulation: give a Scenario, a built-in scenario's name or a YAML file's path, not "
+                              f"{type(scenario).__name__}")  # fmt: skip
         self.world = world = World(scenario, seed, kinematic_bodies(scenario))  # traffic ships: moving world geoms
         scenario = world.scenario  # with a real place's parts resolved (geo/)
         self._controller_configs = {v.name: v.controller for v in scenario.vessels if v.controller is not None}

@@ -21,12 +21,14 @@ def one_line_error(result, *words):
 
 
 @pytest.mark.parametrize(("target", "words"), [("missing/run.mcap", ["does not exist"]), (".", ["is a directory"]),
-                                               ("taken.mcap", ["exists", "--force"])])  # fmt: skip
+                                               ("taken.mcap", ["exists", "--force"]), ("run.txt", ["ending in .mcap"]),
+                                               ("run", ["ending in .mcap"])])  # fmt: skip
 def test_bad_recording_targets_are_one_line(tmp_path, monkeypatch, target, words):
     monkeypatch.chdir(tmp_path)
     (tmp_path / "taken.mcap").write_bytes(b"precious")
     one_line_error(invoke("run", "--duration", "0.1", "--record", target), *words)
     assert (tmp_path / "taken.mcap").read_bytes() == b"precious"
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["taken.mcap"]  # nothing written
 
 
 def test_nonfinite_duration_is_one_line():

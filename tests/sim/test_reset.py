@@ -8,6 +8,7 @@ import pytest
 import yaml
 
 from usvsim.config.loader import parse_scenario, resolve
+from usvsim.core.errors import UsvsimError
 from usvsim.messages.envelope import EPISODE_TOPIC
 from usvsim.simulation import Simulation
 
@@ -116,6 +117,35 @@ def test_reset_with_poses_and_teleport(scenario_of):
         sim.reset(poses={"nope": (0, 0, 0, 0, 0, 0)})
     with pytest.raises(ValueError, match="6 .* or 7"):
         sim.vessels["wamv"].teleport((1.0, 2.0))
+
+
+def test_bad_poses_are_one_line_errors_and_change_nothing(scenario_of):
+    """A pose dict's mistakes were pydantic's several lines with links; a teleport 200 km away was taken (every
+    scenario position is within 100 km of the origin)."""
+    sim = Simulation(scenario_of({"name": "one", "vessels": [{"name": "wamv", "model": "wamv"}]}))
+    sim.run(0.2)
+    before = sim.data.qpos.copy()
+    for pose, words in (({"position": [0, 0, 0], "yawdeg": 3}, "yawdeg: unknown key (did you mean 'yaw_deg'?)"),
+                        ({"position": [0, 0], "yaw_deg": 1}, "position[2]: missing"),
+                        ({"position": [0, 0, 0], "yaw_deg": "east"}, "yaw_deg"),
+                        ((2e5, 0, 0, 0, 0, 0), "more than 100 km")):  # fmt: skip
+        with pytest.raises(ValueError) as reset_error:
+            sim.reset(poses={"wamv": pose})
+        with pytest.raises(ValueError) as teleport_error:
+            sim.vessels["wamv"].teleport(pose)
+        for error in (reset_error, teleport_error):
+            assert words in str(error.value) and "\n" not in str(error.value)
+    assert np.array_equal(sim.data.qpos, before) and sim.time > 0  # neither call changed the state
+
+
+def test_a_simulation_from_a_name_or_a_path(tmp_path):
+    """`Simulation("harbor")` failed deep inside with "'str' object has no attribute 'traffic'"."""
+    assert Simulation("harbor", seed=2).scenario.name == "harbor"
+    path = tmp_path / "one.yaml"
+    path.write_text("version: 1\nname: one\nvessels: [{name: a, model: otter}]\n")
+    assert list(Simulation(path).vessels) == ["a"]
+    with pytest.raises(UsvsimError, match="a built-in scenario's name or a YAML file's path, not int"):
+        Simulation(3)  # type: ignore[arg-type]
 
 
 def test_two_simulations_interleaved_equal_separate_runs(scenario_of):

@@ -9,10 +9,12 @@ from usvsim.core.errors import UsvsimError
 
 
 def check_output(path: Path, force: bool) -> None:
-    """Raise a UsvsimError unless `path` can be (re)written: parent directory exists and is writable, the
-    path is not a directory, and an existing file is replaced only with `force`."""
+    """Raise a UsvsimError unless `path` can be the MCAP recording asked for: a file name ending in .mcap whose parent
+    directory exists and is writable, and an existing file is replaced only with `force`."""
     if path.is_dir():
         raise UsvsimError(f"{path} is a directory; give a file name ending in .mcap")
+    if path.suffix.lower() != ".mcap":  # `--record run.txt` wrote an MCAP that ROS 2 and Foxglove do not open as one
+        raise UsvsimError(f"{path}: a recording is an MCAP file; give a file name ending in .mcap")
     if path.exists() and not force:
         raise UsvsimError(f"{path} exists; pass --force to overwrite it")
     parent = path.parent if str(path.parent) else Path(".")

@@ -74,6 +74,19 @@ def source_of(scenario: Scenario) -> str:
     return getattr(scenario, "_source", None) or scenario.name
 
 
+def first_error_text(exc: ValidationError, data, keys: list[str]) -> str:
+    """A pydantic error of a section given as the mapping `data` (whose keys may be `keys`) as one line, "key: what
+    is wrong", in the words of a scenario error."""
+    first = exc.errors()[0]
+    if first["type"] == "extra_forbidden" and len(first["loc"]) == 1:  # (the scenario's keys are not this section's)
+        from usvsim.config.schema import did_you_mean
+
+        more = len(exc.errors()) - 1
+        return f"{first['loc'][0]}: unknown key" + did_you_mean(str(first["loc"][0]), keys) + (f" (+{more} more)" if more else "")
+    err = _first_error(exc, "", data)
+    return f"{err.key_path}: {err.message}" if err.key_path else err.message
+
+
 def _first_error(exc: ValidationError, source: str, data) -> ScenarioError:
     err = exc.errors()[0]
     loc = _readable_path(err["loc"], data)

@@ -8,7 +8,10 @@ from collections.abc import Mapping
 from typing import Any
 
 import numpy as np
+from pydantic import ValidationError
 
+from usvsim.config.base import MAX_COORDINATE_M
+from usvsim.config.loader import first_error_text
 from usvsim.config.vessel import Pose
 from usvsim.core.transforms import quat_from_rpy
 
@@ -22,7 +25,10 @@ def pose_arrays(pose: PoseLike) -> tuple[np.ndarray, np.ndarray]:
     - `(x, y, z, qw, qx, qy, qz)`;
     - a pair `(position, quaternion)`."""
     if isinstance(pose, Mapping):
-        pose = Pose.model_validate(dict(pose), strict=False)
+        try:
+            pose = Pose.model_validate(dict(pose), strict=False)
+        except ValidationError as exc:  # pydantic's several lines with links, as one line naming the key
+            raise ValueError(f"pose {dict(pose)!r}: {first_error_text(exc, dict(pose), list(Pose.model_fields))}") from None
     if isinstance(pose, Pose):
         rpy = (math.radians(a) for a in (pose.roll_deg, pose.pitch_deg, pose.yaw_deg))
         return np.array(pose.position, dtype=float), np.asarray(quat_from_rpy(*rpy), dtype=float)
@@ -39,6 +45,9 @@ def pose_arrays(pose: PoseLike) -> tuple[np.ndarray, np.ndarray]:
     norm = float(np.linalg.norm(quat)) if quat.shape == (4,) else 0.0
     if pos.shape != (3,) or not (np.isfinite(pos).all() and np.isfinite(quat).all() and norm > 0):
         raise ValueError(f"not a finite pose: position {pos}, quaternion {quat}")
+    if np.abs(pos).max() > MAX_COORDINATE_M:  # the limit of every scenario position (docs/limits.md)
+        raise ValueError(f"position {pos.tolist()} is more than {MAX_COORDINATE_M / 1000:.0f} km from the world origin "
+                         "(positions must be within it)")  # fmt: skip
     return pos.copy(), quat / norm
 
 
