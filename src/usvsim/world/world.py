@@ -51,7 +51,8 @@ from usvsim.world.state import BodyState
 
 FLAT_MAX_FACES = 30_000  # still water: clustered hydrostatics (hydro/flat.py) while the distinct hulls (one cluster
 # table per mesh, shared by the bodies using it) have at most this many faces. A/B in one process, calm WAM-V fleets,
-# clustered vs per-face kernel, wall / CPU µs per step (both split over two cores from 8,000 faces; load 0.3):
+# clustered vs per-face kernel, wall / CPU µs per step (load 0.3; both split over two cores from 8,000 faces here,
+# the clusters now from FLAT_SPLIT_MIN_FACES):
 # 1 WAM-V 16.2 vs 17.7, 10: 109 / 131 vs 126 / 152, 40: 246 / 356 vs 298 / 430, 100: 520 / 829 vs 654 / 1,005,
 # 200: 1,024 / 1,665 vs 1,533 / 2,391 (with a table per body, 11.5 MB at 100 WAM-Vs, the clusters lost from ~40 on)
 OVERLAP_MIN_FACES = 8000  # below this the thread hand-off costs more than overlapping the two kernels saves
