@@ -142,3 +142,28 @@ def test_a_stop_during_the_set_up_is_taken_before_the_first_step(tmp_path, monke
     with out.open("rb") as f:  # complete: its summary written (a file cut short has none)
         assert make_reader(f).get_summary() is not None
     assert {t for t, _, _ in read_with_mcap_ros2(out)} <= {"/tf_static", "/usvsim/episode"}  # no step was taken
+
+
+def test_a_slow_first_step_is_told_apart_from_the_speed(tmp_path, monkeypatch):
+    """A first run compiles the kernels in its first steps: "simulated 1.00 s in 7.43 s wall (0.1x real time)" read
+    as the simulator's speed. A first step of 2 s or more gets a note with the speed of the other steps."""
+    import time
+
+    from usvsim.simulation import Simulation
+
+    original, calls = Simulation.step, []
+
+    def slow_first(self):
+        if not calls:
+            time.sleep(2.2)  # (a lower bound: holds on a loaded machine)
+        calls.append(1)
+        original(self)
+
+    monkeypatch.setattr(Simulation, "step", slow_first)
+    scenario = tmp_path / "tiny.yaml"
+    scenario.write_text("version: 1\nvessels: [{name: otter, model: otter}]\n")
+    result = invoke("run", str(scenario), "--duration", "0.5")
+    assert result.exit_code == 0, result.output
+    assert "done: simulated 0.50 s" in result.stdout
+    notes = [ln for ln in result.stderr.splitlines() if "note:" in ln]
+    assert len(notes) == 1 and "the first step took" in notes[0] and "the other steps ran at" in notes[0], notes

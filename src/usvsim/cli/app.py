@@ -148,6 +148,11 @@ def run(
     status = f"stopped ({signal_name(interrupted)})" if interrupted else "done"
     episodes = f" over {sim.episode + 1} episodes" if sim.episode else ""
     typer.echo(f"{status}: simulated {simulated:.2f} s{episodes} in {wall:.2f} s wall ({rtf:.1f}x real time)")
+    if steps.first_s >= SLOW_FIRST_STEP_S and steps.n > 1:  # a first run's 0.1x real time read as the speed
+        rest = (steps.n - 1) * sim.clock.dt / max(wall - steps.first_s, 1e-9)
+        typer.echo(f"usvsim: note: the first step took {steps.first_s:.1f} s (a first run compiles the physics "
+                   f"kernels and keeps them for the next runs); the other steps ran at {rest:.1f}x real time",
+                   err=True)  # fmt: skip
     print_traffic_report(sim, Console(soft_wrap=True))  # a result: stdout, beside "done: ..."
     if recorder:
         typer.echo(f"recorded {recorder.message_count} messages to {recorder.path}")
@@ -199,9 +204,14 @@ def _stats_line(stats: dict) -> str:
 
 
 class _StepCount:
-    """Physics steps the run has taken, across resets (the clock counts the current episode only)."""
+    """Physics steps the run has taken, across resets (the clock counts the current episode only), and the wall
+    seconds from the start of the run to the end of its first step."""
 
     n = 0
+    first_s = 0.0
+
+
+SLOW_FIRST_STEP_S = 2.0  # a first step this long (s) is worth a note: numba compiling on a first run, not the speed
 
 
 def _run_with_progress(sim, duration: float, realtime: bool, steps: _StepCount) -> None:
@@ -212,8 +222,12 @@ def _run_with_progress(sim, duration: float, realtime: bool, steps: _StepCount) 
 
     with StopSignals() as stop:
 
+        started = time.perf_counter()
+
         def between_steps(_sim) -> None:
             steps.n += 1
+            if steps.n == 1:
+                steps.first_s = time.perf_counter() - started
             stop.check()
 
         _progress_loop(sim, duration, realtime, between_steps, steps)
