@@ -133,8 +133,7 @@ class FlatClusters:
         if overlap is None or nb < 2:
             flat_hydrostatics(0, nb, *args, self._scratch[0], *tail)
             return
-        cut = int(np.searchsorted(hulls.face_offsets, hulls.face_offsets[-1] // 2))
-        cut = min(max(cut, 1), nb - 1)
+        cut = hulls.split_body()
         wait = overlap.submit(flat_hydrostatics, 0, cut, *args, self._scratch[1], *tail)
         try:
             flat_hydrostatics(cut, nb, *args, self._scratch[0], *tail)

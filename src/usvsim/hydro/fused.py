@@ -115,8 +115,7 @@ def fused_hydrostatics(hulls: HullSet, waves, level: float, t: float, pos: np.nd
     if overlap is None or nb < 2:
         fused_hull_pass(0, nb, *mesh, *sea, cache, stamp, now, *rest, *_scratch(hulls, bands, False))
     else:
-        cut = int(np.searchsorted(hulls.face_offsets, hulls.face_offsets[-1] // 2))
-        cut = min(max(cut, 1), nb - 1)
+        cut = hulls.split_body()
         wait = overlap.submit(fused_hull_pass, 0, cut, *mesh, *sea, *_second_node_cache(waves), now, *rest,
                               *_scratch(hulls, bands, True))  # fmt: skip
         try:

@@ -508,14 +508,18 @@ class HullSet:
         if not tracked:
             self._rows_untracked = True
 
+    def split_body(self) -> int:
+        """Where two threads split the bodies (compute_split, hydro/fused.py, hydro/flat.py): the first body at or past
+        half the faces, bodies [0, cut) on the worker, [cut, nb) here (1 <= cut <= nb - 1; needs 2 bodies or more)."""
+        cut = int(np.searchsorted(self.face_offsets, self.face_offsets[-1] // 2))
+        return min(max(cut, 1), self.n_bodies - 1)
+
     def compute_split(self, overlap, world_vertices: np.ndarray, eta: np.ndarray, com_world: np.ndarray, rho: float,
                       g: float, head: np.ndarray = NO_HEAD) -> HydrostaticsResult:  # fmt: skip
         """`compute` on two cores: the bodies split where the faces halve, the first part on `overlap`'s worker
         thread (core/overlap.py), the rest here. Each body's sums are the same loop over its own faces, so the
         result is bit-identical to `compute`."""
-        nb = self.n_bodies
-        cut = int(np.searchsorted(self.face_offsets, self.face_offsets[-1] // 2))
-        cut = min(max(cut, 1), nb - 1)
+        nb, cut = self.n_bodies, self.split_body()
         force, torque, volume, cob, wet, awp, sub, seg, count = self._out
         parts = [(self.face_offsets[a : b + 1], com_world[a:b], force[a:b], torque[a:b], volume[a:b], cob[a:b],
                   wet[a:b], awp[a:b]) for a, b in ((0, cut), (cut, nb))]  # fmt: skip
