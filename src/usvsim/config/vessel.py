@@ -136,7 +136,7 @@ class WaterSampling(Section):
 
 
 class Vessel(Section):
-    """A vessel: a library model (`wamv`, `otter`) or `custom` with a hull mesh file."""
+    """A vessel: a library model (`wamv`, `otter`, `otter_pvs`) or `custom` with a hull mesh file."""
 
     name: str = Field(pattern=r"^[A-Za-z][A-Za-z0-9_]*$")
     model: str

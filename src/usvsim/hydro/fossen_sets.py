@@ -44,6 +44,10 @@ class OtterPVS:
     n_min: float
     lever_y: tuple[float, float]  # l1, l2 (FRD y of the left and right propellers)
     T_n: float
+    draft: float  # T, m
+    waterplane_area: float  # both pontoons, m²
+    gm_t: float  # transverse and longitudinal metacentric heights, m
+    gm_l: float
 
     def hydro(self) -> FossenParameters:
         """The hydrodynamic part (FRD) as used in the simulator: M_A, D, D_Q, cross-flow, at CO."""
@@ -84,7 +88,8 @@ def otter_pvs(rho: float = 1025.0, g: float = G_MPS2) -> OtterPVS:
     k_pos, k_neg = 0.02216 / 2, 0.01289 / 2
     return OtterPVS(
         m_tot, r_g, Ig, M_RB, M_A, D, Dq, G, (L, T, hoerner_cd(B_pont, T), 1026.0), m_p, r_p, k_pos, k_neg,
-        np.sqrt(0.5 * 24.4 * g / k_pos), -np.sqrt(0.5 * 13.6 * g / k_neg), (-0.395, 0.395), 0.1,
+        np.sqrt(0.5 * 24.4 * g / k_pos), -np.sqrt(0.5 * 13.6 * g / k_neg), (-0.395, 0.395), 0.1, T, 2 * Aw, GM_T,
+        GM_L,
     )  # fmt: skip
 
 

@@ -9,7 +9,7 @@ import numpy as np
 
 from usvsim.config.vessel import Vessel
 from usvsim.core.errors import ScenarioError
-from usvsim.vessels import otter, wamv
+from usvsim.vessels import otter, otter_pvs, wamv
 from usvsim.vessels.custom import estimated_drag, load_mesh, solid_mass_properties
 from usvsim.vessels.model import BodyModel
 from usvsim.vessels.parts import Mesh, Part
@@ -17,6 +17,7 @@ from usvsim.vessels.parts import Mesh, Part
 LIBRARY = {
     "wamv": (wamv.build, "WAM-V 16 catamaran: VRX mass/inertia, the seed's four 250 N azimuth outboards"),
     "otter": (otter.build, "Maritime Robotics Otter (Fossen): 2 m twin-pontoon USV, two fixed propellers"),
+    "otter_pvs": (otter_pvs.build, "the Otter as Fossen's PVS models it: his waterplane, GM_T, GM_L and hydrodynamics"),
 }
 
 

@@ -6,7 +6,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from usvsim.config.hydro_models import WindLoad
+from usvsim.config.hydro_models import FossenHydrodynamics, KernerHydrodynamics, WindLoad
 from usvsim.config.vessel import StateSpaceDrag, Thruster
 from usvsim.vessels.parts import Mesh, Part
 
@@ -23,7 +23,7 @@ class BodyModel:
     mass_kg: float
     com: np.ndarray
     inertia: np.ndarray
-    drag: StateSpaceDrag
+    drag: StateSpaceDrag | KernerHydrodynamics | FossenHydrodynamics  # the hydrodynamics model (library default)
     thrusters: tuple[Thruster, ...] = ()
     wind_load: WindLoad | None = None
 
