@@ -60,7 +60,8 @@ def drag() -> StateSpaceDrag:
 
 
 def build() -> BodyModel:
-    left, right = pontoon(PONTOON_Y_M), pontoon(-PONTOON_Y_M)
+    left = pontoon(PONTOON_Y_M)
+    right = left.mirrored_y()
     deck_size, deck_pos = (0.55, 0.4, 0.03), (-0.1, 0.0, PONTOON_DEPTH_M - 0.03)
     collision = (Part("mesh", mesh=left), Part("mesh", mesh=right), Part("box", size=deck_size, pos=deck_pos))
     visuals = (

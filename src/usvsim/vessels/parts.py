@@ -21,6 +21,11 @@ class Mesh:
     def translated(self, offset) -> Mesh:
         return Mesh(self.vertices + np.asarray(offset, dtype=float), self.faces)
 
+    def mirrored_y(self) -> Mesh:
+        """Its mirror image in the x-z plane (y -> -y), faces still wound outward: a catamaran's starboard hull
+        made this way leaves the pair exactly symmetric (a translated copy keeps its triangulation's lean)."""
+        return Mesh(self.vertices * np.array([1.0, -1.0, 1.0]), self.faces[:, ::-1])
+
     def volume(self) -> float:
         """Enclosed volume (m^3) by the divergence theorem; positive for outward winding."""
         a, b, c = (self.vertices[self.faces[:, k]] for k in range(3))

@@ -105,7 +105,8 @@ def _parts(left: Mesh, right: Mesh):
 
 
 def build() -> BodyModel:
-    left, right = pontoon(PONTOON_Y_M), pontoon(-PONTOON_Y_M)
+    left = pontoon(PONTOON_Y_M)
+    right = left.mirrored_y()
     mass, com, inertia = _mass_properties()
     collision, visuals = _parts(left, right)
     return BodyModel(
