@@ -100,7 +100,8 @@ class Body:
 
     @property
     def displaced_volume(self) -> float:
-        """Displaced water volume at the last step (m^3), of the body's buoyancy model (triangles or voxels)."""
+        """Displaced water volume (m^3) of the body's buoyancy model (triangles or voxels) at the last step, or
+        at the state a build, reset or teleport set."""
         volume = self._world.marine.displaced_volume_m3
         return float((self._world.hydrostatics.volume if volume is None else volume)[self.index])
 

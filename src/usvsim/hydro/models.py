@@ -172,12 +172,24 @@ class MarineModels:
         self.body_wrench += self._scratch
         return hydrostatics
 
-    def _add_voxels(self, state, ocean, t: float) -> None:
+    def settle_volumes(self, state, hydrostatics: HydrostaticsResult, ocean, t: float) -> None:
+        """The displaced volumes of the active buoyancy models at the current state, outside a step (after a
+        build, reset or teleport), so `Vessel.displaced_volume` reads the voxel model's there too."""
+        self.displaced_volume_m3 = hydrostatics.volume.copy()
+        if self._voxels is not None:
+            self.displaced_volume_m3[self._voxel_index] = self._voxel_result(state, ocean, t).volume
+
+    def _voxel_result(self, state, ocean, t: float):
         idx, voxels = self._voxel_index, self._voxels
-        assert voxels is not None and self.displaced_volume_m3 is not None, "called after the hydrostatics"
+        assert voxels is not None
         centers = voxels.world_centers(state.pos[idx], state.rot[idx])
         eta = ocean.elevation(centers[:, 0], centers[:, 1], t)
-        res = voxels.compute(centers, eta, np.ascontiguousarray(state.com_world[idx]), self.rho, self.g)
+        return voxels.compute(centers, eta, np.ascontiguousarray(state.com_world[idx]), self.rho, self.g)
+
+    def _add_voxels(self, state, ocean, t: float) -> None:
+        idx = self._voxel_index
+        assert self.displaced_volume_m3 is not None, "called after the hydrostatics"
+        res = self._voxel_result(state, ocean, t)
         self.world_force[idx] = res.force
         self.world_torque[idx] = res.torque
         self.displaced_volume_m3[idx] = res.volume
