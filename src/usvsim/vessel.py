@@ -2,11 +2,13 @@
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Any, Protocol
+from typing import TYPE_CHECKING, Any, Protocol, get_args
 
 import numpy as np
-from pydantic import TypeAdapter
+from pydantic import TypeAdapter, ValidationError
 
+from usvsim.config.loader import first_error_text
+from usvsim.config.schema import did_you_mean
 from usvsim.config.vessel import Buoyancy, Hydrodynamics
 from usvsim.core.transforms import rpy_from_quat
 from usvsim.hydro.thrusters import HOLD_NS
@@ -45,15 +47,15 @@ class Thruster:
         self._world, self._i, self.name = world, index, name
 
     def command(self, thrust: float, angle_rad: float | None = None, hold: bool = True) -> bool:
-        """Set the command; returns False (and counts it) if rejected: NaN/inf or |thrust| > 1. A command
-        from Python holds until changed; `hold=False` (what network sources use) lets the vessel's
-        `command_timeout_s` watchdog zero it when no new command comes."""
+        """Set the command; returns False (and counts it) if rejected: not a real number (a string, None), NaN/inf
+        or |thrust| > 1. A command from Python holds until changed; `hold=False` (what network sources use) lets
+        the vessel's `command_timeout_s` watchdog zero it when no new command comes."""
         stamp_ns = HOLD_NS if hold else self._world.clock_ns
-        return self._world.thrusters.command(self._i, float(thrust), angle_rad, stamp_ns)
+        return self._world.thrusters.command(self._i, thrust, angle_rad, stamp_ns)
 
     def command_angle(self, angle_rad: float) -> bool:
-        """Set only the azimuth command (rad, REP 103); False (counted) if not finite."""
-        return self._world.thrusters.command_angle(self._i, float(angle_rad))
+        """Set only the azimuth command (rad, REP 103); False (counted) if not a finite real number."""
+        return self._world.thrusters.command_angle(self._i, angle_rad)
 
     @property
     def thrust_n(self) -> float:
@@ -122,7 +124,7 @@ class Body:
 
     def set_hydrodynamics(self, model) -> None:
         """Switch the hydrodynamics model now; `model` is a section or a dict like {"type": "kerner"}."""
-        self._world.marine.set_hydrodynamics(self.index, _validated(model, Hydrodynamics))
+        self._world.marine.set_hydrodynamics(self.index, _validated(model, Hydrodynamics, "hydrodynamics"))
 
     @property
     def buoyancy(self):
@@ -131,14 +133,30 @@ class Body:
 
     def set_buoyancy(self, model) -> None:
         """Switch the buoyancy model now; `model` is a section or a dict like {"type": "voxels"}."""
-        self._world.marine.set_buoyancy(self.index, _validated(model, Buoyancy))
+        self._world.marine.set_buoyancy(self.index, _validated(model, Buoyancy, "buoyancy"))
 
 
-def _validated(model, annotation):
-    """A model section from a section or a plain dict (strictly validated, like a scenario file)."""
-    if isinstance(model, dict):
+def _validated(model, annotation, what: str):
+    """A model section from a section or a plain dict (strictly validated, like a scenario file); anything else,
+    or a dict with a mistake, raises ValueError with one line (nothing is switched)."""
+    members = get_args(get_args(annotation)[0])  # Annotated[A | B | ..., Field(discriminator="type")]
+    if isinstance(model, members):
+        return model
+    kinds = ", ".join(repr(get_args(m.model_fields["type"].annotation)[0]) for m in members)
+    if not isinstance(model, dict):
+        raise ValueError(f"{what} {model!r}: give a dict like {{'type': ...}} (type one of {kinds}) or a section")
+    try:
         return TypeAdapter(annotation).validate_python(model)
-    return model
+    except ValidationError as exc:
+        first = exc.errors()[0]
+        if first["type"] == "extra_forbidden":  # the key's own section's keys (not a scenario's)
+            member = next((m for m in members if model.get("type") in get_args(m.model_fields["type"].annotation)),
+                          None)  # fmt: skip
+            key = str(first["loc"][-1])
+            text = f"{key}: unknown key" + did_you_mean(key, list(member.model_fields) if member else [])
+        else:
+            text = first_error_text(exc, model, list(model))
+        raise ValueError(f"{what} {model!r}: {text}") from None
 
 
 class Vessel(Body):

@@ -6,6 +6,7 @@ were the string's characters)."""
 from __future__ import annotations
 
 import math
+import re
 
 import numpy as np
 import pytest
@@ -77,3 +78,43 @@ def test_a_bad_velocity_reference_is_refused_and_does_not_stall_the_controller()
     sim.run(8.0)
     assert sim.vessels["wamv"].velocity_body[0] > 1.0  # still under way at the good reference
     sim.close()
+
+
+@pytest.mark.parametrize(
+    ("call", "value", "message"),
+    [
+        ("set_hydrodynamics", "kerner", "give a dict like {'type': ...}"),
+        ("set_hydrodynamics", None, "give a dict like {'type': ...}"),
+        ("set_hydrodynamics", {"type": "kerner", "slaming_scale": 1.0}, "did you mean 'slamming_scale'"),
+        ("set_hydrodynamics", {"type": "kerner", "slamming_scale": math.nan}, "slamming_scale: Input should be a fin"),
+        ("set_buoyancy", "voxels", "give a dict like {'type': ...} (type one of 'triangles', 'voxels')"),
+        ("set_buoyancy", {"type": "voxel"}, "unknown type 'voxel'"),
+    ],
+)
+def test_model_switches_refuse_what_is_not_a_section_in_one_line(sim, call, value, message):
+    """set_hydrodynamics("kerner") was stored as the string and every hydrodynamic force vanished (an Otter at half
+    thrust reached 6.85 m/s instead of 0.77); a dict's mistake was pydantic's lines with a link."""
+    boat = sim.vessels["otter"]
+    before = (boat.hydrodynamics, boat.buoyancy)
+    with pytest.raises(ValueError, match=re.escape(message)) as err:
+        getattr(boat, call)(value)
+    assert "\n" not in str(err.value) and "http" not in str(err.value)
+    assert (boat.hydrodynamics, boat.buoyancy) == before
+
+
+def test_thruster_commands_that_are_not_numbers_are_rejected_and_counted(sim):
+    """command("0.5") was taken (float() of the string) and command(None) raised TypeError."""
+    thruster = sim.vessels["otter"].thrusters["left"]
+    rejected = sim.world.thrusters.rejected
+    assert [thruster.command(v) for v in ("0.5", None, True, np.array([0.5]))] == [False] * 4
+    assert thruster.command_angle("0.1") is False
+    assert sim.world.thrusters.rejected == rejected + 5
+    assert thruster.command(np.float32(0.25)) and thruster.command(np.array(0.25)) and thruster.command(0)
+
+
+def test_reset_refuses_a_bad_seed_and_an_unknown_body_in_one_plain_line(sim):
+    with pytest.raises(UsvsimError, match="a seed is a non-negative integer, got 'a'"):
+        sim.reset(seed="a")
+    with pytest.raises(KeyError) as err:
+        sim.reset(poses={"nope": (0, 0, 0, 0, 0, 0)})
+    assert str(err.value).startswith("no body named ['nope']; bodies: [")  # KeyError's own text was its repr

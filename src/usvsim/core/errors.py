@@ -32,3 +32,11 @@ class DivergenceError(UsvsimError):
         self.body = body
         self.time_s = time_s
         super().__init__(f"simulation diverged: body '{body}' at t = {time_s:.3f} s {detail}".rstrip())
+
+
+class UnknownNameError(UsvsimError, KeyError):
+    """A name that is not there (a body, a vessel): a KeyError whose text reads as one plain line (KeyError's own
+    text is the repr of its message, quotes and escapes included)."""
+
+    def __str__(self) -> str:
+        return str(self.args[0]) if self.args else ""

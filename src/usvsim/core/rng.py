@@ -42,6 +42,10 @@ class RngStreams:
 
 def _checked(seed: int) -> int:
     """numpy's SeedSequence takes non-negative integers only; say so in one line rather than in its ValueError."""
-    if isinstance(seed, bool) or int(seed) != seed or seed < 0:
+    try:
+        ok = not isinstance(seed, bool) and int(seed) == seed and seed >= 0
+    except (TypeError, ValueError, OverflowError):  # "a", None, nan, inf: not numbers or not integers
+        ok = False
+    if not ok:
         raise UsvsimError(f"a seed is a non-negative integer, got {seed!r}")
     return int(seed)

@@ -10,6 +10,7 @@ azimuth angle in radians. Thrust magnitude and angle follow first-order lags wit
 from __future__ import annotations
 
 import math
+import numbers
 
 import numpy as np
 from numba import njit
@@ -116,7 +117,8 @@ class ThrusterBank:
         """Set thruster i's command, stamped `now_ns` for the watchdog (HOLD_NS: no watchdog). Rejects
         (returns False, counts) non-finite values and |u| > 1; angles outside the azimuth limits are
         clamped to them; fixed thrusters ignore the angle."""
-        ok = math.isfinite(u) and abs(u) <= 1.0 and (angle_rad is None or math.isfinite(angle_rad))
+        ok = _real(u) and math.isfinite(u) and abs(u) <= 1.0 and (angle_rad is None or (_real(angle_rad)
+                                                                                    and math.isfinite(angle_rad)))
         if not ok:
             self.rejected += 1
             return False
@@ -129,7 +131,7 @@ class ThrusterBank:
     def command_angle(self, i: int, angle_rad: float) -> bool:
         """Set thruster i's azimuth command only (rad); rejects non-finite values. The thrust command and
         its watchdog are untouched: only thrust commands keep a thruster running."""
-        if not math.isfinite(angle_rad):
+        if not (_real(angle_rad) and math.isfinite(angle_rad)):
             self.rejected += 1
             return False
         self.cmd_angle[i] = angle_rad
@@ -143,3 +145,11 @@ class ThrusterBank:
                 self.thrust, self.angle, self.body, com_body, self.wrench_body,
             )  # fmt: skip
         return self.wrench_body
+
+
+def _real(x) -> bool:
+    """A command value must be a real number (a Python or numpy int or float, or a 0-d numpy array of one); a
+    string, None or a bool is rejected like NaN."""
+    if isinstance(x, np.ndarray):
+        return x.ndim == 0 and x.dtype.kind in "iuf"
+    return isinstance(x, numbers.Real) and not isinstance(x, bool | np.bool_)

@@ -24,7 +24,7 @@ from usvsim.config.objects import Buoy
 from usvsim.config.scenario import Scenario
 from usvsim.config.vessel import TriangleBuoyancy, VoxelBuoyancy
 from usvsim.core.clock import Clock, period_ns
-from usvsim.core.errors import DivergenceError, ScenarioError, UsvsimError
+from usvsim.core.errors import DivergenceError, ScenarioError, UnknownNameError, UsvsimError
 from usvsim.core.overlap import Overlap
 from usvsim.core.rng import RngStreams
 from usvsim.core.transforms import matrix_from_quat, quat_from_rpy
@@ -214,7 +214,7 @@ class World:
         places bodies at rest. No recompilation: the MuJoCo model is kept."""
         unknown = sorted(set(poses or ()) - set(self.bodies))
         if unknown:
-            raise KeyError(f"no body named {unknown}; bodies: {sorted(self.bodies)}")
+            raise UnknownNameError(f"no body named {unknown}; bodies: {sorted(self.bodies)}")
         placed = {self.bodies[name].index: pose_arrays(pose) for name, pose in (poses or {}).items()}  # checked first
         seed = self.seed if seed is None else seed
         self.rng.reseed(seed)  # checks the seed before anything changes
