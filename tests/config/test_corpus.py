@@ -84,6 +84,9 @@ def test_cli_validate_warns_for_a_hull_that_cannot_float(corpus):
     result = CliRunner().invoke(app, ["validate", str(path)])
     assert result.exit_code == 0 and result.stdout.startswith("OK")
     assert "warning:" in result.stderr and "sink" in result.stderr
+    coarse = next(p for p, _ in corpus if p.stem == "voxels_too_coarse")  # validated OK and sank to -27 m, silent
+    result = CliRunner().invoke(app, ["validate", str(coarse)])
+    assert "its voxels can displace (0 kg): it will sink (voxel_size_m 10: use smaller voxels)" in result.stderr
     strict = CliRunner().invoke(app, ["validate", "--strict", str(path)])
     assert strict.exit_code == 1 and strict.stdout.startswith("NOT OK (--strict)") and "sink" in strict.stderr
     clean = CliRunner().invoke(app, ["validate", "--strict", "harbor"])

@@ -142,7 +142,7 @@ class Vessel(Section):
     model: str
     hull_mesh: str | None = Field(default=None, description="physics hull mesh file for model 'custom'")
     visual_mesh: str | None = None
-    mesh_scale: Scale = 1.0
+    mesh_scale: Scale = Field(default=1.0, description="scale of the hull and visual mesh files (model 'custom' only)")
     pose: Pose = Pose()
     mass: MassProperties = MassProperties()
     buoyancy: Buoyancy = TriangleBuoyancy()
@@ -160,6 +160,8 @@ class Vessel(Section):
             raise ValueError("model 'custom' needs 'hull_mesh' (a closed mesh file: OBJ, STL, PLY, glTF, DAE)")
         if self.model != "custom" and self.hull_mesh is not None:
             raise ValueError(f"'hull_mesh' is only for model 'custom' (model is '{self.model}')")
+        if self.model != "custom" and self.mesh_scale != 1.0:  # a library hull is built to its size (was ignored)
+            raise ValueError(f"'mesh_scale' is only for model 'custom' (model is '{self.model}')")
         for kind, names in (("thruster", [t.name for t in self.thrusters or ()]), ("sensor", [s.name for s in self.sensors])):
             if len(set(names)) != len(names):
                 raise ValueError(f"{kind} names must be unique, got {names}")

@@ -179,6 +179,17 @@ class MarineModels:
         if self._voxels is not None:
             self.displaced_volume_m3[self._voxel_index] = self._voxel_result(state, ocean, t).volume
 
+    def voxel_capacity_m3(self, state) -> dict[int, float]:
+        """Per body with voxel buoyancy (by index), the volume (m³, scaled as its buoyancy is) its voxels displace
+        fully under water: what it can carry, like a closed hull's volume for triangles."""
+        if self._voxels is None:
+            return {}
+        idx, voxels = self._voxel_index, self._voxels
+        centers = voxels.world_centers(state.pos[idx], state.rot[idx])
+        res = voxels.compute(centers, np.full(len(centers), np.inf), np.ascontiguousarray(state.com_world[idx]),
+                             self.rho, self.g)  # fmt: skip
+        return {i: float(v) for i, v in zip(idx, res.volume)}
+
     def _voxel_result(self, state, ocean, t: float):
         idx, voxels = self._voxel_index, self._voxels
         assert voxels is not None

@@ -1,6 +1,7 @@
 """Set-ups that build but cannot work: warnings that `usvsim validate` prints (docs/limits.md).
 
-- a floating body heavier than the water its closed hull can displace (it sinks whatever happens);
+- a floating body heavier than the water its closed hull (or, with voxel buoyancy, its voxels) can displace (it
+  sinks whatever happens);
 - a floating body whose hull is entirely above or below the still water level by more than 1 m;
 - bodies that overlap at t = 0 (MuJoCo contacts deeper than 1 cm: they are pushed apart violently), traffic ships
   (kinematic bodies) named as themselves, not as the static world.
@@ -32,12 +33,17 @@ def setup_warnings(world) -> list[str]:
 
 def _displacement(sim) -> list[str]:
     out = []
+    voxels = sim.marine.voxel_capacity_m3(sim.state)
     for body in sim.bodies.values():
         hull = body.model.hull
-        capacity = sim.rho * hull_volume_m3(hull.vertices, hull.faces)
+        if body.index in voxels:
+            capacity, what = sim.rho * voxels[body.index], "its voxels"
+            hint = f" (voxel_size_m {sim.marine.buoyancy[body.index].voxel_size_m:g}: use smaller voxels)"
+        else:
+            capacity, what, hint = sim.rho * hull_volume_m3(hull.vertices, hull.faces), "its closed hull", ""
         if body.model.mass_kg > capacity:
-            out.append(f"'{body.name}' ({body.model.mass_kg:.6g} kg) is heavier than the water its closed hull can "
-                       f"displace ({capacity:.6g} kg): it will sink")  # fmt: skip
+            out.append(f"'{body.name}' ({body.model.mass_kg:.6g} kg) is heavier than the water {what} can "
+                       f"displace ({capacity:.6g} kg): it will sink{hint}")  # fmt: skip
     return out
 
 
