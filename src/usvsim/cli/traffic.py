@@ -10,7 +10,7 @@ import typer
 
 def imazu(
     case: Annotated[int, typer.Argument(help="Imazu encounter 1-22", min=1, max=22)],
-    model: Annotated[str, typer.Option(help="own ship: a library vessel (wamv, otter)")] = "wamv",
+    model: Annotated[str, typer.Option(help="own ship: a library vessel (wamv, otter, otter_pvs)")] = "wamv",
     speed: Annotated[float, typer.Option(help="own ship speed, m/s", min=0.1, max=50.0)] = 2.0,
     encounter: Annotated[float, typer.Option(help="seconds until the encounter", min=10.0, max=1e6)] = 300.0,
     out: Annotated[Path | None, typer.Option(help="write the scenario here (default: print it)")] = None,

@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
 import yaml
 
 REFERENCE_SPEED_MPS = 10.0
@@ -53,8 +54,9 @@ def imazu_scenario(case: int, model: str = "wamv", speed_mps: float = 2.0, encou
         raise ValueError(f"Imazu cases are 1-22, got {case}")
     k = speed_mps / REFERENCE_SPEED_MPS
     scale = k * encounter_s / REFERENCE_S
-    own = {"name": "own_ship", "mmsi": OWN_MMSI, "vessel": "own", "ship_type": "other", "length_m": 5.0,
-           "beam_m": 2.5, "ais": {"enabled": False},
+    length, beam = _dimensions(model)
+    own = {"name": "own_ship", "mmsi": OWN_MMSI, "vessel": "own", "ship_type": "other", "length_m": length,
+           "beam_m": beam, "ais": {"enabled": False},
            "motion": {"type": "constant", "position": [0.0, 0.0], "course_deg": 0.0, "speed_mps": speed_mps}}  # fmt: skip
     ships = [own]
     for j, (east, north, course, speed) in enumerate(IMAZU[case]):
@@ -71,6 +73,14 @@ def imazu_scenario(case: int, model: str = "wamv", speed_mps: float = 2.0, encou
                      "controller": {"type": "velocity"}, "command_timeout_s": 0.0}],  # fmt: skip
         "traffic": {"ships": ships, "awareness": {"own_ship": "own", "rate_hz": 1.0}},
     }
+
+
+def _dimensions(model: str) -> tuple[float, float]:
+    """Length and beam (m, to the cm) of a library vessel's hull: the own ship's entry (it was 5 x 2.5 m for all)."""
+    from usvsim.vessels.library import LIBRARY
+
+    size = np.ptp(LIBRARY[model][0]().hull.vertices, axis=0)
+    return round(float(size[0]), 2), round(float(size[1]), 2)
 
 
 def imazu_yaml(case: int, **kw) -> str:

@@ -119,7 +119,8 @@ def pontoon(p: Pontoons, y_center: float, x_center: float) -> Mesh:
 def build() -> BodyModel:
     p = design()
     x_c = otter.COM[0]  # pontoons centred under the CoM: a prismatic hull floats level there
-    left, right = pontoon(p, p.y, x_c), pontoon(p, -p.y, x_c)
+    left = pontoon(p, p.y, x_c)
+    right = left.mirrored_y()
     deck_size, deck_pos = (0.55, p.y, 0.03), (x_c, 0.0, DECK_Z_M - 0.03)
     stern = x_c - 0.5 * p.length - 0.05
     thrusters = tuple(t.model_copy(update={"position": (stern, *t.position[1:])}) for t in otter.thrusters())
