@@ -52,6 +52,7 @@ def run(out_dir: Path, seconds: float = 30.0) -> dict:
         cases = {
             "wamv": ({"name": "wamv", "model": "wamv", "pose": {"position": [0.0, 0.0, -0.05]}}, None),
             "otter": ({"name": "otter", "model": "otter", "pose": {"position": [0.0, 0.0, -0.15]}}, None),
+            "otter_pvs": ({"name": "otter_pvs", "model": "otter_pvs", "pose": {"position": [0.0, 0.0, -0.15]}}, None),
             "box": ({"name": "box", "model": "custom", "hull_mesh": "box.stl", "pose": {"position": [0.0, 0.0, -0.35]},
                      "mass": {"mass_kg": BOX["mass_kg"], "com": BOX["com"]}}, Path(tmp)),
         }  # fmt: skip
