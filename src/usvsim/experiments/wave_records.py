@@ -30,6 +30,7 @@ from scipy.signal import welch
 from usvsim.config.environment import Environment
 from usvsim.core.rng import RngStreams
 from usvsim.ocean import build_ocean, spectra
+from usvsim.ocean.fft import FFTWaveField
 from usvsim.ocean.presets import SEA_STATES
 
 DURATION_S, DT_S, START_S, POINTS, SEEDS, SPAN_M = 1800.0, 0.5, 10.0, 64, (0, 1, 2), 3000.0
@@ -102,6 +103,7 @@ def fft_point_records() -> dict:
         out[name] = {f"seed {s}": record(sea, s) for s in SEEDS}
         hs = target(sea)[0]
         field = build_ocean(Environment.model_validate({"sea": sea}), RngStreams(0).get("ocean")).waves
+        assert isinstance(field, FFTWaveField), "the default realization of a sea section is the FFT cascade"
         var = 0.5 * np.abs(field._amp) ** 2
         h = (field.sizes / field.n)[:, None, None]
         centre = np.cos(field._kx * h / 2) ** 2 * np.cos(field._ky * h / 2) ** 2
