@@ -26,7 +26,7 @@ from usvsim.hydro.hydrostatics import HullSet, HydrostaticsResult
 from usvsim.hydro.kerner import KernerForces
 from usvsim.hydro.voxelize import voxelize
 from usvsim.hydro.voxels import VoxelSet
-from usvsim.hydro.wrenches import marine_tail
+from usvsim.hydro.wrenches import immersion_scale, marine_tail
 from usvsim.vessels.model import BodyModel
 
 NO_KERNER = KernerHydrodynamics(viscous_scale=0.0, pressure_scale=0.0, slamming_scale=0.0, air_scale=0.0)
@@ -45,6 +45,7 @@ class MarineModels:
         self.buoyancy, self.hydrodynamics = list(buoyancy), list(hydrodynamics)
         nb = len(self.bodies)
         self.com_body = np.array([b.com for b in self.bodies], dtype=float).reshape(nb, 3)
+        self.rest_volume = np.array([b.mass_kg / rho for b in self.bodies], dtype=float)  # m³ displaced afloat
         self.world_force, self.world_torque = np.zeros((nb, 3)), np.zeros((nb, 3))
         self.body_wrench, self._scratch = np.zeros((nb, 6)), np.zeros((nb, 6))
         self.displaced_volume_m3: np.ndarray | None = None  # per body, of its active buoyancy model (last step)
@@ -139,7 +140,7 @@ class MarineModels:
                 self.displaced_volume_m3 = np.zeros(len(self.bodies))
             t, s = thrusters, state
             args = (s.rot, s.vcom_world, s.omega_body, water_vel_com, s.nu, hydrostatics.force, hydrostatics.torque,
-                    hydrostatics.volume, self._state_space, self._wind_kind, self._wind_coef, self.rho_air, wind_world,
+                    hydrostatics.volume, self.rest_volume, self._state_space, self._wind_kind, self._wind_coef, self.rho_air, wind_world,
                     t.params, t.cmd_u, t.cmd_angle, t.last_cmd_ns, t.timeout_ns, t.thrust, t.angle, t.body, com_body,
                     self.world_force, self.world_torque, self.displaced_volume_m3, self.body_wrench, self._scratch,
                     t.wrench_body, xfrc)  # fmt: skip
@@ -167,6 +168,7 @@ class MarineModels:
         statespace.drag_wrench(self._state_space, state.nu, self.body_wrench)
         if self._fossen is not None:
             self.body_wrench += self._fossen.compute(state.nu, dt)
+        immersion_scale(self.displaced_volume_m3, self.rest_volume, self.body_wrench)  # none on a hull in the air
         wind.wind_wrenches(self._wind_kind, self._wind_coef, self.rho_air, state.rot, state.vcom_world, wind_world,
                            self._scratch)  # fmt: skip
         self.body_wrench += self._scratch
