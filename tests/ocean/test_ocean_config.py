@@ -133,3 +133,18 @@ def test_phillips_bands_follow_hdrp():
     np.testing.assert_allclose(o.waves.sizes, [500.0, 500.0 / (5 + 45 * 250 / 4750), 10.0])
     with pytest.raises(ValueError, match="resolution"):
         ocean({"sea": {"type": "phillips", "resolution": 64}})
+
+
+def test_vrx_preset_names_in_the_schema_text_are_the_presets():
+    from usvsim.config.environment import PRESETS
+    from usvsim.ocean.presets import VRX_PRESETS
+
+    assert PRESETS == ", ".join(VRX_PRESETS)
+
+
+def test_an_unknown_wind_preset_is_reported_at_its_key(scenario_of):
+    from usvsim.core.errors import ScenarioError
+
+    with pytest.raises(ScenarioError) as err:  # it was reported at environment.sea
+        scenario_of({"environment": {"wind": {"preset": "nope"}}, "vessels": [{"name": "w", "model": "wamv"}]})
+    assert err.value.key_path.startswith("environment.wind") and "unknown VRX preset 'nope'" in str(err.value)

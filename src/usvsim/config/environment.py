@@ -37,7 +37,8 @@ class Directed(Section):
 
 
 class FFTRealization(Section):
-    """FFT tiles (cascades); tile sizes default to 10 peak wavelengths, each next one 7.3 times smaller.
+    """FFT tiles (cascades); tile sizes default to 10 peak wavelengths, each next one 0.95 N/32 times smaller (3.8
+    at the default N = 128), at most 7.3 times.
 
     `resolution` trades accuracy for speed: each band is transformed only at its snapshot times (every
     0.2-1.2 s at N = 128 in sea state 4, blended in time within 1e-3 of sigma, see docs/seas.md), so N
@@ -81,7 +82,8 @@ Realization = Annotated[
 class SpectralSea(Directed):
     """Common keys of spectral seas: cos-2s spreading exponent s (None = long-crested, direct only)."""
 
-    spreading_s: PositiveFloat | None = 10.0
+    spreading_s: PositiveFloat | None = Field(default=10.0, description="the exponent s of cos-2s spreading "
+                                              "(dimensionless; larger is narrower; null: long-crested)")  # fmt: skip
     choppiness: Choppiness = 0.0
     realization: Realization = FFTRealization()
 
@@ -185,11 +187,21 @@ class ComponentsSea(Section):
     components: Annotated[TupleOf[WaveComponentConfig], Field(min_length=1)]
 
 
+PRESETS = "defaults, calm, moderate, rough, short_steep, sydney_regatta, ocean_waves_classic"  # VRX_PRESETS' names
+
+
+def _known_preset(preset: str | None) -> None:
+    from usvsim.ocean.presets import VRX_PRESETS  # here: usvsim.ocean imports this module
+
+    if preset is not None and preset not in VRX_PRESETS:
+        raise ValueError(f"unknown VRX preset {preset!r}; choose one of {sorted(VRX_PRESETS)}")
+
+
 class VrxSea(Directed):
     """VRX "PMS" wavefield; a `preset` (usvsim.ocean.presets.VRX_PRESETS) fills the keys not given."""
 
     type: Literal["vrx"]
-    preset: str | None = None
+    preset: str | None = Field(default=None, description=f"a VRX world's waves: {PRESETS}")
     gain: NonNegativeFloat | None = None
     period_s: PositiveFloat | None = None
     angle: float | None = None
@@ -198,11 +210,8 @@ class VrxSea(Directed):
     phase: float = 0.0
 
     @model_validator(mode="after")
-    def _known_preset(self):
-        from usvsim.ocean.presets import VRX_PRESETS
-
-        if self.preset is not None and self.preset not in VRX_PRESETS:
-            raise ValueError(f"unknown VRX preset {self.preset!r}; choose one of {sorted(VRX_PRESETS)}")
+    def _preset(self):
+        _known_preset(self.preset)
         return self
 
 
@@ -218,7 +227,13 @@ class WindConfig(Directed):
     speed_mps: NonNegativeFloat = 0.0
     gust_gain: NonNegativeFloat = 0.0
     gust_time_constant_s: PositiveFloat = 2.0
-    preset: str | None = None  # a VRX preset name: its wind mean, gust gain and direction fill unset keys
+    preset: str | None = Field(default=None, description=f"a VRX world's wind (mean, gust gain, direction fill the "
+                                                         f"keys not given): {PRESETS}")  # fmt: skip
+
+    @model_validator(mode="after")
+    def _preset(self):  # refused here, at environment.wind.preset (it was reported at environment.sea)
+        _known_preset(self.preset)
+        return self
 
 
 class ShearConfig(Section):

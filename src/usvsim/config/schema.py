@@ -158,7 +158,12 @@ def _describe(prop: dict) -> str:
     return "; ".join(part for part in (text, ", ".join(bounds)) if part)
 
 
+NO_UNIT = {"spreading_s"}  # keys whose suffix is not a unit (cos-2s spreading's exponent s)
+
+
 def _unit(key: str) -> str:
+    if key in NO_UNIT:
+        return ""
     for suffix in sorted(UNITS, key=len, reverse=True):
         if key.endswith(suffix):
             return UNITS[suffix]

@@ -131,7 +131,7 @@ class WaterSampling(Section):
     triangles (the seed's method, done right: current, bounds-checked)."""
 
     mode: Literal["direct", "patch"] = "direct"
-    resolution: Annotated[int, Field(ge=1, le=256)] = 10
+    resolution: Annotated[int, Field(ge=2, le=256)] = 10  # a grid of 1 x 1 cannot interpolate
     margin_m: NonNegativeFloat = 1.0
 
 
