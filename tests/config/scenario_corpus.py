@@ -79,6 +79,11 @@ EXTREMES = [  # (name, expectation, dotted path, value)
     ("below_water_100m", "warn", "vessels.0.pose.position", [0.0, 0.0, -100.0]),
     ("heavier_than_displacement", "warn", "vessels.0.mass.mass_kg", 5000.0),
     ("mesh_scale_of_a_library_hull", "error", "vessels.0.mesh_scale", 2.0),  # was taken and ignored
+    ("sea_steeper_than_real_seas", "warn", "environment.sea", {"type": "jonswap", "hs_m": 5.0, "tp_s": 2.0}),
+    ("regular_wave_beyond_breaking", "warn", "environment.sea",
+     {"type": "regular", "components": [{"amplitude_m": 3.0, "wavelength_m": 10.0}]}),
+    ("water_depth_unused_by_fft", "warn", "environment",
+     {"water_depth_m": 3.0, "sea": {"type": "sea_state", "code": 3}}),
     ("patch_of_one_point", "error", "vessels.0.water_sampling", {"mode": "patch", "resolution": 1}),
     ("voxels_too_coarse", "warn", "vessels.0.buoyancy", {"type": "voxels", "voxel_size_m": 10.0}),  # none inside
     ("vessel_on_buoy", "warn", "vessels.0.pose.position", [-5.0, 4.6, 0.0]),

@@ -3,6 +3,9 @@
 - a floating body heavier than the water its closed hull (or, with voxel buoyancy, its voxels) can displace (it
   sinks whatever happens);
 - a floating body whose hull is entirely above or below the still water level by more than 1 m;
+- a sea steeper than real seas get (they break): 2π Hs / (g Tp²) above DNV-RP-C205's limit (1/15 up to Tp = 8 s, 1/25
+  from 15 s, linear between), or a regular component with H / λ above the breaking limit 1/7;
+- a water depth that the sea does not use (FFT seas are deep-water);
 - bodies that overlap at t = 0 (MuJoCo contacts deeper than 1 cm: they are pushed apart violently), traffic ships
   (kinematic bodies) named as themselves, not as the static world.
 
@@ -11,6 +14,8 @@ Frames: world ENU, metres; heights relative to the still water level.
 
 from __future__ import annotations
 
+import math
+
 import mujoco
 import numpy as np
 
@@ -18,6 +23,7 @@ from usvsim.world.builder import kinematic_geoms
 
 CLEARANCE_M = 1.0  # how far above or below the water a whole hull may start before a warning
 OVERLAP_M = 0.01  # contact penetration at t = 0 that counts as an overlap
+G = 9.81  # m/s², for wavelengths from periods (deep water)
 
 
 def hull_volume_m3(vertices: np.ndarray, faces: np.ndarray) -> float:
@@ -28,7 +34,7 @@ def hull_volume_m3(vertices: np.ndarray, faces: np.ndarray) -> float:
 
 def setup_warnings(world) -> list[str]:
     """Warnings for a `World`'s initial state (bodies, hulls, water level, contacts)."""
-    return [*_displacement(world), *_far_from_water(world), *_overlaps(world)]
+    return [*_displacement(world), *_far_from_water(world), *_sea(world.scenario.environment), *_overlaps(world)]
 
 
 def _displacement(sim) -> list[str]:
@@ -44,6 +50,35 @@ def _displacement(sim) -> list[str]:
         if body.model.mass_kg > capacity:
             out.append(f"'{body.name}' ({body.model.mass_kg:.6g} kg) is heavier than the water {what} can "
                        f"displace ({capacity:.6g} kg): it will sink{hint}")  # fmt: skip
+    return out
+
+
+def _steepness_limit(tp_s: float) -> float:
+    """DNV-RP-C205 (3.5.5.4): the largest significant steepness 2π Hs / (g Tp²) of real seas at peak period Tp."""
+    return 1 / 15 + (1 / 25 - 1 / 15) * min(max((tp_s - 8.0) / 7.0, 0.0), 1.0)
+
+
+def _sea(env) -> list[str]:
+    from usvsim.ocean.presets import SEA_STATES
+
+    sea, out = env.sea, []
+    hs, tp = getattr(sea, "hs_m", None), getattr(sea, "tp_s", None)
+    if sea.type == "sea_state" and sea.code > 0:
+        hs, tp = SEA_STATES[sea.code].hs_m, SEA_STATES[sea.code].tp_s
+    if hs is not None and tp is not None:
+        steep = 2 * math.pi * hs / (G * tp * tp)
+        if steep > _steepness_limit(tp):
+            out.append(f"environment.sea: Hs {hs:g} m at Tp {tp:g} s is a steepness 2π Hs/(g Tp²) of {steep:.3g}, beyond "
+                       f"the {_steepness_limit(tp):.3g} real seas reach (DNV-RP-C205): waves this steep break")  # fmt: skip
+    for i, c in enumerate(getattr(sea, "components", ())):
+        length = c.wavelength_m if c.wavelength_m is not None else G * c.period_s**2 / (2 * math.pi)
+        if 2 * c.amplitude_m / length > 1 / 7:
+            out.append(f"environment.sea.components[{i}]: a wave {2 * c.amplitude_m:g} m high and {length:.3g} m long "
+                       f"(H/λ {2 * c.amplitude_m / length:.2f}) is beyond the breaking limit 1/7")  # fmt: skip
+    realization = getattr(sea, "realization", None)
+    if env.water_depth_m is not None and getattr(realization, "method", None) == "fft":
+        out.append(f"environment.water_depth_m {env.water_depth_m:g} m: FFT seas are deep-water; only "
+                   "realization: {method: direct} uses the depth")  # fmt: skip
     return out
 
 
