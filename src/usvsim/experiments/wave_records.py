@@ -2,11 +2,11 @@
 
 Each sea is built as a scenario builds it: its `environment: sea:` section through `build_ocean`, with the "ocean"
 random stream of the world's seed (`core.rng.RngStreams`), the default cascade (3 bands, N = 128) and the default
-time blending. Seas: WMO sea states 3-6 and JONSWAP Hs 1.5 m Tp 7 s, waves toward east (the default direction),
-seeds 0-2. A record: 30 minutes of `Ocean.elevation` every 0.5 s at 64 random points (floats: never on a tile
+time blending. Seas: WMO sea states 3-6 and JONSWAP Hs 1.5 m Tp 7 s (all γ = 1 by DNV's rule) and a peaked
+JONSWAP (Hs 2 m, Tp 8 s, γ 3.3), waves toward east (the default direction), seeds 0-2. A record: 30 minutes of `Ocean.elevation` every 0.5 s at 64 random points (floats: never on a tile
 vertex), after the start ramp. Checks: Hs = 4σ (σ² averaged over the points) within 2 % of the target, and Tp
 within 5 %: the peak period of a least-squares fit of the target's shape (its γ; height and period free) to the
-point-averaged Welch spectrum (256 s segments). Reported beside them: Young's (1995) S⁴-weighted estimator against
+point-averaged Welch spectrum (256 s segments), with its rms misfit. Reported beside them: Young's (1995) S⁴-weighted estimator against
 the target's own on the same frequencies, the highest Welch bin, each point's own Hs, and the variance at tile
 vertices and cell centres (bilinear interpolation's extremes).
 
@@ -35,7 +35,8 @@ from usvsim.ocean.presets import SEA_STATES
 
 DURATION_S, DT_S, START_S, POINTS, SEEDS, SPAN_M = 1800.0, 0.5, 10.0, 64, (0, 1, 2), 3000.0
 SEAS = {f"sea_state_{c}": {"type": "sea_state", "code": c} for c in (3, 4, 5, 6)}
-SEAS["jonswap_hs1.5_tp7"] = {"type": "jonswap", "hs_m": 1.5, "tp_s": 7.0}
+SEAS["jonswap_hs1.5_tp7"] = {"type": "jonswap", "hs_m": 1.5, "tp_s": 7.0}  # γ 1 by DNV's rule, as the sea states
+SEAS["jonswap_hs2_tp8_gamma3.3"] = {"type": "jonswap", "hs_m": 2.0, "tp_s": 8.0, "gamma": 3.3}  # a peaked sea
 
 
 def target(sea: dict) -> tuple[float, float, float]:
@@ -58,16 +59,18 @@ def young_period(freq: np.ndarray, psd: np.ndarray) -> float:
     return float(np.sum(psd**4) / np.sum(freq * psd**4))
 
 
-def fitted_period(freq: np.ndarray, psd: np.ndarray, hs: float, tp: float, gamma: float) -> float:
-    """Peak period (s) of the JONSWAP shape (γ fixed; height and period free, starting from `hs`, `tp`) fitted to
-    `psd` (m²/Hz at `freq` Hz) by least squares over 0.5-2.5 / `tp`."""
+def fit_shape(freq: np.ndarray, psd: np.ndarray, hs: float, tp: float, gamma: float) -> tuple[float, float]:
+    """(Tp s, rms misfit) of the JONSWAP shape (γ fixed; height and period free, starting from `hs`, `tp`) fitted to
+    `psd` (m²/Hz at `freq` Hz) by least squares over 0.5-2.5 / `tp`; the misfit is the rms residual over that band
+    relative to the spectrum's peak (a record's Welch noise alone gives a few per cent)."""
     band = (freq > 0.5 / tp) & (freq < 2.5 / tp)
     f, s = freq[band], psd[band]
 
     def residual(x):
         return (_per_hz(f, x[0], x[1], gamma) - s) / s.max()
 
-    return float(least_squares(residual, [hs, tp], bounds=([1e-3, 0.5 * tp], [10 * hs, 2 * tp])).x[1])
+    fit = least_squares(residual, [hs, tp], bounds=([1e-3, 0.5 * tp], [10 * hs, 2 * tp]))
+    return float(fit.x[1]), float(np.sqrt(np.mean(fit.fun**2)))
 
 
 def record(sea: dict, seed: int) -> dict:
@@ -81,13 +84,14 @@ def record(sea: dict, seed: int) -> dict:
     freq, psd = welch(eta, fs=1 / DT_S, nperseg=512, axis=0)
     hs_rec = 4.0 * math.sqrt(float(np.mean(eta.var(axis=0))))
     mean_psd, point_std = psd.mean(axis=1), eta.std(axis=0)
-    tp_fit = fitted_period(freq, mean_psd, hs, tp, gamma)
+    tp_fit, misfit = fit_shape(freq, mean_psd, hs, tp, gamma)
     young, young_target = young_period(freq, mean_psd), young_period(freq, _per_hz(freq, hs, tp, gamma))
     return {
         "hs_m": hs_rec,
         "hs_error": hs_rec / hs - 1,
         "tp_fit_s": tp_fit,
         "tp_error": tp_fit / tp - 1,
+        "fit_rms_misfit": misfit,
         "tp_young_s": young,
         "tp_young_error": young / young_target - 1,
         "tp_of_highest_welch_bin_s": float(1.0 / freq[np.argmax(mean_psd)]),
