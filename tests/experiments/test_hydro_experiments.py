@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import json
 
+import numpy as np
 import pytest
 
 from usvsim.experiments import box_righting, drafts, heave_decay, kerner_vectors, otter, voxel_sphere
@@ -67,3 +68,16 @@ def test_endurance_short_run(tmp_path):
     result = endurance.run(tmp_path, duration_s=120.0)
     assert result["passed"], result["summary"]
     assert (tmp_path / "endurance.json").exists() and (tmp_path / "endurance.png").exists()
+
+
+def test_endurance_afloat_judges_the_mean_displacement():
+    """A hull that a crest lifts nearly clear for a moment is afloat (the check was volume > 0 at every sample, which
+    no sinking hull fails); one that displaces its whole hull, or nothing, on average is not."""
+    from usvsim.experiments.endurance import _verdict
+
+    t = np.arange(100.0)
+    rows = np.column_stack([t, np.zeros(100), np.zeros(100), np.zeros(100), np.ones(100), np.ones(100)])
+    rows[50, 4] = 0.02  # a crest lifts it almost out
+    assert _verdict("x", rows, 1.0)["checks"]["afloat"]
+    assert not _verdict("x", rows, 1.0 / 3.0)["checks"]["afloat"]  # three times its displacement: sinking
+    assert not _verdict("x", rows, 5.0)["checks"]["afloat"]
