@@ -84,6 +84,11 @@ EXTREMES = [  # (name, expectation, dotted path, value)
      {"type": "regular", "components": [{"amplitude_m": 3.0, "wavelength_m": 10.0}]}),
     ("water_depth_unused_by_fft", "warn", "environment",
      {"water_depth_m": 3.0, "sea": {"type": "sea_state", "code": 3}}),
+    ("fft_tiles_hold_little_of_the_sea", "warn", "environment.sea",
+     {"type": "sea_state", "code": 4, "realization": {"tile_sizes_m": [1.0]}}),  # 2 % of Hs, silently
+    ("fft_tile_sizes_empty", "error", "environment.sea", {"type": "sea_state", "code": 4, "realization": {"tile_sizes_m": []}}),
+    ("fft_bands_against_tiles", "error", "environment.sea",
+     {"type": "sea_state", "code": 4, "realization": {"tile_sizes_m": [300.0, 60.0], "bands": 3}}),
     ("patch_of_one_point", "error", "vessels.0.water_sampling", {"mode": "patch", "resolution": 1}),
     ("voxels_too_coarse", "warn", "vessels.0.buoyancy", {"type": "voxels", "voxel_size_m": 10.0}),  # none inside
     ("vessel_on_buoy", "warn", "vessels.0.pose.position", [-5.0, 4.6, 0.0]),
@@ -158,7 +163,7 @@ EXTREMES = [  # (name, expectation, dotted path, value)
     # FFT seas whose tiles cannot cascade were a ValueError traceback from ocean/fft.py
     ("sea_fft_32_three_bands", "error", "environment.sea",
      {"type": "sea_state", "code": 3, "realization": {"method": "fft", "resolution": 32}}),
-    ("sea_fft_32_one_band", "ok", "environment.sea",
+    ("sea_fft_32_one_band", "warn", "environment.sea",  # 32 cells hold 80 % of Hs
      {"type": "sea_state", "code": 3, "realization": {"method": "fft", "resolution": 32, "bands": 1}}),
     ("sea_fft_tiles_increasing", "error", "environment.sea",
      {"type": "sea_state", "code": 3, "realization": {"method": "fft", "resolution": 64, "tile_sizes_m": [10, 20]}}),

@@ -47,12 +47,16 @@ class FFTRealization(Section):
 
     method: Literal["fft"] = "fft"
     resolution: Resolution = 128
-    tile_sizes_m: TupleOf[PositiveFloat] | None = None
+    tile_sizes_m: Annotated[TupleOf[PositiveFloat], Field(min_length=1)] | None = Field(
+        default=None, description="tile sides (m), largest first; default: fitted to the sea (10 peak wavelengths)")
     bands: Annotated[int, Field(ge=1, le=6)] = 3
     gaussian_amplitudes: bool = False
 
     @model_validator(mode="after")
     def _bands_fit(self):
+        if self.tile_sizes_m is not None and "bands" in self.model_fields_set and self.bands != len(self.tile_sizes_m):
+            raise ValueError(f"bands {self.bands} with {len(self.tile_sizes_m)} tile_sizes_m: give one of them "
+                             "(the tiles are the bands)")  # fmt: skip
         # neighbouring tiles differ at most N/32 times (ocean/fft.py): below N = 64 the default cascade cannot step down
         if self.tile_sizes_m is None and self.bands > 1 and self.resolution < 64:
             raise ValueError(f"resolution {self.resolution} allows one band only: set bands: 1, or resolution >= 64")

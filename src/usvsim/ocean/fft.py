@@ -690,6 +690,14 @@ class FFTWaveField(WaveField):
     def acceleration(self, x, y, z, t: float) -> np.ndarray:
         return self.kinematics(x, y, z, t)[1]
 
+    def held_variance(self) -> float:
+        """The elevation variance (m²) the spectrum puts in this field's bins (the bins' amplification for bilinear
+        interpolation taken out): below the spectrum's m0 where waves are longer than the largest tile or
+        shorter than the smallest tile's cells allow."""
+        h = (self.sizes / self.n)[:, None, None]
+        gain = _bilinear_gain(self._kx * h) * _bilinear_gain(self._ky * h)
+        return float(np.sum(0.5 * np.abs(self._amp) ** 2 * gain))
+
     def components(self, min_amplitude: float = 0.0) -> WaveComponents:
         """Every owned bin as a travelling component (same sea as the tiles, without interpolation)."""
         keep = np.abs(self._amp) > min_amplitude

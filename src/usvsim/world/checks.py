@@ -34,7 +34,9 @@ def hull_volume_m3(vertices: np.ndarray, faces: np.ndarray) -> float:
 
 def setup_warnings(world) -> list[str]:
     """Warnings for a `World`'s initial state (bodies, hulls, water level, contacts)."""
-    return [*_displacement(world), *_far_from_water(world), *_sea(world.scenario.environment), *_overlaps(world)]
+    env = world.scenario.environment
+    return [*_displacement(world), *_far_from_water(world), *_sea(env), *_tiles(env, world.ocean.waves),
+            *_overlaps(world)]  # fmt: skip
 
 
 def _displacement(sim) -> list[str]:
@@ -58,13 +60,35 @@ def _steepness_limit(tp_s: float) -> float:
     return 1 / 15 + (1 / 25 - 1 / 15) * min(max((tp_s - 8.0) / 7.0, 0.0), 1.0)
 
 
-def _sea(env) -> list[str]:
+def _hs_tp(sea) -> tuple[float | None, float | None]:
+    """The significant height and peak period (m, s) a sea section asks for, where it gives them."""
     from usvsim.ocean.presets import SEA_STATES
 
+    if sea.type == "sea_state":
+        return (SEA_STATES[sea.code].hs_m, SEA_STATES[sea.code].tp_s) if sea.code > 0 else (None, None)
+    return getattr(sea, "hs_m", None), getattr(sea, "tp_s", None)
+
+
+def _tiles(env, waves) -> list[str]:
+    """An FFT cascade whose tiles hold less than 90 % of the sea's Hs (tile_sizes_m far from the sea's waves)."""
+    from usvsim.ocean.fft import FFTWaveField
+
+    hs = _hs_tp(env.sea)[0]
+    if hs is None or not isinstance(waves, FFTWaveField):
+        return []
+    held = 4.0 * math.sqrt(waves.held_variance())
+    if held >= 0.9 * hs:
+        return []
+    given = getattr(env.sea.realization, "tile_sizes_m", None) is not None
+    fix = "leave tile_sizes_m out for tiles fitted to the sea" if given else "use more bands or a higher resolution"
+    return [f"environment.sea.realization: the FFT tiles ({', '.join(f'{s:.3g}' for s in waves.sizes)} m) hold Hs "
+            f"{held:.3g} m of the sea's {hs:g} m: its waves are longer than the largest tile or shorter than the "
+            f"smallest tile's cells ({fix})"]  # fmt: skip
+
+
+def _sea(env) -> list[str]:
     sea, out = env.sea, []
-    hs, tp = getattr(sea, "hs_m", None), getattr(sea, "tp_s", None)
-    if sea.type == "sea_state" and sea.code > 0:
-        hs, tp = SEA_STATES[sea.code].hs_m, SEA_STATES[sea.code].tp_s
+    hs, tp = _hs_tp(sea)
     if hs is not None and tp is not None:
         steep = 2 * math.pi * hs / (G * tp * tp)
         if steep > _steepness_limit(tp):
