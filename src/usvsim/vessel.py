@@ -39,6 +39,8 @@ class World(Protocol):
 
     def teleport(self, index: int, pose, twist) -> None: ...
 
+    def settle_hydrostatics(self) -> None: ...
+
 
 class Thruster:
     """One thruster of a vessel. Commands: normalized thrust u in [-1, 1], azimuth angle in rad (REP 103)."""
@@ -103,7 +105,7 @@ class Body:
     @property
     def displaced_volume(self) -> float:
         """Displaced water volume (m^3) of the body's buoyancy model (triangles or voxels) at the last step, or
-        at the state a build, reset or teleport set."""
+        at the state a build, reset, teleport or buoyancy switch left."""
         volume = self._world.marine.displaced_volume_m3
         return float((self._world.hydrostatics.volume if volume is None else volume)[self.index])
 
@@ -134,6 +136,7 @@ class Body:
     def set_buoyancy(self, model) -> None:
         """Switch the buoyancy model now; `model` is a section or a dict like {"type": "voxels"}."""
         self._world.marine.set_buoyancy(self.index, _validated(model, Buoyancy, "buoyancy"))
+        self._world.settle_hydrostatics()  # displaced_volume reads the new model at once
 
 
 def _validated(model, annotation, what: str):

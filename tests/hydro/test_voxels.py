@@ -101,3 +101,20 @@ def test_displaced_volume_is_the_voxel_models_before_a_step_and_after_reset_and_
     vessel.teleport({"position": [3.0, 1.0, -0.25], "roll_deg": 10.0})
     assert vessel.displaced_volume == voxel_volume()
     sim.close()
+
+
+def test_displaced_volume_follows_a_buoyancy_switch_at_once():
+    """After set_buoyancy it read the old model's volume until the next step (found by QA)."""
+    from usvsim.config.loader import parse_scenario
+    from usvsim.simulation import Simulation
+
+    sim = Simulation(parse_scenario({"version": 1, "vessels": [{"name": "v", "model": "otter"}]}, "t"))
+    vessel = sim.vessels["v"]
+    sim.run(1.0)
+    triangles = vessel.displaced_volume
+    vessel.set_buoyancy({"type": "voxels", "cut": False})
+    switched = vessel.displaced_volume
+    assert abs(switched / triangles - 1) > 0.02  # the voxel model's own volume, at once
+    sim.step()
+    assert vessel.displaced_volume == pytest.approx(switched, rel=1e-3)
+    sim.close()

@@ -177,7 +177,10 @@ class MarineModels:
     def settle_volumes(self, state, hydrostatics: HydrostaticsResult, ocean, t: float) -> None:
         """The displaced volumes of the active buoyancy models at the current state, outside a step (after a
         build, reset or teleport), so `Vessel.displaced_volume` reads the voxel model's there too."""
-        self.displaced_volume_m3 = hydrostatics.volume.copy()
+        if self.displaced_volume_m3 is None:
+            self.displaced_volume_m3 = hydrostatics.volume.copy()
+        else:  # in place: a bound `tail` keeps writing into this array
+            self.displaced_volume_m3[:] = hydrostatics.volume
         if self._voxels is not None:
             self.displaced_volume_m3[self._voxel_index] = self._voxel_result(state, ocean, t).volume
 

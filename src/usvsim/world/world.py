@@ -173,7 +173,7 @@ class World:
                                    self.qvel_adr, self.rho, self.g, self.rho_air)  # fmt: skip
         self._scenario_models = (list(buoyancy), list(hydro))
         self._update_kinematics()
-        self._settle_hydrostatics()
+        self.settle_hydrostatics()
 
     def _init_handles(self, floating: list[FloatingBody]) -> None:
         self.vessels: dict[str, Vessel] = {}
@@ -231,7 +231,7 @@ class World:
         for index, (pos, quat) in placed.items():
             self._place(index, pos, quat, np.zeros(6))
         self._update_kinematics()
-        self._settle_hydrostatics()
+        self.settle_hydrostatics()
         self._mark_odom_origin()
 
     def teleport(self, index: int, pose: PoseLike, twist=0) -> None:
@@ -244,7 +244,7 @@ class World:
         self.marine.reset()
         self._guard.reset()
         self._update_kinematics()
-        self._settle_hydrostatics()
+        self.settle_hydrostatics()
 
     def _place(self, index: int, pos: np.ndarray, quat: np.ndarray, nu: np.ndarray) -> None:
         """base_link at `pos` with orientation `quat` and body-frame twist `nu` (of base_link's origin)."""
@@ -279,9 +279,9 @@ class World:
         body_kinematics(self.data.qpos, self.data.qvel, self.qpos_adr, self.qvel_adr, self._com_body,
                         s.pos, s.rot, s.com_world, s.vcom_world, s.omega_body)  # fmt: skip
 
-    def _settle_hydrostatics(self) -> None:
+    def settle_hydrostatics(self) -> None:
         """Hydrostatics and each buoyancy model's displaced volume at the current state, outside a step (after a
-        build, reset or teleport)."""
+        build, reset, teleport or buoyancy switch)."""
         s, t = self.state, self.clock.seconds
         verts = self.hulls.world_vertices(s.pos, s.rot)
         eta, head = self._water(verts, t)
