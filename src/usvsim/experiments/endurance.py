@@ -1,13 +1,13 @@
 """Endurance: a vessel for one simulated hour in sea state 6 (Hs 5 m, Tp 12.4 s) with each model in turn.
 
-Each run checks that nothing goes non-finite, the hull stays afloat (its mean displaced volume within 10 % of
-m/ρ, what a floating hull's buoyancy balances on average: a sinking hull displaces more, one thrown clear of
-the water less; a wave may lift it almost out for a moment, so the least volume alone says nothing) and upright (|roll|, |pitch| < 60 degrees), and that the energy does not run away: the mean
-kinetic energy of the last 10 minutes is at most 3 times that of the first 10 minutes after the ramp
-(a bounded, statistically stationary response; shorter runs use thirds of the record). The Fossen
-run uses the Otter, whose parameter set has added mass (integrated through MuJoCo's armature).
-Samples start when the 20 s ramp ends (the boat is launched with its keel on still water). The boat
-idles (no thrust): the hull drifts freely, as a survey boat waiting on station would.
+Each run checks that nothing goes non-finite, the hull stays afloat (its mean displaced volume within 10 % of m/ρ,
+what a floating hull's buoyancy balances on average: a sinking hull displaces more, one thrown clear of the water
+less; a wave may lift it almost out for a moment, so the least volume alone says nothing) and upright (|roll|,
+|pitch| < 60 degrees), and that the energy does not run away: the mean kinetic energy of the last 10 minutes is at
+most 3 times that of the first 10 minutes after the ramp (a bounded, statistically stationary response; shorter
+runs use thirds of the record). The Fossen run uses the Otter, whose parameter set has added mass (integrated
+through MuJoCo's armature). Samples start when the 20 s ramp ends (the boat is launched with its keel on still
+water). The boat idles (no thrust): the hull drifts freely, as a survey boat waiting on station would.
 """
 
 from __future__ import annotations

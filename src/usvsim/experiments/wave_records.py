@@ -2,13 +2,14 @@
 
 Each sea is built as a scenario builds it: its `environment: sea:` section through `build_ocean`, with the "ocean"
 random stream of the world's seed (`core.rng.RngStreams`), the default cascade (3 bands, N = 128) and the default
-time blending. Seas: WMO sea states 3-6 and JONSWAP Hs 1.5 m Tp 7 s (all γ = 1 by DNV's rule) and a peaked
-JONSWAP (Hs 2 m, Tp 8 s, γ 3.3), waves toward east (the default direction), seeds 0-2. A record: 30 minutes of `Ocean.elevation` every 0.5 s at 64 random points (floats: never on a tile
-vertex), after the start ramp. Checks: Hs = 4σ (σ² averaged over the points) within 2 % of the target, and Tp
-within 5 %: the peak period of a least-squares fit of the target's shape (its γ; height and period free) to the
-point-averaged Welch spectrum (256 s segments), with its rms misfit. Reported beside them: Young's (1995) S⁴-weighted estimator against
-the target's own on the same frequencies, the highest Welch bin, each point's own Hs, and the variance at tile
-vertices and cell centres (bilinear interpolation's extremes).
+time blending. Seas: WMO sea states 3-6 and JONSWAP Hs 1.5 m Tp 7 s (all γ = 1 by DNV's rule) and a peaked JONSWAP
+(Hs 2 m, Tp 8 s, γ 3.3), waves toward east (the default direction), seeds 0-2. A record: 30 minutes of
+`Ocean.elevation` every 0.5 s at 64 random points (floats: never on a tile vertex), after the start ramp. Checks:
+Hs = 4σ (σ² averaged over the points) within 2 % of the target, and Tp within 5 %: the peak period of a least-
+squares fit of the target's shape (its γ; height and period free) to the point-averaged Welch spectrum (256 s
+segments), with its rms misfit. Reported beside them: Young's (1995) S⁴-weighted estimator against the target's own
+on the same frequencies, the highest Welch bin, each point's own Hs, and the variance at tile vertices and cell
+centres (bilinear interpolation's extremes).
 
 Why a fit and not the highest bin: the largest tile (10 peak wavelengths) puts its bins on a square lattice of
 wavenumbers k_p/10 apart, so near the peak the sea's frequencies come in shells about λ_p / (2 L) ≈ 5 % apart

@@ -140,8 +140,8 @@ class MarineModels:
                 self.displaced_volume_m3 = np.zeros(len(self.bodies))
             t, s = thrusters, state
             args = (s.rot, s.vcom_world, s.omega_body, water_vel_com, s.nu, hydrostatics.force, hydrostatics.torque,
-                    hydrostatics.volume, self.rest_volume, self._state_space, self._wind_kind, self._wind_coef, self.rho_air, wind_world,
-                    t.params, t.cmd_u, t.cmd_angle, t.last_cmd_ns, t.timeout_ns, t.thrust, t.angle, t.body, com_body,
+                    hydrostatics.volume, self.rest_volume, self._state_space, self._wind_kind, self._wind_coef,
+                    self.rho_air, wind_world, t.params, t.cmd_u, t.cmd_angle, t.last_cmd_ns, t.timeout_ns, t.thrust, t.angle, t.body, com_body,
                     self.world_force, self.world_torque, self.displaced_volume_m3, self.body_wrench, self._scratch,
                     t.wrench_body, xfrc)  # fmt: skip
             self._tail = bound = (state, water_vel_com, xfrc, args)
@@ -176,7 +176,7 @@ class MarineModels:
 
     def settle_volumes(self, state, hydrostatics: HydrostaticsResult, ocean, t: float) -> None:
         """The displaced volumes of the active buoyancy models at the current state, outside a step (after a
-        build, reset or teleport), so `Vessel.displaced_volume` reads the voxel model's there too."""
+        build, reset, teleport or buoyancy switch), so `Vessel.displaced_volume` reads the voxel model's there too."""
         if self.displaced_volume_m3 is None:
             self.displaced_volume_m3 = hydrostatics.volume.copy()
         else:  # in place: a bound `tail` keeps writing into this array
