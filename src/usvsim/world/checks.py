@@ -56,7 +56,7 @@ def _displacement(sim) -> list[str]:
 
 
 def _steepness_limit(tp_s: float) -> float:
-    """DNV-RP-C205 (3.5.5.4): the largest significant steepness 2π Hs / (g Tp²) of real seas at peak period Tp."""
+    """DNV-RP-C205: the largest significant steepness 2π Hs / (g Tp²) of real seas at peak period Tp."""
     return 1 / 15 + (1 / 25 - 1 / 15) * min(max((tp_s - 8.0) / 7.0, 0.0), 1.0)
 
 
