@@ -120,3 +120,15 @@ def test_render_needs_no_display_nor_mujoco_gl():
     out = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True, timeout=300)
     assert out.returncode == 0, out.stderr[-2000:]
     assert out.stdout.strip().splitlines()[-1] == "(240, 320, 3) 1"
+
+
+@pytest.mark.parametrize("env_id", sorted(ENV_IDS.values()))
+def test_the_score_in_info_is_finite_at_reset(env_id):
+    """Before the first scored step the info's score read nan (station keeping) or inf (wayfinding): json wrote
+    NaN/Infinity and a vector env's auto-reset step put it in a logger's mean. VRX publishes 0 until scoring starts."""
+    import json
+
+    env = gymnasium.make(env_id)
+    _, info = env.reset(seed=0)
+    assert np.isfinite(info["score"]) and json.loads(json.dumps(info))["score"] == info["score"]
+    env.close()

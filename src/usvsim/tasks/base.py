@@ -157,13 +157,15 @@ class Task:
         return self._finished or self._clock.steps >= self._end_step
 
     def info(self) -> dict:
-        """VRX `/vrx/task/info` fields."""
+        """VRX `/vrx/task/info` fields. The score reads 0 until the scorer has a sample, as VRX publishes it (the
+        scorers' own nan or inf before that broke JSON, ROS floats and loggers averaging it after an auto-reset)."""
         t, start = self.sim.time, self.timing.start_s
+        score = float(self.score)
         return {"name": self.vrx_name, "state": self.state, "ready_time": self.timing.initial_s,
                 "running_time": start, "elapsed_time": self.elapsed_s,
                 "remaining_time": max(0.0, start + self.timing.running_s - t),
                 "timed_out": t >= start + self.timing.running_s, "num_collisions": self.collisions.count,
-                "score": float(self.score)}  # fmt: skip
+                "score": score if math.isfinite(score) else 0.0}  # fmt: skip
 
     # -- learning ---------------------------------------------------------------------------
     def features(self) -> np.ndarray:
