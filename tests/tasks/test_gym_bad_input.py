@@ -6,6 +6,7 @@ episode that ended at once; difficulty=1.5 ran level 1; sea_state=12 raised pyda
 ValidationError; a wrong action_type or observation listed the options without naming the bad one."""
 
 import math
+import re
 
 import numpy as np
 import pytest
@@ -13,7 +14,6 @@ import pytest
 gymnasium = pytest.importorskip("gymnasium")
 
 import usvsim.tasks.gym  # noqa: E402
-from usvsim.core.errors import UsvsimError  # noqa: E402
 from usvsim.tasks.timing import TaskTiming  # noqa: E402
 
 
@@ -73,7 +73,7 @@ def test_bad_env_arguments_name_the_value(kwargs, words):
     ],
 )
 def test_bad_levels_name_the_value(kwargs, words):
-    with pytest.raises(UsvsimError, match=words):
+    with pytest.raises(ValueError, match=words):  # a UsvsimError before, unlike every other bad argument
         usvsim.tasks.gym.TaskEnv(time_limit_s=1.0, **kwargs)
 
 
@@ -117,3 +117,10 @@ def test_numpy_numbers_are_taken():
     env.reset(seed=0)
     env.step(np.zeros(4, np.float32))
     env.close()
+
+
+@pytest.mark.parametrize("threads", [0, -1, "abc", 1.5, True])
+def test_numba_threads_must_be_a_positive_integer(threads):
+    """0 gave numba's 'must be between 1 and 2' without naming the argument, 'abc' a TypeError."""
+    with pytest.raises(ValueError, match=f"numba_threads must be a positive integer .*not {re.escape(repr(threads))}"):
+        gymnasium.make("usvsim/StationKeeping-v0", numba_threads=threads)

@@ -59,9 +59,12 @@ class CollisionCounter:
 
 
 def limit_numba_threads(threads: int | None) -> None:
-    """One simulation per process (an env, a batch worker): numba's pool at `threads` (None leaves it as it is)."""
+    """One simulation per process (an env, a batch worker): numba's pool at `threads`, at most the cores numba
+    has (None leaves it as it is); anything but a positive integer is a ValueError naming `numba_threads`."""
     if threads is not None:
         import numba
 
+        if isinstance(threads, bool) or not isinstance(threads, int) or threads < 1:
+            raise ValueError(f"numba_threads must be a positive integer (or None), not {threads!r}")
         # numba fills its config module from the environment at import: no static attribute to see
         numba.set_num_threads(min(threads, numba.config.NUMBA_NUM_THREADS))  # pyright: ignore

@@ -24,6 +24,7 @@ import numpy as np
 from gymnasium import spaces
 
 from usvsim.core.clock import steps_per_period
+from usvsim.core.errors import UsvsimError
 from usvsim.tasks.gym.observations import SENSORS, sensor_arrays, sensor_configs, sensor_spaces
 from usvsim.tasks.library import TASKS
 from usvsim.tasks.timing import TaskTiming, check_seconds, limit_numba_threads
@@ -47,7 +48,10 @@ class TaskEnv(gym.Env):
         self.observation = observation
         limit_numba_threads(numba_threads)
         self.render_mode, self.action_type = render_mode, action_type
-        self.task = TASKS[task](difficulty, 0, TaskTiming(running_s=time_limit_s), sea_state)
+        try:  # a bad difficulty or sea state: a ValueError like every other bad argument here
+            self.task = TASKS[task](difficulty, 0, TaskTiming(running_s=time_limit_s), sea_state)
+        except UsvsimError as exc:
+            raise ValueError(str(exc)) from None
         sensors = sensor_configs(observation, control_rate_hz)
         self._scenario = self.task.scenario({"sensors": sensors} if sensors else None)
         self.sim = Simulation(self._scenario, seed=0)
