@@ -124,3 +124,19 @@ def test_numba_threads_must_be_a_positive_integer(threads):
     """0 gave numba's 'must be between 1 and 2' without naming the argument, 'abc' a TypeError."""
     with pytest.raises(ValueError, match=f"numba_threads must be a positive integer .*not {re.escape(repr(threads))}"):
         gymnasium.make("usvsim/StationKeeping-v0", numba_threads=threads)
+
+
+def test_a_step_after_the_episode_ended_is_refused():
+    """It advanced the simulation and returned rewards after truncation (Gymkhana: -15.96)."""
+    env = gymnasium.make("usvsim/StationKeeping-v0", time_limit_s=0.2)
+    env.reset(seed=0)
+    *_, terminated, truncated, _ = env.step(np.zeros(4, np.float32))
+    *_, terminated, truncated, _ = env.step(np.zeros(4, np.float32))
+    assert terminated or truncated
+    time = env.unwrapped.sim.time
+    with pytest.raises(RuntimeError, match="call reset"):
+        env.step(np.zeros(4, np.float32))
+    assert env.unwrapped.sim.time == time
+    env.reset(seed=1)
+    env.step(np.zeros(4, np.float32))  # a new episode steps again
+    env.close()

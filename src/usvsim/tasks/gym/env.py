@@ -80,6 +80,8 @@ class TaskEnv(gym.Env):
         return self._observe(), self.task.info() | {"seed": episode_seed}
 
     def step(self, action):
+        if self.task.finished:  # it went on stepping and rewarding a scored-out episode (as the multi env refuses)
+            raise RuntimeError("the episode is over (terminated or truncated): call reset() before step()")
         self._act(action)
         for _ in range(self._every):
             self.sim.step()
