@@ -32,7 +32,7 @@ from usvsim.config.environment import Environment
 from usvsim.core.rng import RngStreams
 from usvsim.ocean import build_ocean, spectra
 from usvsim.ocean.fft import FFTWaveField
-from usvsim.ocean.presets import SEA_STATES
+from usvsim.ocean.presets import hs_tp
 
 DURATION_S, DT_S, START_S, POINTS, SEEDS, SPAN_M = 1800.0, 0.5, 10.0, 64, (0, 1, 2), 3000.0
 SEAS = {f"sea_state_{c}": {"type": "sea_state", "code": c} for c in (3, 4, 5, 6)}
@@ -41,13 +41,13 @@ SEAS["jonswap_hs2_tp8_gamma3.3"] = {"type": "jonswap", "hs_m": 2.0, "tp_s": 8.0,
 
 
 def target(sea: dict) -> tuple[float, float, float]:
-    """(Hs m, Tp s, γ) a sea section asks for: the WMO code's Hs and Tp, or the given ones; γ by DNV's rule
+    """(Hs m, Tp s, γ) a sea section asks for, read as a scenario reads it (`presets.hs_tp`); γ by DNV's rule
     (docs/scenario-reference.md) where none is given."""
-    if sea["type"] == "sea_state":
-        hs, tp = SEA_STATES[sea["code"]].hs_m, SEA_STATES[sea["code"]].tp_s
-    else:
-        hs, tp = sea["hs_m"], sea["tp_s"]
-    return hs, tp, sea.get("gamma", spectra.dnv_gamma(hs, tp))
+    section = Environment.model_validate({"sea": sea}).sea
+    hs, tp = hs_tp(section)
+    assert hs is not None and tp is not None, f"a sea with a height and a period, not {sea}"
+    gamma = getattr(section, "gamma", None)
+    return hs, tp, gamma if gamma is not None else spectra.dnv_gamma(hs, tp)
 
 
 def _per_hz(freq: np.ndarray, hs: float, tp: float, gamma: float) -> np.ndarray:

@@ -189,17 +189,14 @@ class MarineModels:
         fully under water: what it can carry, like a closed hull's volume for triangles."""
         if self._voxels is None:
             return {}
-        idx, voxels = self._voxel_index, self._voxels
-        centers = voxels.world_centers(state.pos[idx], state.rot[idx])
-        res = voxels.compute(centers, np.full(len(centers), np.inf), np.ascontiguousarray(state.com_world[idx]),
-                             self.rho, self.g)  # fmt: skip
-        return {i: float(v) for i, v in zip(idx, res.volume)}
+        return {i: float(v) for i, v in zip(self._voxel_index, self._voxel_result(state).volume)}
 
-    def _voxel_result(self, state, ocean, t: float):
+    def _voxel_result(self, state, ocean=None, t: float = 0.0):
+        """The voxel bodies' buoyancy under `ocean` at time t (None: every voxel under water)."""
         idx, voxels = self._voxel_index, self._voxels
         assert voxels is not None
         centers = voxels.world_centers(state.pos[idx], state.rot[idx])
-        eta = ocean.elevation(centers[:, 0], centers[:, 1], t)
+        eta = np.full(len(centers), np.inf) if ocean is None else ocean.elevation(centers[:, 0], centers[:, 1], t)
         return voxels.compute(centers, eta, np.ascontiguousarray(state.com_world[idx]), self.rho, self.g)
 
     def _add_voxels(self, state, ocean, t: float) -> None:

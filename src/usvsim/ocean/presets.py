@@ -62,3 +62,12 @@ VRX_PRESETS: dict[str, VrxPreset] = {
     "sydney_regatta": VrxPreset(0.3, 5.0, 0.0),  # task-world default
     "ocean_waves_classic": VrxPreset(0.1, 5.0, 0.0, scale=1.5),  # classic `ocean_waves` macro
 }
+
+
+def hs_tp(sea) -> tuple[float | None, float | None]:
+    """The significant height and peak period (m, s) a sea section (`config.environment`) asks for: a WMO code's
+    (None for the flat code 0), or its own `hs_m` and `tp_s` where it gives them (None where it does not)."""
+    if sea.type == "sea_state":
+        state = SEA_STATES[sea.code]
+        return (state.hs_m, state.tp_s) if sea.code > 0 else (None, None)
+    return getattr(sea, "hs_m", None), getattr(sea, "tp_s", None)

@@ -19,6 +19,8 @@ import math
 import mujoco
 import numpy as np
 
+from usvsim.ocean.fft import FFTWaveField
+from usvsim.ocean.presets import hs_tp
 from usvsim.world.builder import kinematic_geoms
 
 CLEARANCE_M = 1.0  # how far above or below the water a whole hull may start before a warning
@@ -60,20 +62,9 @@ def _steepness_limit(tp_s: float) -> float:
     return 1 / 15 + (1 / 25 - 1 / 15) * min(max((tp_s - 8.0) / 7.0, 0.0), 1.0)
 
 
-def _hs_tp(sea) -> tuple[float | None, float | None]:
-    """The significant height and peak period (m, s) a sea section asks for, where it gives them."""
-    from usvsim.ocean.presets import SEA_STATES
-
-    if sea.type == "sea_state":
-        return (SEA_STATES[sea.code].hs_m, SEA_STATES[sea.code].tp_s) if sea.code > 0 else (None, None)
-    return getattr(sea, "hs_m", None), getattr(sea, "tp_s", None)
-
-
 def _tiles(env, waves) -> list[str]:
     """An FFT cascade whose tiles hold less than 90 % of the sea's Hs (tile_sizes_m far from the sea's waves)."""
-    from usvsim.ocean.fft import FFTWaveField
-
-    hs = _hs_tp(env.sea)[0]
+    hs = hs_tp(env.sea)[0]
     if hs is None or not isinstance(waves, FFTWaveField):
         return []
     held = 4.0 * math.sqrt(waves.held_variance())
@@ -88,7 +79,7 @@ def _tiles(env, waves) -> list[str]:
 
 def _sea(env) -> list[str]:
     sea, out = env.sea, []
-    hs, tp = _hs_tp(sea)
+    hs, tp = hs_tp(sea)
     if hs is not None and tp is not None:
         steep = 2 * math.pi * hs / (G * tp * tp)
         if steep > _steepness_limit(tp):
