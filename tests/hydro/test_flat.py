@@ -11,7 +11,7 @@ import numpy as np
 import trimesh
 
 from usvsim.hydro.flat import DRY, MIXED, WET, use_flat
-from usvsim.hydro.hydrostatics import HullSet
+from usvsim.hydro.hydrostatics import HullSet, HydrostaticsResult
 from usvsim.vessels.library import vessel_model
 
 RHO, G = 1025.0, 9.81
@@ -57,7 +57,7 @@ def test_flat_equals_the_per_face_kernel_over_random_poses_and_state_changes():
         a = exact.compute(world, np.full(len(world), level), com, RHO, G)
         b = flat.compute_flat(rot, com, level, RHO, G)
         seen.update(flat._flat.state.tolist())
-        for name in a.__dataclass_fields__:
+        for name in HydrostaticsResult.FIELDS:
             x, y = getattr(a, name), getattr(b, name)
             if name == "cob":  # m / volume: compared where something is submerged
                 x, y = x[a.volume > 1e-6], y[a.volume > 1e-6]
@@ -135,7 +135,7 @@ def test_bodies_of_one_hull_share_tables_and_keep_their_own_states():
         world = exact.world_vertices(pos, rot)
         a = exact.compute(world, np.full(len(world), level), com, RHO, G)
         b = flat.compute_flat(rot, com, level, RHO, G)
-        for name in a.__dataclass_fields__:
+        for name in HydrostaticsResult.FIELDS:
             x, y = getattr(a, name), getattr(b, name)
             if name == "cob":
                 x, y = x[a.volume > 1e-6], y[a.volume > 1e-6]
@@ -163,7 +163,7 @@ def test_the_split_over_two_threads_gives_the_same_bits():
             pos, rot, com = _pose(rng, coms, 0.03 if trial % 2 else 0.6)
             a = one.compute_flat(rot, com, 0.0, RHO, G)
             b = two.compute_flat(rot, com, 0.0, RHO, G, overlap)
-            for name in a.__dataclass_fields__:
+            for name in HydrostaticsResult.FIELDS:
                 assert np.array_equal(getattr(a, name), getattr(b, name)), (trial, name)
     finally:
         overlap.close()

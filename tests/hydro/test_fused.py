@@ -9,7 +9,7 @@ import trimesh
 
 from usvsim.core.overlap import Overlap
 from usvsim.hydro.fused import fused_hydrostatics
-from usvsim.hydro.hydrostatics import HullSet
+from usvsim.hydro.hydrostatics import HullSet, HydrostaticsResult
 from usvsim.ocean import pressure, spectra
 from usvsim.ocean.fft import FFTWaveField, cascade_sizes, directional_spectrum
 
@@ -67,7 +67,7 @@ def test_fused_pass_equals_the_three_passes_bit_for_bit():
     or not; at several times (new blend states of the sea, stale node caches) and poses."""
     field = FFTWaveField(JONSWAP, cascade_sizes(70.0, 3, 64), np.random.default_rng(8), 64, ramp_time_s=1.0)
     rng = np.random.default_rng(5)
-    ref_set, serial, split, lean = (HullSet(meshes()) for _ in range(4))
+    ref_set, serial, split, lean, later = (HullSet(meshes()) for _ in range(5))
     overlap = Overlap()
     level = 0.2
     try:
@@ -77,11 +77,18 @@ def test_fused_pass_equals_the_three_passes_bit_for_bit():
             com = pos + 0.01
             verts, eta, head, ref = three_passes(ref_set, field, level, t, pos, rot, com)
             assert 0 < ref.waterline_count.sum() < len(ref_set.faces)  # faces dry, wet and cut
-            for hulls, kwargs in ((serial, {}), (split, {"overlap": overlap}), (lean, {"keep": False})):
+            cases = ((serial, {}), (split, {"overlap": overlap}), (lean, {"keep": False}),
+                     (later, {"overlap": overlap, "rows": False}))  # fmt: skip
+            for hulls, kwargs in cases:
                 e, h = np.full(len(eta), np.nan), np.full(len(eta), np.nan)
-                out = fused_hydrostatics(hulls, field, level, t, pos, rot, com, RHO, G, e, h, **kwargs)
-                assert out is not None
-                for name in ref.__dataclass_fields__:
+                p, r, c = pos.copy(), rot.copy(), com.copy()
+                out = fused_hydrostatics(hulls, field, level, t, p, r, c, RHO, G, e, h, **kwargs)
+                assert out is not None and (hulls._rows_later is not None) == (kwargs.get("rows") is False)
+                p += 5.0  # the caller's state moves on, the sea too: rows made later are those of this call
+                r[:] = r[:, ::-1]
+                c -= 1.0
+                field.update(t + 2.5)
+                for name in HydrostaticsResult.FIELDS:
                     assert np.array_equal(getattr(out, name), getattr(ref, name)), name
                 if kwargs.get("keep", True):
                     assert np.array_equal(hulls.world_buffer, verts)
@@ -103,8 +110,9 @@ def test_fused_pass_declines_what_it_cannot_do():
 def test_rows_kept_between_calls_equal_rows_rewritten():
     """The pass leaves a dry or submerged face's rows alone when they already say so (HullSet.face_state): over poses
     that take faces from dry to cut to wet and back, with the other writers of the rows in between (compute_flat's
-    clustered rows under flat water, `compute`, `compute_split`), every result of the pass equals the three passes
-    with all rows rewritten."""
+    clustered rows under flat water, `compute`, `compute_split`), and passes that leave the rows for later (`rows`
+    False, as a wavy fleet's step: some read, some never), every result of the pass equals the three passes with all
+    rows rewritten."""
     from usvsim.hydro.flat import use_flat
 
     field = FFTWaveField(JONSWAP, cascade_sizes(70.0, 3, 64), np.random.default_rng(4), 64)
@@ -126,10 +134,15 @@ def test_rows_kept_between_calls_equal_rows_rewritten():
                                                                                              RHO, G)  # fmt: skip
                 continue
             n = len(kept.vertices_body)
-            out = fused_hydrostatics(kept, field, 0.0, t, pos, rot, pos, RHO, G, np.empty(n), np.empty(n), overlap)
+            rows = k % 5 != 1 and k % 7 != 3
+            out = fused_hydrostatics(kept, field, 0.0, t, pos, rot, pos, RHO, G, np.empty(n), np.empty(n), overlap,
+                                     rows=rows)  # fmt: skip
             ref = three_passes(ref_set, field, 0.0, t, pos, rot, pos)[3]
             assert out is not None
-            for name in ref.__dataclass_fields__:
+            if k % 5 == 1:  # left for later and never read: the next writer's rows are all that count
+                assert kept._rows_later is not None
+                continue
+            for name in HydrostaticsResult.FIELDS:
                 assert np.array_equal(getattr(out, name), getattr(ref, name)), (k, name)
     finally:
         overlap.close()

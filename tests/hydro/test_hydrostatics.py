@@ -12,7 +12,7 @@ import trimesh
 from trimesh.intersections import slice_faces_plane
 from trimesh.triangles import mass_properties
 
-from usvsim.hydro.hydrostatics import HullSet
+from usvsim.hydro.hydrostatics import HullSet, HydrostaticsResult
 
 RHO, G, R = 1000.0, 9.81, 0.5
 
@@ -286,7 +286,7 @@ def test_batched_bodies_equal_separate_calls_and_repeat_bit_identically():
         return 0.2 * np.sin(0.7 * v[:, 0]) * np.cos(0.4 * v[:, 1])
 
     hulls, res = solve(meshes, pos, rots, com, eta_fn=wavy)
-    first = {k: getattr(res, k).copy() for k in res.__dataclass_fields__}
+    first = {k: getattr(res, k).copy() for k in HydrostaticsResult.FIELDS}
     for k in range(2):
         single_hulls, single = solve([meshes[k]], [pos[k]], [rots[k]], [com[k]], eta_fn=wavy)
         faces = slice(int(hulls.face_offsets[k]), int(hulls.face_offsets[k + 1]))
@@ -335,7 +335,7 @@ def test_vertices_exactly_on_the_surface(z, volume, n_segments, waterplane):
     verts = np.array([[1, 0, 0], [0, 1, 0], [-1, 0, 0], [0, -1, 0], [0, 0, 1], [0, 0, -1]], float)
     faces = [[0, 1, 4], [1, 2, 4], [2, 3, 4], [3, 0, 4], [1, 0, 5], [2, 1, 5], [3, 2, 5], [0, 3, 5]]
     hulls, res = solve([(verts, faces)], [[0, 0, z]], [np.eye(3)], [[0, 0, z]])
-    assert all(np.all(np.isfinite(getattr(res, k))) for k in res.__dataclass_fields__)
+    assert all(np.all(np.isfinite(getattr(res, k))) for k in HydrostaticsResult.FIELDS)
     assert res.volume[0] == pytest.approx(volume, abs=1e-15)
     np.testing.assert_allclose(res.force[0], [0, 0, RHO * G * volume], atol=1e-9)
     assert res.waterplane_area[0] == pytest.approx(waterplane, abs=1e-15)

@@ -33,11 +33,12 @@ from usvsim.ocean.pressure import height_decay_wavenumbers, hull_water_rows, ser
 def fused_hull_pass(b0, b1, mesh_of, mesh_vert_offsets, mesh_face_offsets, mesh_vertices, mesh_faces, mesh_face_area,
                     vert_offsets, face_offsets, pos, rot, keep, world, eta, head, level, geo, wts, inv_cells, decay_k,
                     cache, stamp, now, com, rho, g, force, torque, volume, cob, wetted_area, waterplane_area,
-                    face_area_sub, seg, seg_count, face_state, own_world, own_eta, own_head, last, corners, hb):  # fmt: skip
+                    face_area_sub, seg, seg_count, face_state, rows, own_world, own_eta, own_head, last, corners,
+                    hb):  # fmt: skip
     """Bodies b0:b1, each in turn from its mesh (HullSet.mesh_*): its world vertices (m), the surface z and pressure
     head at them (`hull_water_rows`, node cache (cache, stamp, now) of the FFT sea), then its hydrostatics
     (`hydrostatics._body_faces`, hull_hydrostatics' face loop, over its faces: outputs in row b and in its face
-    rows). `keep`: the vertices, heights and heads go to their rows of `world`, `eta` and `head` (Nv rows, for
+    rows; `rows` False: the face rows and states are left untouched). `keep`: the vertices, heights and heads go to their rows of `world`, `eta` and `head` (Nv rows, for
     whoever reads them next); else into the scratch rows own_world, own_eta, own_head (the largest mesh's vertex
     count), which stay in the caches. last, corners, hb: `pressure.water_scratch` arrays (any contents)."""
     for b in range(last.shape[0]):  # no cell's corners held yet (as a fresh `water_scratch`)
@@ -64,7 +65,7 @@ def fused_hull_pass(b0, b1, mesh_of, mesh_vert_offsets, mesh_face_offsets, mesh_
                         corners, hb)  # fmt: skip
         cx, cy, cz = com[b, 0], com[b, 1], com[b, 2]
         sums = _body_faces(verts, mesh_faces, mesh_face_area, mf0, mf1, np.uint64(v0), face_offsets[b] - mf0, h_eta,
-                           h_head, fk, cx, cy, cz, face_area_sub, seg, seg_count, face_state)  # fmt: skip
+                           h_head, fk, cx, cy, cz, face_area_sub, seg, seg_count, face_state, rows)  # fmt: skip
         _store_body(b, sums, (cx, cy, cz), rho * g, force, torque, volume, cob, wetted_area, waterplane_area)
 
 
@@ -93,14 +94,17 @@ def _second_node_cache(waves: FFTWaveField) -> tuple[np.ndarray, np.ndarray]:
 
 def fused_hydrostatics(hulls: HullSet, waves, level: float, t: float, pos: np.ndarray, rot: np.ndarray,
                        com_world: np.ndarray, rho: float, g: float, eta: np.ndarray, head: np.ndarray,
-                       overlap=None, keep: bool = True) -> HydrostaticsResult | None:  # fmt: skip
+                       overlap=None, keep: bool = True, rows: bool = True) -> HydrostaticsResult | None:  # fmt: skip
     """`hulls.compute(hulls.world_vertices(pos, rot), eta, com_world, rho, g, head)` with eta and head from
     `pressure.hull_water(waves, ..., level, t, eta, head)`, in one pass a body at a time, bit for bit; every
     vertex Froude–Krylov. `overlap` (core/overlap.Overlap): the bodies split where the faces halve, the first part
     on its worker (as `HullSet.compute_split`). None (nothing done) unless `waves` is an FFT sea without
     displacement answered by the serial kernels. pos, rot, com_world: (nb,3), (nb,3,3) body → world, (nb,3) m;
     eta, head: (Nv,) buffers, filled with the world vertices (`hulls.world_buffer`) when `keep`; without `keep`
-    they are left as they were (each body's rows live in scratch rows while it is done)."""
+    they are left as they were (each body's rows live in scratch rows while it is done). `rows` False: the per-face
+    rows are made when the result's rows are first read (`HullSet.rows_later`: this pass again at these poses and
+    this time, serial, the same bits); a wavy fleet's step reads none of them, and writing them every step (the
+    rows of the ~15 % of faces the waterline cuts, 1.9 MB at 200 WAM-Vs) pushed the fleet out of the caches."""
     n = len(hulls.vertices_body)
     if not serial_fft(waves, n) or len(eta) != n or len(head) != n:
         return None
@@ -110,7 +114,7 @@ def fused_hydrostatics(hulls: HullSet, waves, level: float, t: float, pos: np.nd
     mesh = (hulls.mesh_of, hulls.mesh_vert_offsets, hulls.mesh_face_offsets, hulls.mesh_vertices, hulls.mesh_faces,
             hulls.mesh_face_area, hulls.vert_offsets, hulls.face_offsets, pos, rot, keep, hulls.world_buffer, eta,
             head)  # fmt: skip
-    rest = (com_world, rho, g, *hulls._out, hulls.face_state())
+    rest = (com_world, rho, g, *hulls._out, hulls.face_state(), rows)
     nb, bands = hulls.n_bodies, len(waves.inv_cells)
     if overlap is None or nb < 2:
         fused_hull_pass(0, nb, *mesh, *sea, cache, stamp, now, *rest, *_scratch(hulls, bands, False))
@@ -123,4 +127,8 @@ def fused_hydrostatics(hulls: HullSet, waves, level: float, t: float, pos: np.nd
         finally:
             wait()
     hulls.rows_written(tracked=True)
+    if not rows:
+        pos, rot, com_world = pos.copy(), rot.copy(), com_world.copy()  # the state moves on with the step
+        hulls.rows_later(lambda: fused_hydrostatics(hulls, waves, level, t, pos, rot, com_world, rho, g, eta, head,
+                                                    keep=False))  # fmt: skip
     return hulls._result

@@ -17,8 +17,7 @@ All floating bodies are processed in one kernel call; faces of body b are the co
 
 from __future__ import annotations
 
-from collections.abc import Sequence
-from dataclasses import dataclass
+from collections.abc import Callable, Sequence
 
 import numpy as np
 from numba import njit
@@ -234,11 +233,12 @@ def _add_face(sums, r0, r1, r2, wp, qxp, qyp, qzp, w, qx, qy, qz, e, frac):
 
 @njit(cache=True, inline="always")  # inlined into the caller: one loop in its body (see hull_hydrostatics)
 def _body_faces(vertices, faces, face_area, f_lo, f_hi, v_off, out_off, eta, head, fk, cx, cy, cz,
-                face_area_sub, seg, seg_count, face_state):  # fmt: skip
+                face_area_sub, seg, seg_count, face_state, rows):  # fmt: skip
     """`hull_hydrostatics`' loop over one body's faces, the same operations, for hydro/fused.py: faces rows
     f_lo:f_hi (their vertex indices + v_off index vertices, eta and head), the per-face outputs of face f in row
     f + out_off (unsigned offsets); a dry or submerged face whose rows already say so (face_state, FACE_*) is not
-    written again. Returns the body's 12 sums (see _store_body)."""
+    written again. `rows` False: no per-face row or state is touched (the body sums alone). Returns the body's 12
+    sums (see _store_body)."""
     fx = fy = fz = tx = ty = tz = vol = mx = my = mz = wet = awp = 0.0
     for f in range(f_lo, f_hi):
         i0, i1, i2 = faces[f, 0] + v_off, faces[f, 1] + v_off, faces[f, 2] + v_off
@@ -248,7 +248,7 @@ def _body_faces(vertices, faces, face_area, f_lo, f_hi, v_off, out_off, eta, hea
         h2 = vertices[i2, 2] - eta[i2]
         n_below = (h0 <= 0.0) + (h1 <= 0.0) + (h2 <= 0.0)
         if n_below == 0 or (n_below == 1 and min(h0, h1, h2) == 0.0):  # dry, or touching at one vertex
-            if face_state[o] != FACE_DRY:  # rows already dry are left alone
+            if rows and face_state[o] != FACE_DRY:  # rows already dry are left alone
                 face_area_sub[o] = 0.0
                 if seg_count[o] != 0:  # a row with count 0 is already zero: most dry faces write nothing there
                     for i in range(6):  # (written out: a helper with this branch is not inlined, ~4x slower)
@@ -262,7 +262,7 @@ def _body_faces(vertices, faces, face_area, f_lo, f_hi, v_off, out_off, eta, hea
         if n_below == 3:
             w, qx, qy, qz, e = _depth_moments(r0, r1, r2, -h0, -h1, -h2)
             frac = 1.0
-            if face_state[o] != FACE_WET:  # as for dry faces above (the area, frac * face_area, below)
+            if rows and face_state[o] != FACE_WET:  # as for dry faces above (the area, frac * face_area, below)
                 if seg_count[o] != 0:
                     for i in range(6):
                         seg[o, i // 3, i % 3] = 0.0
@@ -277,11 +277,12 @@ def _body_faces(vertices, faces, face_area, f_lo, f_hi, v_off, out_off, eta, hea
             else:
                 terms, p, q = _cut_face(r0, r1, r2, h0, h1, h2, -h0, -h1, -h2, n_below)
             w, qx, qy, qz, e, frac = terms
-            seg[o, 0, 0], seg[o, 0, 1], seg[o, 0, 2] = p[0] + cx, p[1] + cy, p[2] + cz  # as _store_segment
-            seg[o, 1, 0], seg[o, 1, 1], seg[o, 1, 2] = q[0] + cx, q[1] + cy, q[2] + cz
-            if face_state[o] != FACE_CUT:  # (a face cut last time holds its count 1)
-                seg_count[o] = 1
-                face_state[o] = FACE_CUT
+            if rows:
+                seg[o, 0, 0], seg[o, 0, 1], seg[o, 0, 2] = p[0] + cx, p[1] + cy, p[2] + cz  # as _store_segment
+                seg[o, 1, 0], seg[o, 1, 1], seg[o, 1, 2] = q[0] + cx, q[1] + cy, q[2] + cz
+                if face_state[o] != FACE_CUT:  # (a face cut last time holds its count 1)
+                    seg_count[o] = 1
+                    face_state[o] = FACE_CUT
         if not fk:
             wp, qxp, qyp, qzp = w, qx, qy, qz
         running = (fx, fy, fz, tx, ty, tz, vol, mx, my, mz, awp)
@@ -289,7 +290,7 @@ def _body_faces(vertices, faces, face_area, f_lo, f_hi, v_off, out_off, eta, hea
             running, r0, r1, r2, wp, qxp, qyp, qzp, w, qx, qy, qz, e, frac
         )
         a_sub = frac * face_area[f]
-        if face_state[o] != FACE_WET:  # (a wet face's row holds 1.0 * face_area already)
+        if rows and face_state[o] != FACE_WET:  # (a wet face's row holds 1.0 * face_area already)
             face_area_sub[o] = a_sub
             if n_below == 3:
                 face_state[o] = FACE_WET
@@ -372,9 +373,17 @@ def hull_hydrostatics(vertices, faces, face_area, face_offsets, eta, head, com, 
 NO_HEAD = np.zeros(0)  # hull_hydrostatics' "no pressure heads": the hydrostatic column under the local surface
 
 
-@dataclass(frozen=True, slots=True)
 class HydrostaticsResult:
-    """Views of a HullSet's output buffers (world ENU, SI); overwritten by its next compute()."""
+    """Views of a HullSet's output buffers (world ENU, SI); overwritten by its next compute().
+
+    The per-face rows (face_submerged_area, waterline_segments, waterline_count) may be made when first read: a wavy
+    fleet's step reads none of them (hydro/fused.py), and writing them cost it more than the rest of the pass as the
+    fleet outgrew the caches. Read them through this object (a kept array of the rows is current only when read
+    through it after the compute that made it)."""
+
+    __slots__ = ("force", "torque", "volume", "cob", "wetted_area", "waterplane_area", "_rows", "_settle")
+    FIELDS = ("force", "torque", "volume", "cob", "wetted_area", "waterplane_area", "face_submerged_area",
+              "waterline_segments", "waterline_count")  # fmt: skip
 
     force: np.ndarray  # (nb,3) N, hydrostatic force on each body
     torque: np.ndarray  # (nb,3) N·m, about each body's centre of mass
@@ -382,9 +391,33 @@ class HydrostaticsResult:
     cob: np.ndarray  # (nb,3) m, centre of buoyancy
     wetted_area: np.ndarray  # (nb,) m²
     waterplane_area: np.ndarray  # (nb,) m², horizontal projection of the waterplane
-    face_submerged_area: np.ndarray  # (Nf,) m², submerged area of each hull face
-    waterline_segments: np.ndarray  # (Nf,2,3) m, oriented waterline segment of each face
-    waterline_count: np.ndarray  # (Nf,) int8, 1 where the face row of waterline_segments is set
+
+    def __init__(self, force: np.ndarray, torque: np.ndarray, volume: np.ndarray, cob: np.ndarray,
+                 wetted_area: np.ndarray, waterplane_area: np.ndarray, face_submerged_area: np.ndarray,
+                 waterline_segments: np.ndarray, waterline_count: np.ndarray,
+                 settle: Callable[[], None] = lambda: None):  # fmt: skip
+        self.force, self.torque, self.volume, self.cob = force, torque, volume, cob
+        self.wetted_area, self.waterplane_area = wetted_area, waterplane_area
+        self._rows = (face_submerged_area, waterline_segments, waterline_count)
+        self._settle = settle  # makes the per-face rows if a compute left them for later
+
+    @property
+    def face_submerged_area(self) -> np.ndarray:
+        """(Nf,) m², submerged area of each hull face."""
+        self._settle()
+        return self._rows[0]
+
+    @property
+    def waterline_segments(self) -> np.ndarray:
+        """(Nf,2,3) m, oriented waterline segment of each face (world ENU)."""
+        self._settle()
+        return self._rows[1]
+
+    @property
+    def waterline_count(self) -> np.ndarray:
+        """(Nf,) int8, 1 where the face row of waterline_segments is set."""
+        self._settle()
+        return self._rows[2]
 
 
 class HullSet:
@@ -418,7 +451,8 @@ class HullSet:
         # force, torque, volume, cob, areas (two), then the per-face buffers
         self._out = (np.zeros((nb, 3)), np.zeros((nb, 3)), np.zeros(nb), np.zeros((nb, 3)), np.zeros(nb), np.zeros(nb),
                      np.zeros(nf), np.zeros((nf, 2, 3)), np.zeros(nf, dtype=np.int8))  # fmt: skip
-        self._result = HydrostaticsResult(*self._out)
+        self._result = HydrostaticsResult(*self._out, settle=self.settle_rows)
+        self._rows_later: Callable[[], object] | None = None  # makes the per-face rows the last pass left (rows_later)
         self._face_state = np.zeros(nf, dtype=np.int8)  # the fused pass's record of the per-face rows (FACE_*)
         self._rows_untracked = False  # True when another writer wrote the per-face rows last (face_state unknown)
         self._flat = None  # FlatClusters (hydro/flat.py), made by `use_flat`
@@ -467,7 +501,7 @@ class HullSet:
         if self._flat is None:
             raise RuntimeError("compute_flat() needs use_flat() first (usvsim.hydro.flat.use_flat)")
         self._flat.compute(self, rot, com_world, level, rho, g, self._out, overlap)
-        self._rows_untracked = True
+        self._rows_untracked, self._rows_later = True, None
         return self._result
 
     @property
@@ -502,11 +536,25 @@ class HullSet:
 
     def rows_written(self, tracked: bool = False) -> None:
         """After a per-face kernel call (`compute`, `compute_split`, hydro/fused.py: `tracked`): compute_flat's
-        clusters must rewrite every row of theirs next time, and the face states are unknown unless tracked."""
+        clusters must rewrite every row of theirs next time, and the face states are unknown unless tracked. The rows
+        are those of this call: none is left for later."""
         if self._flat is not None:
             self._flat.invalidate()
         if not tracked:
             self._rows_untracked = True
+        self._rows_later = None
+
+    def rows_later(self, make: Callable[[], object]) -> None:
+        """The last call wrote the body outputs but left the per-face rows as they were (their face states too):
+        `make()` writes them (and the body outputs again, the same bits) when the result's rows are first read."""
+        self._rows_later = make
+
+    def settle_rows(self) -> None:
+        """Make the per-face rows if the last call left them for later (`rows_later`)."""
+        make, self._rows_later = self._rows_later, None
+        if make is not None:
+            make()
+            self._rows_later = None
 
     def split_body(self) -> int:
         """Where two threads split the bodies (compute_split, hydro/fused.py, hydro/flat.py): the first body at or past

@@ -393,8 +393,9 @@ class World:
         if len(self.hulls.faces) < SPLIT_MIN_FACES or self.hulls.n_bodies < 2:
             return None
         keep = not self.marine.simple  # simple models (marine.tail) read no vertices or heights afterwards
+        # and no model here reads the per-face rows (only Kerner does): made when read (HydrostaticsResult)
         return fused_hydrostatics(self.hulls, waves, self.ocean.level_m, t, s.pos, s.rot, s.com_world, self.rho,
-                                  self.g, self._eta, self._head, self._overlap, keep)  # fmt: skip
+                                  self.g, self._eta, self._head, self._overlap, keep, rows=False)  # fmt: skip
 
     def _raise_divergence(self) -> None:
         """Name the body whose degree of freedom MuJoCo found non-finite (its warning's info field)."""
