@@ -2,6 +2,7 @@
 configured model, shadowing behind a wall, blind sectors, and sectors/images/tracks read back from an MCAP."""
 
 import math
+from types import SimpleNamespace
 
 import numpy as np
 import pytest
@@ -166,3 +167,59 @@ def test_blind_sectors_of_a_whole_turn_and_across_the_stern():
     assert across[0] and across[5] and across[355] and not across[180] and 19 <= across.sum() <= 21
     astern = Radar._blind_spokes(fake, [(170.0, 190.0)])  # type: ignore[arg-type]
     assert astern[180] and not astern[0] and not astern[90] and 19 <= astern.sum() <= 21
+
+
+def arpa_cfg(spokes=360, bins=100):
+    from usvsim.config.sensors import Arpa
+
+    return SimpleNamespace(arpa=Arpa(range_min_m=0.0), range_max_m=1000.0), (spokes, bins)
+
+
+@pytest.mark.parametrize("centre", [0, 1, 359, 180])
+def test_a_plot_across_spoke_0_is_one_plot_with_a_circular_bearing(centre):
+    """Spokes are a circle: an echo spanning the last spokes of a turn and the first (spoke 0 is the bow) is one
+    plot, its azimuth the circular mean (spoke k looks -k·360/n degrees). 5 spokes × 3 bins of equal power
+    around `centre`, 500 m out (bins 49-51 of 10 m): one plot at -centre degrees, 505 m (centroid bin 50 + 0.5)."""
+    from usvsim.sensors.radar.arpa import plots
+
+    cfg, (n, bins) = arpa_cfg()
+    power = np.ones((n, bins))
+    rows = (centre + np.arange(-2, 3)) % n
+    power[np.ix_(rows, [49, 50, 51])] = 1000.0
+    pose = np.zeros((n, 3))  # antenna at the origin, bow east (ENU yaw 0)
+    found = plots(power, pose, np.arange(n) * 0.01, cfg)
+    assert len(found) == 1
+    (p,) = found
+    assert np.hypot(*p.pos) == pytest.approx(505.0, abs=1e-9)
+    assert math.degrees(math.atan2(p.pos[1], p.pos[0])) == pytest.approx(math.remainder(-centre, 360.0), abs=1e-9)
+    assert p.time_s == pytest.approx(centre * 0.01)  # the centroid spoke's time
+
+
+def test_plots_that_only_neighbour_across_the_seam_join_and_far_ones_do_not():
+    """Detections join when the cells dilated by JOIN_CELLS (2) touch: a gap of up to 4 empty spokes. Pieces
+    across the seam with 4 empty spokes between (356-359) are one plot; with 5 (355-359) they are two."""
+    from usvsim.sensors.radar.arpa import plots
+
+    cfg, (n, bins) = arpa_cfg()
+    power = np.ones((n, bins))
+    power[np.ix_([354, 355, 0, 1], [50, 51])] = 1000.0
+    assert len(plots(power, np.zeros((n, 3)), np.zeros(n), cfg)) == 1
+    power = np.ones((n, bins))
+    power[np.ix_([352, 353, 354], [50, 51])] = 1000.0
+    power[np.ix_([0, 1, 2], [50, 51])] = 1000.0
+    assert len(plots(power, np.zeros((n, 3)), np.zeros(n), cfg)) == 2
+
+
+def test_a_ship_dead_ahead_is_one_arpa_track(scenario_of):
+    """A moored ship 400 m dead ahead (its echo spans the last and the first spokes of a turn) gives one confirmed
+    track at bearing 90° true (the WAM-V heads east), not two (found by QA: 0.62° and 359.16°)."""
+    sim = Simulation(radar_scenario(scenario_of, [moored("ahead", 400.0, 0.0, course=0.0)]))
+    radar = one_turn(sim, 4.0)
+    own = sim.vessels["wamv"]
+    msg = radar.revolution.tracker.message(sim.clock_ns, own.position, sim.world.origin_velocity(own.index)[:2])
+    assert len(msg.tracks) == 1
+    (tr,) = msg.tracks
+    rel = np.array([400.0, 0.0]) - own.position[:2]
+    assert tr.bearing == pytest.approx(math.atan2(rel[0], rel[1]), abs=math.radians(1.0))
+    assert tr.range == pytest.approx(np.linalg.norm(rel), abs=10.0 + 2 * radar.bin_m)  # its near end (length 20)
+    sim.close()

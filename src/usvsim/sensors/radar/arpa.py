@@ -2,8 +2,9 @@
 
 Plots: cell-averaging CFAR along range (a cell is detected when its power exceeds `threshold_db` over the mean
 of `training_bins` bins on each side beyond 2 guard bins, and over the noise floor); connected detections
-(8-neighbour, scipy.ndimage.label) form one plot at their power-weighted centroid, placed in the world (ENU)
-with the antenna pose and time of its spokes.
+(8-neighbour, scipy.ndimage.label, circular in azimuth: the last spoke of a turn borders spoke 0, the bow) form
+one plot at their power-weighted centroid (range mean, azimuth mean on the unit circle), placed in the world (ENU)
+with the antenna pose and time of the spoke at that centroid.
 
 Detections within JOIN_CELLS of each other belong to one plot (a ship's bow, stern and superstructure);
 plots nearer than `range_min_m` (the clutter around the own ship) and of fewer than `min_cells` cells are dropped (a target fills the beam, so it spans several spokes; a
@@ -53,10 +54,14 @@ def plots(power: np.ndarray, pose: np.ndarray, time_s: np.ndarray, cfg) -> list[
     spokes, bins = power.shape
     detected = cfar(power, cfg.arpa.threshold_db, cfg.arpa.training_bins)
     detected[:, : int(cfg.arpa.range_min_m / cfg.range_max_m * bins)] = False
-    # pieces of one target (bow, stern, superstructure) closer than a few cells join into one plot
-    joined = ndimage.binary_dilation(detected, np.ones((2 * JOIN_CELLS + 1, 2 * JOIN_CELLS + 1), bool))
+    # pieces of one target (bow, stern, superstructure) closer than a few cells join into one plot; the spokes are
+    # a circle (the last spoke of a turn borders spoke 0, the bow), so the dilation wraps round
+    pad = min(JOIN_CELLS, spokes)
+    wrapped = np.pad(detected, ((pad, pad), (0, 0)), mode="wrap")
+    joined = ndimage.binary_dilation(wrapped, np.ones((2 * JOIN_CELLS + 1, 2 * JOIN_CELLS + 1), bool))[pad : pad + spokes]
     # scipy's stub unions the return over `output`; without one it is (labels, count)
     labels, count = cast(tuple[np.ndarray, int], ndimage.label(joined, np.ones((3, 3))))
+    labels, count = join_around(labels, count)
     labels[~detected] = 0
     if count == 0:
         return []
@@ -72,14 +77,46 @@ def plots(power: np.ndarray, pose: np.ndarray, time_s: np.ndarray, cfg) -> list[
     cx = ndimage.sum_labels(power * np.cos(angle), labels, index) / weight
     cy = ndimage.sum_labels(power * np.sin(angle), labels, index) / weight
     rng = (ndimage.sum_labels(power * b, labels, index) / weight + 0.5) * cfg.range_max_m / bins
-    first = np.array(ndimage.minimum_position(k, labels, index))[:, 0]  # a spoke of the plot, for pose and time
+    centre = np.arctan2(cy, cx)
+    # the spoke at the centroid, for the antenna pose and time (a plot across spoke 0 has spokes of two times)
+    spoke = np.round(-centre / (2.0 * math.pi) * spokes).astype(int) % spokes
     out = []
     for j in range(count):
-        x, y, yaw = pose[first[j]]
-        a = yaw + math.atan2(cy[j], cx[j])
-        out.append(Plot(np.array([x + rng[j] * math.cos(a), y + rng[j] * math.sin(a)]), float(time_s[first[j]]),
+        x, y, yaw = pose[spoke[j]]
+        a = yaw + centre[j]
+        out.append(Plot(np.array([x + rng[j] * math.cos(a), y + rng[j] * math.sin(a)]), float(time_s[spoke[j]]),
                         float(weight[j])))  # fmt: skip
     return out
+
+
+def join_around(labels: np.ndarray, count: int) -> tuple[np.ndarray, int]:
+    """Labels (spokes, bins) of an 8-connected labelling with the components that touch across the last and the
+    first spoke merged (the azimuth axis is a circle), renumbered 1..count."""
+    first, last = labels[0], labels[-1]
+    pairs = set()
+    for shift in (-1, 0, 1):  # 8-neighbours across the seam
+        a = first[max(shift, 0) : len(first) + min(shift, 0)]
+        b = last[max(-shift, 0) : len(last) + min(-shift, 0)]
+        both = (a > 0) & (b > 0) & (a != b)
+        pairs.update(zip(a[both].tolist(), b[both].tolist(), strict=True))
+    if not pairs:
+        return labels, count
+    parent = list(range(count + 1))
+
+    def root(i: int) -> int:
+        while parent[i] != i:
+            parent[i] = parent[parent[i]]
+            i = parent[i]
+        return i
+
+    for a, b in pairs:
+        ra, rb = root(a), root(b)
+        parent[max(ra, rb)] = min(ra, rb)
+    roots = np.array([root(i) for i in range(count + 1)])
+    kept = np.unique(roots[1:])
+    number = np.zeros(count + 1, int)
+    number[kept] = np.arange(1, len(kept) + 1)
+    return number[roots][labels], len(kept)
 
 
 @dataclass
