@@ -183,3 +183,34 @@ def test_docs_blocks_run(tmp_path, monkeypatch):
     monkeypatch.chdir(tmp_path)
     exec(compile(code, "docs/datasets.md", "exec"), {})
     assert len(list((tmp_path / "demo_set" / "meta").glob("*.json"))) == 2
+
+
+def test_force_never_removes_files_usvsim_did_not_write(tmp_path):
+    """--force deleted every file under images/, labels/, masks/, meta/ and annotations/: a user's photos in a
+    folder holding no data set (QA: images/holiday.jpg, images/train/cat.png, labels/my_labels.csv) were gone.
+    Now such a folder is refused with one line naming a file, with or without --force, and nothing is removed;
+    a real set with a user's file inside it likewise; a set alone is replaced, its files only."""
+    out = tmp_path / "ds"
+    mine = {"images/holiday.jpg": "photo", "images/train/cat.png": "p2", "labels/my_labels.csv": "notes",
+            "README.txt": "n"}  # fmt: skip
+    for rel, text in mine.items():
+        (out / rel).parent.mkdir(parents=True, exist_ok=True)
+        (out / rel).write_text(text)
+    args = ["dataset", "buoy_field", "--frames", "2", "--resolution", "64x48", "--out", str(out)]
+    for extra in ([], ["--force"]):
+        result = CliRunner().invoke(app, args + extra)
+        assert result.exit_code == 2, result.output
+        lines = [ln for ln in result.stderr.splitlines() if ln.strip()]
+        assert len(lines) == 1 and "images/holiday.jpg" in lines[0] and "did not write" in lines[0], lines
+        assert {rel: (out / rel).read_text() for rel in mine} == mine
+        assert not (out / "dataset.json").exists() and not (out / "meta").exists()
+    for rel in ("images/holiday.jpg", "images/train/cat.png", "labels/my_labels.csv"):
+        (out / rel).unlink()
+    assert CliRunner().invoke(app, args).exit_code == 0  # empty folders left: a set is written
+    (out / "masks" / "instance" / "train" / "mine.png").write_text("x")  # a user's file inside the set
+    result = CliRunner().invoke(app, args + ["--force"])
+    assert result.exit_code == 2 and "masks/instance/train/mine.png" in result.stderr
+    assert len(list((out / "meta").glob("*.json"))) == 2  # the set is untouched
+    (out / "masks" / "instance" / "train" / "mine.png").unlink()
+    assert CliRunner().invoke(app, [*args[:3], "1", *args[4:], "--force"]).exit_code == 0
+    assert len(list((out / "meta").glob("*.json"))) == 1 and (out / "README.txt").read_text() == "n"

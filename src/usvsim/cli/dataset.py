@@ -87,23 +87,20 @@ def dataset_command(
     typer.echo(f"wrote {frames} frames to {out}")  # the result on stdout, progress on stderr
 
 
-DATASET_ENTRIES = ("images", "labels", "masks", "meta", "annotations", "data.yaml", "classes.json", "dataset.json")
-
-
 def _clear_previous(out: Path, force: bool) -> None:
     """A data set already in `out` is refused, or with --force its files (and only those) removed: written over,
-    its frames beyond the new count stayed beside annotations that no longer listed them."""
-    import shutil
+    its frames beyond the new count stayed beside annotations that no longer listed them. A file in the set's
+    folders that usvsim does not write (a user's images/holiday.jpg) is refused with or without --force: --force
+    deleted every file under images/, labels/, masks/, meta/ and annotations/."""
+    from usvsim.datasets.writers import remove_set, set_files
 
-    found = [name for name in DATASET_ENTRIES if (out / name).exists()]
-    if not found:
+    ours, foreign = set_files(out)
+    if foreign:
+        raise UsvsimError(f"{out} holds files usvsim did not write ({foreign[0]}{', ...' if len(foreign) > 1 else ''}): "
+                          "--force removes only a data set's own files; give another --out, or move them")  # fmt: skip
+    if not ours:
         return
     if not force:
-        raise UsvsimError(f"{out} already holds a data set ({', '.join(found[:3])}); pass --force to replace it, "
-                          "or give another --out")  # fmt: skip
-    for name in found:
-        path = out / name
-        try:
-            shutil.rmtree(path) if path.is_dir() and not path.is_symlink() else path.unlink()
-        except OSError as exc:
-            raise UsvsimError(f"cannot remove {path} of the previous data set: {exc.strerror or exc}") from None
+        raise UsvsimError(f"{out} already holds a data set ({', '.join(str(p) for p in ours[:3])}); pass --force to "
+                          "replace it, or give another --out")  # fmt: skip
+    remove_set(out, ours)

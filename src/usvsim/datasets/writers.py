@@ -15,7 +15,9 @@ All files are written with sorted keys and fixed precision, so the same seed giv
 from __future__ import annotations
 
 import json
-from pathlib import Path
+import os
+import re
+from pathlib import Path, PurePosixPath
 
 import numpy as np
 from PIL import Image
@@ -24,6 +26,62 @@ from usvsim.datasets.labels import CLASSES, DETECTABLE, GROUPS, ObjectLabel
 
 FORMATS = ("yolo", "coco", "masks")
 SPLITS = ("train", "val", "test")
+
+
+FOLDERS = ("images", "labels", "masks", "meta", "annotations")  # what a set writes under its folder, with
+TOP_FILES = ("data.yaml", "classes.json", "dataset.json")  # these
+_STEM = r"\d{6,}(?:_[A-Za-z0-9_.-]+)?"  # frame number, then the camera's name when the scenario has several
+_SPLIT = "(?:" + "|".join(SPLITS) + ")"
+_OURS = re.compile(  # every name a set writes; `.<name>.partial`: a file being written (write_atomic)
+    "|".join((rf"images/{_SPLIT}/{_STEM}\.png", rf"labels/{_SPLIT}/{_STEM}\.txt",
+              rf"masks/(?:instance|semantic)/{_SPLIT}/{_STEM}\.png", rf"meta/{_STEM}\.json",
+              rf"annotations/{_SPLIT}\.json", *(re.escape(n) for n in TOP_FILES)))  # fmt: skip
+)
+
+
+def written_by_usvsim(rel: str) -> bool:
+    """Whether the path `rel` (relative to a set's folder, '/'-separated) is one a data set writes."""
+    path = PurePosixPath(rel)
+    if path.name.startswith(".") and path.name.endswith(".partial"):
+        path = path.with_name(path.name[1 : -len(".partial")])
+    return _OURS.fullmatch(str(path)) is not None
+
+
+def set_files(out: Path) -> tuple[list[str], list[str]]:
+    """(files a data set writes, other files and links) under `out`'s data set folders and top files, relative
+    to `out`, sorted. Links are never followed, and count as other files."""
+    ours, other = [], []
+    for name in (*FOLDERS, *TOP_FILES):
+        path = out / name
+        if path.is_symlink() or (path.exists() and path.is_dir() != (name in FOLDERS)):
+            other.append(name)
+        elif path.is_file():
+            ours.append(name)
+        elif path.is_dir():
+            for folder, dirs, files in os.walk(path):
+                base = Path(folder).relative_to(out).as_posix()
+                for entry in sorted(files) + [d for d in sorted(dirs) if os.path.islink(os.path.join(folder, d))]:
+                    rel = f"{base}/{entry}"
+                    (ours if written_by_usvsim(rel) and not os.path.islink(out / rel) else other).append(rel)
+    return sorted(ours), sorted(other)
+
+
+def remove_set(out: Path, files: list[str]) -> None:
+    """Removes a data set's `files` (relative to `out`, as set_files gives them), then its folders left empty."""
+    from usvsim.core.errors import UsvsimError
+
+    folders = set()
+    for rel in files:
+        try:
+            (out / rel).unlink()
+        except OSError as exc:
+            raise UsvsimError(f"cannot remove {out / rel} of the previous data set: {exc.strerror or exc}") from None
+        folders.update(p for p in PurePosixPath(rel).parents if str(p) != ".")
+    for folder in sorted(folders, key=lambda p: -len(p.parts)):
+        try:
+            (out / folder).rmdir()
+        except OSError:  # not empty: something not ours stays, and its folder
+            pass
 
 
 def dump_json(path: Path, data) -> None:
