@@ -43,8 +43,10 @@ class SensorBase(Section):
 # -- navigation ------------------------------------------------------------------------------------
 class AxisNoise(Section):
     """Gazebo-style noise of one triad (per axis, sensor units): white noise per sample, a turn-on bias
-    drawn once as ±N(bias_mean, bias_stddev), and a first-order Gauss–Markov bias (random walk) with
-    stddev `dynamic_bias_stddev` and correlation time `dynamic_bias_correlation_time_s` (gz-sensors)."""
+    drawn once as ±N(bias_mean, bias_stddev), and a first-order Gauss–Markov bias with correlation time
+    `dynamic_bias_correlation_time_s` (τ) driven as in gz-sensors: `dynamic_bias_stddev` (σ_b) is the density of its
+    driving noise (sensor units per √s), not the bias's own spread, which settles at σ_b·√(τ/2) (VRX's gyro: 2e-5 ·
+    √200 = 2.8e-4 rad/s). From a datasheet's bias instability B at correlation time τ, set σ_b = B·√(2/τ)."""
 
     stddev: NonNegativeFloat = 0.0
     bias_mean: float = 0.0
@@ -86,6 +88,13 @@ class Odometry(SensorBase):
     orientation_stddev_rad: NonNegativeFloat = 0.0
     linear_velocity_stddev_mps: NonNegativeFloat = 0.0
     angular_velocity_stddev_radps: NonNegativeFloat = 0.0
+
+    @model_validator(mode="after")
+    def _no_mount(self):
+        if "mount" in self.model_fields_set and self.mount != Mount():
+            raise ValueError("odometry reports base_link in <vessel>/odom: a mount does not apply (remove it; a "
+                             "ground_truth sensor reports a mounted frame)")  # fmt: skip
+        return self
 
 
 # (horizontal σ per axis m, vertical σ m, correlation time s) of receiver presets: σ_axis = CEP / 1.1774
@@ -160,6 +169,12 @@ class Lidar(SensorBase):
 
     @model_validator(mode="after")
     def _bounded_rays(self):
+        if self.elevations_deg is not None and any(not -90.0 <= e <= 90.0 for e in self.elevations_deg):
+            raise ValueError("elevations_deg must lie within -90..90 degrees")
+        if self.vertical_fov_deg is not None:
+            low, high = self.vertical_fov_deg
+            if not -90.0 <= low <= high <= 90.0:
+                raise ValueError("vertical_fov_deg is (lowest, highest) elevation within -90..90 degrees, lowest first")
         rows = self.channels or len(self.elevations_deg or ()) or 128
         if rows * (self.columns or 2048) > MAX_LIDAR_RAYS:
             raise ValueError(f"channels x columns must be at most {MAX_LIDAR_RAYS} rays per revolution")
