@@ -79,8 +79,10 @@ def test_reading_fields_and_handles(sim):
     camera = boat.sensors["camera"].latest
     assert camera["rgb"].shape == (48, 64, 3) and camera["depth"].shape == (48, 64)
     ids = set(np.unique(camera["segmentation"])) - {0}
-    names = {sim.sensors["wamv/camera"].segmentation_ids[i][0] for i in ids if i in sim.sensors["wamv/camera"].segmentation_ids}
-    assert "otter" in names
+    labels = sim.sensors["wamv/camera"].segmentation_ids
+    assert ids <= set(labels)  # every label is named: objects and the water (its drawn surface and the plane beyond)
+    names = {labels[i][0] for i in ids}
+    assert "otter" in names and "water" in {labels[i][1] for i in ids}
     assert "otter" in set(sim.sensors["wamv/objects"].latest["detections"]["id"])
     imu = boat.sensors["imu"].latest
     assert 0.0 < imu["linear_acceleration"][2] < 20.0 and imu["orientation"].shape == (4,)  # specific force: +g, heaving

@@ -10,7 +10,7 @@ stays valid after later steps. Fields (frames and units as in the messages):
 | PointCloud2 | `points`: structured (N,) or (rings, columns) `x, y, z, intensity` float32 (m, sensor FLU), `ring` uint16, `time` float32 (s after the stamp) |
 | LaserScan | `ranges`, `intensities` float32 (m), `angles` float32 (rad) |
 | RadarSector | `echoes` (spokes, range bins) float32 (0..1 over the dynamic range), `angles` float32 (rad, sensor frame) |
-| Image | `rgb` (H, W, 3) uint8, `depth` (H, W) float32 m, `segmentation` (H, W) uint16 (model geom id + 1, 0 = none; the camera's `segmentation_ids` maps id → (object name, class)); other encodings (a radar's mono8 PPI) as `image` |
+| Image | `rgb` (H, W, 3) uint8, `depth` (H, W) float32 m, `segmentation` (H, W) uint16 (model geom id + 1, 0 = none; the camera's `segmentation_ids` maps id → (object name, class; the water's two labels: class `water`)); other encodings (a radar's mono8 PPI) as `image` |
 | CameraInfo | `K` (3, 3) float64 |
 | Imu | `orientation` (w, x, y, z), `angular_velocity` rad/s, `linear_acceleration` m/s² (sensor frame) |
 | Odometry | `position` m, `orientation` (w, x, y, z), `linear_velocity` m/s, `angular_velocity` rad/s |

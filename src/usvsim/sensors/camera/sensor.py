@@ -17,6 +17,7 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING
 
+import mujoco
 import numpy as np
 
 from usvsim.messages.envelope import Envelope
@@ -72,6 +73,10 @@ class Camera(Sensor):
         if "segmentation" in self.streams:
             objects = shared_objects(sim, shared)
             self.segmentation_ids = {int(g) + 1: (o.name, o.label) for o in objects for g in o.geoms}
+            for name in ("water_surface", "still_water"):  # the drawn waves, and the plane beyond them (plain look)
+                geom = mujoco.mj_name2id(sim.model, mujoco.mjtObj.mjOBJ_GEOM, name)
+                if geom >= 0:
+                    self.segmentation_ids[geom + 1] = (name, "water")
         self.boxes = None
         if cfg.detections is not None:  # 2D ground truth needs the segmentation pass, published or not
             objects = selected(shared_objects(sim, shared), cfg.detections, vessel)
