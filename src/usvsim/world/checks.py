@@ -7,7 +7,8 @@
   from 15 s, linear between), or a regular component with H / λ above the breaking limit 1/7;
 - a water depth that the sea does not use (FFT seas are deep-water);
 - bodies that overlap at t = 0 (MuJoCo contacts deeper than 1 cm: they are pushed apart violently), traffic ships
-  (kinematic bodies) named as themselves, not as the static world.
+  (kinematic bodies) named as themselves, not as the static world;
+- a camera or LiDAR mounted inside its own vessel's geometry (it sees only the hull).
 
 Frames: world ENU, metres; heights relative to the still water level.
 """
@@ -38,7 +39,7 @@ def setup_warnings(world) -> list[str]:
     """Warnings for a `World`'s initial state (bodies, hulls, water level, contacts)."""
     env = world.scenario.environment
     return [*_displacement(world), *_far_from_water(world), *_sea(env), *_tiles(env, world.ocean.waves),
-            *_overlaps(world)]  # fmt: skip
+            *_overlaps(world), *_sensors_inside(world)]  # fmt: skip
 
 
 def _displacement(sim) -> list[str]:
@@ -120,6 +121,33 @@ def _overlaps(sim) -> list[str]:
         if contact.dist < -OVERLAP_M:
             pairs.add(tuple(sorted(labels[g] for g in contact.geom)))
     return [f"{a[1]} and {b[1]} overlap at the start: they will be pushed apart" for a, b in sorted(pairs)]
+
+
+def _sensors_inside(sim) -> list[str]:
+    """Cameras and LiDARs mounted inside their own vessel's geometry: the rays along ±x, ±y, ±z (world) from the mount
+    all hit that vessel (MuJoCo's ray cast over every geom group); such a sensor sees only the inside of its hull."""
+    model = sim.model
+    data = mujoco.MjData(model)
+    data.qpos[:] = sim.data.qpos
+    mujoco.mj_forward(model, data)
+    out, s, geom = [], sim.state, np.zeros(1, dtype=np.int32)
+    for cfg in sim.scenario.vessels:
+        i = sim.vessels[cfg.name].index
+        root = model.body_rootid[sim._body_ids[i]]
+        for sensor in cfg.sensors:
+            if sensor.type not in ("camera", "lidar"):
+                continue
+            point = s.pos[i] + s.rot[i] @ np.asarray(sensor.mount.position, dtype=float)
+            far = 0.0
+            for direction in np.vstack([np.eye(3), -np.eye(3)]):
+                dist = mujoco.mj_ray(model, data, point, direction, None, 1, -1, geom)
+                if dist < 0 or model.body_rootid[model.geom_bodyid[geom[0]]] != root:
+                    break
+                far = max(far, dist)
+            else:
+                out.append(f"'{cfg.name}' {sensor.type} '{sensor.name}' is mounted inside the vessel's own geometry (every "
+                           f"ray from its mount hits the vessel within {far:.2g} m): it sees only the hull; move its mount")  # fmt: skip
+    return out
 
 
 def _geom_labels(model: mujoco.MjModel) -> list[tuple[int, str]]:
