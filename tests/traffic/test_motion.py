@@ -39,6 +39,40 @@ def test_route_legs_speeds_and_stop():
     np.testing.assert_allclose(vel, [0, 0])
 
 
+def test_a_zero_speed_waypoint_stops_the_ship_there_for_good_and_it_never_jumps():
+    """(0,300)@3 → (30,300)@0 → (300,300)@3 → (300,600): 10 s east at 3 m/s, then stopped at (30, 300) heading
+    east (as it arrived) for good; the leg at speed 0 was dropped and the ship jumped 270 m at t = 10 s (QA)."""
+    track = route_track([(0, 300), (30, 300), (300, 300), (300, 600)], [3.0, 0.0, 3.0, 3.0])
+    times = np.arange(0.0, 400.0, 0.05)
+    pos = np.array([at(track, t)[0] for t in times])
+    assert np.abs(np.diff(pos, axis=0)).max() <= 3.0 * 0.05 + 1e-9  # never faster than the leg speed: no jump
+    np.testing.assert_allclose(at(track, 5.0)[0], [15, 300], atol=1e-9)
+    for t in (10.0, 11.0, 1e4):
+        p, v, yaw = at(track, t)
+        np.testing.assert_allclose(p, [30, 300], atol=1e-9)
+        np.testing.assert_allclose(v, [0, 0])
+        assert yaw == pytest.approx(0.0)  # ENU yaw 0: east, as it arrived
+    looped = route_track([(0, 0), (10, 0), (10, 10)], [1.0, 0.0, 1.0], loop=True)  # a stop ends a loop too
+    np.testing.assert_allclose(at(looped, 1e4)[0], [10, 0], atol=1e-9)
+
+
+@pytest.mark.parametrize(("points", "course_deg"), [
+    ([(0, 300), (300, 300), (300, 600)], 90.0),  # waits at the start heading along its first leg, east
+    ([(-300, 0), (-200, 0)], 90.0),  # the stopped ship of docs/traffic.md: two waypoints at speed 0
+    ([(0, 0), (0, 0), (-50, -50)], 225.0),  # a first leg of zero length: the route's first real leg
+    ([(5, 5), (5, 5)], 0.0),  # nowhere to head: north
+])  # fmt: skip
+def test_a_route_stopped_at_its_start_stays_there_heading_along_its_route(points, course_deg):
+    """A route whose first waypoint has speed 0 stays there (it started at the second waypoint, moving, and
+    headed north whatever the route's direction: QA)."""
+    track = route_track(points, [0.0] + [3.0] * (len(points) - 1))
+    for t in (0.0, 50.0, 1e4):
+        p, v, yaw = at(track, t)
+        np.testing.assert_allclose(p, points[0], atol=1e-12)
+        np.testing.assert_allclose(v, [0, 0])
+        assert math.degrees(math.remainder(yaw - math.radians(90.0 - course_deg), 2 * math.pi)) == pytest.approx(0.0, abs=1e-9)
+
+
 def test_looped_route_starts_over():
     track = route_track([(0, 0), (10, 0), (10, 10)], [1.0, 1.0, 1.0], loop=True)
     period = 10 + 10 + math.hypot(10, 10)

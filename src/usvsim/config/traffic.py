@@ -29,11 +29,13 @@ ShipType = Literal["pleasure", "sailing", "fishing", "tug", "pilot", "passenger"
 
 class Waypoint(Section):
     position: Vec2 = Field(description="world ENU (x east, y north), m")
-    speed_mps: NonNegativeFloat = Field(description="speed on the leg that starts here, m/s")
+    speed_mps: NonNegativeFloat = Field(description="speed on the leg that starts here, m/s; 0: the ship stops here for good "
+                                        "(heading as it arrived, or along this leg at the route's start)")
 
 
 class Route(Section):
-    """Straight legs between waypoints at each leg's speed; stops at the last one (or starts over if `loop`)."""
+    """Straight legs between waypoints at each leg's speed; stops at the last one (or starts over if `loop`), or
+    for good at the first waypoint of speed 0 (later waypoints are never reached). Ships never jump."""
 
     type: Literal["route"] = "route"
     waypoints: TupleOf[Waypoint] = Field(min_length=2)

@@ -61,23 +61,32 @@ def constant_track(start_enu, course_rad: float, speed_mps: float) -> Track:
 
 
 def route_track(points, speeds, loop: bool = False) -> Track:
-    """Legs between waypoints, each at its start waypoint's speed; the heading turns at a waypoint. Legs at
-    zero speed or of zero length are left out (a ship would never leave them)."""
+    """Legs between waypoints, each at its start waypoint's speed; the heading turns at a waypoint. A waypoint at
+    speed 0 is where the ship stops for good: it stays there, heading as it arrived (the previous leg's
+    direction), or, stopped at the route's start, along the leg that starts there; the waypoints after it are
+    never reached and a loop does not go round. Legs of zero length are left out (there is nothing to sail); a ship
+    never jumps."""
     pts = np.asarray(points, float)
     if loop:
         pts = np.vstack([pts, pts[:1]])
     legs, speed = np.diff(pts, axis=0), np.asarray(speeds, float)[: len(pts) - 1]
     length = np.linalg.norm(legs, axis=1)
-    keep = (speed > 0) & (length > 1e-9)
-    if not keep.any():
-        return constant_track(pts[0], 0.0, 0.0)
+    stops = np.flatnonzero(speed <= 0)
+    sailed = int(stops[0]) if len(stops) else len(legs)  # the legs before the first stop
+    keep = np.arange(len(legs)) < sailed
+    keep &= length > 1e-9
+    if not keep.any():  # stopped at the start: heading along the route's first leg (north if all points coincide)
+        moving = np.flatnonzero(length > 1e-9)
+        course = course_from_velocity(*legs[moving[0]]) if len(moving) else 0.0
+        return constant_track(pts[0], course, 0.0)
     legs, length, speed, start = legs[keep], length[keep], speed[keep], pts[:-1][keep]
     dirs = legs / length[:, None]
     t1 = np.cumsum(length / speed)
     t0 = np.concatenate([[0.0], t1[:-1]])
     yaw = np.arctan2(dirs[:, 1], dirs[:, 0])
     v = dirs * speed[:, None]
-    return Track(t0, t1, start, start + legs, v, v, yaw, yaw, np.ones(len(t0), bool), float(t1[-1]) if loop else 0.0)
+    period = float(t1[-1]) if loop and not len(stops) else 0.0
+    return Track(t0, t1, start, start + legs, v, v, yaw, yaw, np.ones(len(t0), bool), period)
 
 
 def hermite_track(t_s, pos_enu, vel_enu, yaw_rad) -> Track:
