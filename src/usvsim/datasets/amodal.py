@@ -5,7 +5,9 @@ other objects, own vessel hidden), clipped to the image like the amodal box. Ren
 costs one pass per object; objects whose amodal boxes do not overlap cannot cover one another's pixels (an
 object's pixels lie inside its projected 3D box), so they are drawn together: one segmentation pass per group
 of a greedy colouring of the box-overlap graph (typically 2-3 passes in `buoy_field`). Hidden geoms get alpha 0
-(MuJoCo leaves them out of the scene); the model's colours are restored after the passes.
+(MuJoCo leaves them out of the scene); the model's colours are restored after the passes. The shader's water is
+no geom: the passes leave it out explicitly (`water=False`); it hid the objects' parts below the waterline in their
+"drawn alone" masks, so every visible fraction under `--renderer shader` was ~1.
 """
 
 from __future__ import annotations
@@ -49,7 +51,7 @@ class AmodalCounter:
                 for j in group:
                     geoms = self.objects[indices[j]].geoms
                     m.geom_rgba[geoms, 3] = alpha[geoms]
-                seg = cam.render(sim, pose=pose, streams=("segmentation",))["segmentation"]
+                seg = cam.render(sim, pose=pose, streams=("segmentation",), water=False)["segmentation"]
                 pixels, _ = label_stats(seg, self.owner, len(self.objects))
                 out.update({indices[j]: int(pixels[indices[j] + 1]) for j in group})
         finally:

@@ -222,13 +222,14 @@ class PinholeRenderer:
                 self.marine.geom_boxes = cull.drawn_boxes(self.scene, self.model)
             self.marine.draw(self.scene.camera[0], self.rect, labels, self._time_s)
 
-    def capture(self, rgb_depth: bool = True, segmentation: bool = True) -> dict[str, np.ndarray]:
+    def capture(self, rgb_depth: bool = True, segmentation: bool = True, water: bool = True) -> dict[str, np.ndarray]:
         """'rgb' (H, W, 3) uint8 + 'depth' (H, W) float32 along optical z (m; NaN where nothing is nearer than
         `far`) from one GL pass, and 'segmentation' (H, W) uint16 (geom id + 1, 0 = background) from a second;
         top row first. The sky (empty depth) is painted from the skybox's gradient. The segmentation pass is
         drawn by llvmpipe's threads while this thread finishes the RGB and depth images. With the shader look,
         the water's labels come from the colour pass (the stencil its water marked) when it was drawn, else from
-        a label pass that draws the water in its id colour."""
+        a label pass that draws the water in its id colour. `water=False` (a segmentation-only capture): the
+        shader's water is left out of the labels, as MuJoCo's water geom is when its alpha is 0 (amodal masks)."""
         out: dict[str, np.ndarray] = {}
         water_mask = rgb_depth and segmentation and self.marine is not None
         if rgb_depth:
@@ -237,7 +238,7 @@ class PinholeRenderer:
             if water_mask and self.marine is not None:
                 self.marine.read_water_mask(self.rect, self._gl_water)
         if segmentation:
-            self._render(segment=True, water_label_pass=not water_mask)  # returns before the pixels are drawn
+            self._render(segment=True, water_label_pass=not water_mask and water)  # returns before the pixels are drawn
         if rgb_depth:
             out["rgb"], out["depth"] = np.empty_like(self._gl_rgb), np.empty_like(self._gl_depth)
             zero_near = self.ctx.readDepthMap == mujoco.mjtDepthMap.mjDEPTH_ZERONEAR  # else reversed Z

@@ -86,10 +86,11 @@ class Camera(Sensor):
         self._body_of_label: np.ndarray | None = None  # segmentation label → simulated body (motion blur)
         self._depth_normal = np.empty((cfg.height, cfg.width) if cfg.depth_noise_stddev_m > 0 else 0, np.float32)
 
-    def render(self, sim: World, pose=None, streams=None) -> dict[str, np.ndarray]:
+    def render(self, sim: World, pose=None, streams=None, water: bool = True) -> dict[str, np.ndarray]:
         """Images of the current state: 'rgb' (H, W, 3) uint8, 'depth' (H, W) float32 m, 'segmentation' uint16
         (the configured `streams`, and segmentation when detections need it); `pose` (position ENU m, FLU →
-        world rotation) replaces the mounted camera's."""
+        world rotation) replaces the mounted camera's. `water=False`: a segmentation without the shader's water
+        (PinholeRenderer.capture; MuJoCo's water geom is hidden like any geom, by its alpha)."""
         pos, rot = pose if pose is not None else self.pose_world(sim)
         streams = self.streams if streams is None else set(streams)
         r = self.renderer
@@ -100,7 +101,8 @@ class Camera(Sensor):
         r.update(sim.data.qpos, pos, rot @ OPTICAL_ROT)
         blur = r.marine is not None and "rgb" in streams and sim.look.camera.motion_blur_ms > 0  # needs the labels
         images = r.capture(rgb_depth=bool(streams & {"rgb", "depth"}),
-                           segmentation="segmentation" in streams or self.boxes is not None or blur)  # fmt: skip
+                           segmentation="segmentation" in streams or self.boxes is not None or blur,
+                           water=water)  # fmt: skip
         out = {k: v for k, v in images.items() if k in streams or k == "segmentation"}
         if self.remap is not None:
             out = {k: (self.remap.linear(v) if k == "rgb" else self.remap.closest(v)) for k, v in out.items()}
