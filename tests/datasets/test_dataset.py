@@ -214,3 +214,22 @@ def test_force_never_removes_files_usvsim_did_not_write(tmp_path):
     (out / "masks" / "instance" / "train" / "mine.png").unlink()
     assert CliRunner().invoke(app, [*args[:3], "1", *args[4:], "--force"]).exit_code == 0
     assert len(list((out / "meta").glob("*.json"))) == 1 and (out / "README.txt").read_text() == "n"
+
+
+def test_instance_masks_hold_only_annotated_ids(tmp_path):
+    """Objects under --min-visible-pixels were left out of COCO, YOLO and meta but still painted in the instance
+    mask (QA: frame 0 instance 12 with 14 px): every id in the mask now has an annotation and a meta entry, and
+    the objects left out keep their class in the semantic mask."""
+    root = generate(DatasetSpec("buoy_field", 2, tmp_path / "s", seed=1, randomize="clear_calm", resolution=(320, 240),
+                                splits=(1.0, 0.0, 0.0), min_visible_pixels=60))  # fmt: skip
+    coco = json.loads((root / "annotations" / "train.json").read_text())
+    left_out = 0
+    for image in coco["images"]:
+        stem = image["file_name"].split("/")[1][:-4]
+        inst = np.array(Image.open(root / "masks" / "instance" / "train" / f"{stem}.png"))
+        sem = np.array(Image.open(root / "masks" / "semantic" / "train" / f"{stem}.png"))
+        annotated = {a["instance"] for a in coco["annotations"] if a["image_id"] == image["id"]}
+        meta = {o["instance"] for o in json.loads((root / "meta" / f"{stem}.json").read_text())["objects"]}
+        assert annotated and set(np.unique(inst)) - {0} == annotated == meta
+        left_out += int(((inst == 0) & (sem >= CLASSES.index("vessel"))).sum())
+    assert left_out > 0  # objects with 1-59 visible pixels are in the frames, unlabelled

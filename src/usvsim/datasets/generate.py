@@ -296,7 +296,7 @@ class DatasetGenerator:
         """Worker thread: look on the image, masks, COCO records, files."""
         split, stem, image_id = where
         rgb = adapter.after(look, images["rgb"], images["depth"], np.random.default_rng(rng_key))
-        instance, semantic = lab.masks(images["segmentation"])
+        instance, semantic = lab.masks(images["segmentation"], labels)
         records = self.writer.coco_records(split, stem, image_id, rgb.shape, instance, labels)
         self.writer.frame(split, stem, image_id, rgb, instance, semantic, labels, meta)
         return records

@@ -60,9 +60,14 @@ class Labeller:
         self.semantic_lut = sem
         self.instance_lut = self.owner.astype(np.uint16)
 
-    def masks(self, seg: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """(instance mask uint16: object index + 1, 0 none; semantic mask uint8: class id) of a segmentation."""
-        return self.instance_lut[seg], self.semantic_lut[seg]
+    def masks(self, seg: np.ndarray, labels: list[ObjectLabel]) -> tuple[np.ndarray, np.ndarray]:
+        """(instance mask uint16: object index + 1 of the `labels`' objects, 0 elsewhere; semantic mask uint8:
+        class id) of a segmentation. Objects left out of the labels (fewer visible pixels or a smaller fraction
+        than asked) are 0 in the instance mask, which holds only ids that have an annotation; they keep their
+        class in the semantic mask."""
+        keep = np.zeros(len(self.objects) + 1, bool)
+        keep[[label.instance for label in labels]] = True
+        return np.where(keep[self.instance_lut], self.instance_lut, 0).astype(np.uint16)[seg], self.semantic_lut[seg]
 
     def objects_in(self, sim, seg: np.ndarray, pos_world, rot_optical, min_pixels: int, min_fraction: float,
                    amodal_pixels=None):  # fmt: skip
