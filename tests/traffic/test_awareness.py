@@ -85,7 +85,8 @@ def _reference(own, pos, vel, yaw):
 
 def test_situation_kernel_matches_the_definitions():
     """The one-call kernel the simulation uses (awareness.situation) against the definitions, 2000 random targets
-    (all encounter classes occur), and its run-report update against a brute-force search back in time."""
+    (all encounter classes occur), and its run-report update against a brute-force search back in time (straight
+    relative motion between two samples 30 s apart)."""
     rng = np.random.default_rng(11)
     n = 2000
     own = np.array([10.0, -20.0, 1.5, 4.0, 1.2])
@@ -94,8 +95,10 @@ def test_situation_kernel_matches_the_definitions():
     targets = np.arange(n, dtype=np.int64)
     out, min_dist, t_min, min_cpa = np.zeros((n, 10)), np.full(n, np.inf), np.zeros(n), np.full(n, np.inf)
     tcpa_at = np.full(n, np.nan)
-    aw.situation(own, pos, vel, yaw, targets, out, 30.0, 100.0, min_dist, t_min, min_cpa, tcpa_at, 300.0)
     rel, w, cpa, tcpa, bearing, rel_bearing, enc = _reference(own, pos, vel, yaw)
+    prev = rel - w * 30.0  # the relative positions of a sample 30 s ago, straight motion
+    aw.situation(own, pos, vel, yaw, targets, out, 30.0, 100.0, prev, min_dist, t_min, min_cpa, tcpa_at, 300.0)
+    np.testing.assert_array_equal(prev, out[:, aw.X : aw.Y + 1])  # the next chord starts here
     np.testing.assert_allclose(out[:, aw.X : aw.Y + 1], rel)
     np.testing.assert_allclose(out[:, aw.VX : aw.VY + 1], w)
     np.testing.assert_allclose(out[:, aw.RANGE], np.linalg.norm(rel, axis=1))
@@ -145,7 +148,7 @@ def test_cpa_tcpa_against_the_closed_form_of_two_straight_tracks(p_own, v_own, p
     own = np.array([*p_own, *v_own, 0.3])
     out = np.zeros((1, 10))
     aw.situation(own, np.array([p_tgt], float), np.array([v_tgt], float), np.zeros(1), np.zeros(1, np.int64), out,
-                 -1.0, 0.0, np.zeros(1), np.zeros(1), np.zeros(1), np.zeros(1), 1200.0)  # fmt: skip
+                 -1.0, 0.0, np.zeros((1, 2)), np.zeros(1), np.zeros(1), np.zeros(1), np.zeros(1), 1200.0)  # fmt: skip
     assert out[0, aw.CPA] == pytest.approx(cpa, abs=1e-9) and out[0, aw.TCPA] == pytest.approx(tcpa, abs=1e-9)
     assert out[0, aw.RANGE] == pytest.approx(math.dist(p_own, p_tgt))
 
@@ -166,9 +169,42 @@ def test_the_run_report_counts_a_cpa_only_within_the_tcpa_limit(v_tgt, counted):
     own, out = np.zeros(5), np.zeros((1, 10))
     min_cpa, tcpa_at = np.full(1, np.inf), np.full(1, np.nan)
     aw.situation(own, np.array([[200.0, 0.0]]), np.array([v_tgt]), np.zeros(1), np.zeros(1, np.int64), out, 1.0,
-                 1.0, np.full(1, np.inf), np.zeros(1), min_cpa, tcpa_at, 1200.0)  # fmt: skip
+                 1.0, np.array([[200.0, 0.0]]) - v_tgt, np.full(1, np.inf), np.zeros(1), min_cpa, tcpa_at, 1200.0)  # fmt: skip
     if counted:
         assert min_cpa[0] == pytest.approx(out[0, aw.CPA]) and tcpa_at[0] == pytest.approx(out[0, aw.TCPA])
         assert 0.0 <= tcpa_at[0] <= 1200.0
     else:
         assert min_cpa[0] == np.inf and np.isnan(tcpa_at[0])
+
+
+def test_the_least_distance_is_on_the_sampled_track_not_extrapolated_from_the_last_velocity():
+    """The own ship steams east at 5 m/s, turns north at t = 10.5 s (between two 1 s samples) and goes on; a ship
+    lies still at (55, -30). On the true track the least distance is 30.10 m at 10.5 s; at the samples, 30.41 m
+    (hypot(5, 30)) at 10 s, the least on the straight lines between them. The report looked back along the
+    relative velocity of the sample at 11 s (north) and said 27.61 m at 10 s: a distance that never happened."""
+    target = np.array([[55.0, -30.0]])
+
+    def own_at(t):
+        if t <= 10.5:
+            return np.array([5.0 * t, 0.0, 5.0, 0.0, 0.0])
+        return np.array([52.5, 5.0 * (t - 10.5), 0.0, 5.0, math.pi / 2])
+
+    out, prev = np.zeros((1, 10)), target - own_at(0.0)[:2]
+    min_dist, t_min, min_cpa, tcpa_at = np.array([np.hypot(*prev[0])]), np.zeros(1), np.full(1, np.inf), np.full(1, np.nan)
+    for t in range(1, 21):
+        aw.situation(own_at(t), target, np.zeros((1, 2)), np.zeros(1), np.zeros(1, np.int64), out, 1.0, float(t),
+                     prev, min_dist, t_min, min_cpa, tcpa_at, 1200.0)  # fmt: skip
+    sampled = min(math.dist(target[0], own_at(t)[:2]) for t in range(21))
+    assert min_dist[0] == pytest.approx(sampled, abs=1e-12) and sampled == pytest.approx(math.hypot(5.0, 30.0))
+    assert t_min[0] == pytest.approx(10.0, abs=1e-12)
+    true_track = min(math.dist(target[0], own_at(t)[:2]) for t in np.linspace(0.0, 20.0, 200001))
+    assert true_track == pytest.approx(math.hypot(2.5, 30.0), abs=1e-6) and min_dist[0] >= true_track
+
+
+def test_the_least_distance_between_two_samples_of_straight_motion_is_exact():
+    """A ship passing 30 m abeam at 5 m/s between two samples 1 s apart (at 19.5 s): 30 m at 19.5 s exactly."""
+    out, min_dist, t_min, min_cpa, tcpa_at = np.zeros((1, 10)), np.full(1, np.inf), np.zeros(1), np.full(1, np.inf), np.full(1, np.nan)
+    prev = np.array([[2.5, 30.0]])  # at 19 s
+    aw.situation(np.zeros(5), np.array([[-2.5, 30.0]]), np.array([[-5.0, 0.0]]), np.zeros(1), np.zeros(1, np.int64), out,
+                 1.0, 20.0, prev, min_dist, t_min, min_cpa, tcpa_at, 1200.0)  # fmt: skip
+    assert (min_dist[0], t_min[0]) == (pytest.approx(30.0, abs=1e-12), pytest.approx(19.5, abs=1e-12))

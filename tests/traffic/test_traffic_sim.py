@@ -90,6 +90,36 @@ def test_report_never_looks_past_the_end_of_the_run(crossing):
         assert report[name]["min_distance_m"] == pytest.approx(now["range"][j], rel=1e-9)
 
 
+def test_report_least_distance_of_a_straight_pass_is_exact(scenario_of):
+    """A ship crossing 30 m north of the WAM-V (at rest) westward at 5 m/s from 100 m east: 30 m at t = 20 s (the
+    WAM-V settles by µm): at 1 Hz a sample; at 0.4 Hz (2.5 s) also a sample; at 0.25 Hz between the samples at 16
+    and 24 s, found on the straight line between them."""
+    for rate in (1.0, 0.4, 0.25):
+        sim = Simulation(scenario_of({"vessels": [OWN], "traffic": {"awareness": {"rate_hz": rate}, "ais": {"enabled": False},
+            "ships": [ship("crosser", 257000010, {"type": "constant", "position": [100, 30], "course_deg": 270, "speed_mps": 5})]}}))  # fmt: skip
+        sim.run(30.0)
+        report = sim.traffic.report()["crosser"]
+        assert report["min_distance_m"] == pytest.approx(30.0, abs=0.01)
+        assert report["t_min_distance_s"] == pytest.approx(20.0, abs=0.01)
+        sim.close()
+
+
+def test_report_least_distance_is_never_extrapolated_past_a_turn(scenario_of):
+    """A route ship north at 10 m/s along x = 40 m from (40, -105), turning east at (40, 0) at t = 10.5 s, between
+    two 1 Hz samples: the least distance at the samples (and on the straight line between them) is hypot(40, 5) =
+    40.31 m at 10 s (the truth: 40 m at 10.5 s). The report looked back from the sample at 11 s along the
+    velocity then (east) and said 35 m: a distance that never happened."""
+    route = {"type": "route", "waypoints": [{"position": [40, -105], "speed_mps": 10},
+             {"position": [40, 0], "speed_mps": 10}, {"position": [1040, 0], "speed_mps": 10}]}  # fmt: skip
+    sim = Simulation(scenario_of({"vessels": [OWN], "traffic": {"ais": {"enabled": False},
+                                  "ships": [ship("turner", 257000011, route)]}}))  # fmt: skip
+    sim.run(20.0)
+    report = sim.traffic.report()["turner"]
+    assert report["min_distance_m"] == pytest.approx(math.hypot(40.0, 5.0), abs=0.01)
+    assert report["t_min_distance_s"] == pytest.approx(10.0, abs=0.01)
+    sim.close()
+
+
 def test_quiet_steps_skip_nothing(scenario_of):
     """Traffic.on_step does nothing between due times; the situation and AIS messages (noise, dropouts, a turning
     route: 3⅓ s reports) and the run report are exactly those of calling it every step, also after a reset."""

@@ -119,13 +119,15 @@ X, Y, VX, VY, RANGE, BEARING, REL_BEARING, CPA, TCPA, ENCOUNTER = range(10)
 
 
 @njit(cache=True)
-def situation(own, tgt_pos, tgt_vel, tgt_yaw, targets, out, horizon_s, now_s, min_dist, t_min, min_cpa, tcpa_at_min_cpa,
-              tcpa_limit_s):  # fmt: skip
+def situation(own, tgt_pos, tgt_vel, tgt_yaw, targets, out, since_s, now_s, prev, min_dist, t_min, min_cpa,
+              tcpa_at_min_cpa, tcpa_limit_s):  # fmt: skip
     """Every target's situation in one call. own = (x, y, vx, vy, ENU yaw); targets: indices into the fleet's
     tgt_pos (N, 2), tgt_vel (N, 2), tgt_yaw (N,); out (T, 10): columns above (relative position and velocity,
-    range, true and relative bearing, CPA, TCPA, encounter code). With horizon_s >= 0, also the run report:
-    the least distance over the last horizon_s seconds of straight motion back from now_s lowers min_dist (and
-    sets t_min), and a CPA predicted with 0 <= TCPA <= tcpa_limit_s and relative motion (ARPA's alarm window; a
+    range, true and relative bearing, CPA, TCPA, encounter code). With since_s >= 0, also the run report: prev
+    (T, 2) holds each target's relative position at the previous sample, since_s seconds ago (0: there was
+    none), and the least distance on the straight line from it to the relative position now (exact at the
+    samples, and exact between them for straight relative motion; never an extrapolation) lowers min_dist (and
+    sets t_min); prev becomes the relative position now; and a CPA predicted with 0 <= TCPA <= tcpa_limit_s and relative motion (ARPA's alarm window; a
     target closing so slowly that its closest point is hours away predicts nothing yet) lowers min_cpa (and sets
     tcpa_at_min_cpa, the TCPA it was predicted with)."""
     own_speed = math.hypot(own[2], own[3])
@@ -141,12 +143,17 @@ def situation(own, tgt_pos, tgt_vel, tgt_yaw, targets, out, horizon_s, now_s, mi
         out[j, CPA], out[j, TCPA] = cpa, tcpa
         out[j, ENCOUNTER] = _encounter(rx, ry, own_speed, own[4], math.hypot(tgt_vel[k, 0], tgt_vel[k, 1]),
                                        tgt_yaw[k], tcpa)  # fmt: skip
-        if horizon_s < 0.0:
+        if since_s < 0.0:
             continue
-        _, back = _cpa(rx, ry, -wx, -wy)  # the closest point looking back along the straight relative track
-        ago = min(max(back, 0.0), horizon_s)
-        d = math.hypot(rx - wx * ago, ry - wy * ago)
+        u, dx, dy = 0.0, 0.0, 0.0  # the closest point: r - u (r - prev), u in [0, 1] back along the chord
+        if since_s > 0.0:
+            dx, dy = rx - prev[j, 0], ry - prev[j, 1]
+            chord2 = dx * dx + dy * dy
+            if chord2 > 0.0:
+                u = min(max((rx * dx + ry * dy) / chord2, 0.0), 1.0)
+        d = math.hypot(rx, ry) if u == 0.0 else math.hypot(rx - u * dx, ry - u * dy)
         if d < min_dist[j]:
-            min_dist[j], t_min[j] = d, now_s - ago
+            min_dist[j], t_min[j] = d, now_s - u * since_s
+        prev[j, 0], prev[j, 1] = rx, ry
         if 0.0 <= tcpa <= tcpa_limit_s and math.hypot(wx, wy) > STEADY_MPS and cpa < min_cpa[j]:
             min_cpa[j], tcpa_at_min_cpa[j] = cpa, tcpa

@@ -1,6 +1,8 @@
 """The ground-truth situation of the own ship on `traffic.awareness.topic` (usvsim_msgs/TrafficSituation, frame
-`world`), and the run report: per target the least distance to the own ship (between samples the motion is
-taken as straight, so a closest pass between two samples is found exactly), when it happened, the least CPA
+`world`), and the run report: per target the least distance to the own ship over the sampled relative track
+(from t = 0, then at every sample; between two samples, on the straight line joining the two relative
+positions: the distances at the samples are exact, a closest pass of straight relative motion between two
+samples is found exactly, and nothing is extrapolated), when it happened, the least CPA
 predicted with 0 <= TCPA <= `tcpa_limit_s` (ARPA's CPA/TCPA alarm window) and the TCPA it came with, and the
 range, CPA, TCPA and relative speed at the last sample. The message's `cpa` (m) and `tcpa` (s) are every
 target's straight-line prediction as an ARPA shows it, whatever its TCPA: negative TCPA: opening, the closest
@@ -47,13 +49,18 @@ class SituationPublisher:
         n = len(self.targets)
         self.min_dist, self.t_min, self.min_cpa = np.full(n, np.inf), np.zeros(n), np.full(n, np.inf)
         self.tcpa_at_min_cpa, self._last, self.sampled = np.full(n, np.nan), np.zeros((n, 4)), False
+        # the relative positions at the start (the fleet was placed for t = 0 before): where the first chord starts
+        self._prev = self.fleet.pos_enu[self.targets] - world.state.pos[self.own.index, :2]
+        self._prev_s = world.time
+        self.min_dist[:], self.t_min[:] = np.hypot(self._prev[:, 0], self._prev[:, 1]), world.time
 
-    def _run(self, world: World, horizon_s: float) -> np.ndarray:
-        """One call of the situation kernel (awareness.situation); horizon_s >= 0 also updates the run report."""
+    def _run(self, world: World, since_s: float) -> np.ndarray:
+        """One call of the situation kernel (awareness.situation); since_s >= 0 (the time since the previous
+        sample) also updates the run report."""
         s, own = world.state, self._own
         _own_state(self.own.index, s.pos, s.rot, s.omega_body, s.vcom_world, s.com_world, own)
         f = self.fleet
-        aw.situation(own, f.pos_enu, f.vel_enu, f.yaw_rad, self.targets, self._out, horizon_s, world.time,
+        aw.situation(own, f.pos_enu, f.vel_enu, f.yaw_rad, self.targets, self._out, since_s, world.time, self._prev,
                      self.min_dist, self.t_min, self.min_cpa, self.tcpa_at_min_cpa, self.cfg.tcpa_limit_s)  # fmt: skip
         return self._out
 
@@ -69,10 +76,11 @@ class SituationPublisher:
     def due(self, world: World, publish: bool = True) -> list[Envelope]:
         if world.clock.steps % self.every != 0 or not len(self.targets):
             return []
-        # the run report: the interval since the previous sample, straight motion back from now, never past the
-        # present (a look ahead reported passes after the run's end, e.g. t = 31 s in a 30 s run with targets
-        # still closing)
-        self._run(world, min(self.period_s, world.time))
+        # the run report: the chord from the previous sample (or the start) to now, never past the present (a look
+        # ahead reported passes after the run's end) nor an extrapolation (a look back along the current relative
+        # velocity reported distances that never happened once the own ship had turned)
+        self._run(world, max(world.time - self._prev_s, 0.0))
+        self._prev_s = world.time
         self.sampled = True
         self._last[:, :3] = self._out[:, [aw.RANGE, aw.CPA, aw.TCPA]]
         self._last[:, 3] = np.hypot(self._out[:, aw.VX], self._out[:, aw.VY])
