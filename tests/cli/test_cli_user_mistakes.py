@@ -153,6 +153,18 @@ def test_recover_refuses_a_file_that_is_not_mcap_and_writes_nothing(tmp_path):
     assert sorted(p.name for p in tmp_path.iterdir()) == ["empty.mcap", "junk.mcap"]
 
 
+def test_recover_refuses_an_output_hard_linked_to_its_input(tmp_path):
+    """--force over a hard link to the input truncated the input itself (QA: a whole recording lost)."""
+    from usvsim.io.mcap_recover import MCAP_MAGIC
+
+    source, link = tmp_path / "run.mcap", tmp_path / "link.mcap"
+    source.write_bytes(MCAP_MAGIC + bytes(range(256)) * 40)  # (the refusal comes before any reading)
+    before = source.read_bytes()
+    link.hardlink_to(source)
+    one_line_error(invoke("recover", source, "--out", link, "--force"), "choose an output other than")
+    assert source.read_bytes() == before
+
+
 def test_recover_still_takes_a_file_cut_inside_its_magic(tmp_path):
     cut = tmp_path / "cut.mcap"
     cut.write_bytes(b"\x89MCA")  # kill -9 after 4 bytes

@@ -30,8 +30,8 @@ class Recovered:
 
 def recover(source: Path, target: Path) -> Recovered:
     """Copy the readable part of `source` into `target` (a new, complete file)."""
-    if source.resolve() == target.resolve():
-        raise UsvsimError(f"recover writes a new file; choose an output other than {source}")
+    if source.resolve() == target.resolve() or (target.exists() and source.exists() and source.samefile(target)):
+        raise UsvsimError(f"recover writes a new file; choose an output other than {source}")  # (a hard link too)
     with source.open("rb") as f:
         head = f.read(len(MCAP_MAGIC))
     if not head:
