@@ -127,8 +127,8 @@ class Simulation:
     def step(self) -> None:
         """Advance one physics step."""
         world = self.world
-        self._announce()
-        self.commands.apply()
+        self.commands.apply()  # a /reset starts the new episode here: its announcement goes out next, before this step's
+        self._announce()  # messages (announced first, the step's /clock at 0.01 s went out before the marker and t = 0)
         self.traffic.before_step(world)
         for loop in self.controllers.values():
             loop(world)

@@ -122,3 +122,19 @@ def test_reset_topic_restores_the_start(sim):
     assert sim.clock_ns == sim.clock.step_ns
     assert abs(sim.vessels["wamv"].position[0] - start[0]) < 0.01
     assert sim.thrusters.cmd_u.max() == 0.0
+
+
+def test_a_reset_topic_announces_the_new_episode_before_its_first_step(sim):
+    """After /reset, the subscribers see the episode marker and the t = 0 messages first, then the new episode's clock
+    rising from there (QA: /clock went 3.05, 0.01, 0.0, 0.02 over DDS, and the recording got the 0.01 s clock before
+    the marker, out of log-time order)."""
+    seen = []
+    sim.subscribe(lambda env: seen.append((env.topic, env.stamp_ns)))
+    sim.run(0.5)
+    assert sim.commands.post_cdr("/reset", struct.pack("<4sB", b"\x00\x01\x00\x00", 0))
+    mark = len(seen)
+    sim.run(0.05)
+    after = seen[mark:]
+    assert after[0][0] == "/usvsim/episode"
+    clocks = [stamp for topic, stamp in after if topic == "/clock"]
+    assert clocks[0] == 0 and clocks == sorted(clocks) and len(set(clocks)) == len(clocks)
