@@ -643,3 +643,18 @@ def test_a_dataset_from_a_scenario_whose_step_10_hz_does_not_divide(tmp_path):
     result = invoke("dataset", scenario, "--frames", "2", "--out", tmp_path / "ds")
     assert result.exit_code == 0, result.output
     assert len(list((tmp_path / "ds" / "images").rglob("*.png"))) == 2
+
+
+@pytest.mark.parametrize(
+    ("args", "bridge"),
+    [
+        (["--ros-tcp-profile", "seed"], "--ros-tcp"),
+        (["--ros-tcp-vessel", "nosuch"], "--ros-tcp"),
+        (["--foxglove-port", "1"], "--foxglove"),
+        (["--ros2-interface", "bogus0"], "--ros2"),
+        (["--domain-id", "5"], "--ros2"),
+    ],
+)
+def test_a_bridge_option_without_its_bridge_is_one_line(tmp_path, args, bridge):
+    """Each was ignored in silence (exit 0) when its bridge was not on (QA)."""
+    one_line_error(invoke("run", "harbor", "--duration", "0.01", *args), "applies to", bridge)

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import inspect
 import os
 import signal
 import sys
@@ -108,6 +109,11 @@ def run(
 
     options = BridgeOptions(ros2, domain_id, ros2_interface, ros_tcp, ros_tcp_profile, ros_tcp_vessel, foxglove,
                             foxglove_host, foxglove_port, foxglove_max_clients)  # fmt: skip
+    defaults = {name: p.default for name, p in inspect.signature(run).parameters.items()}
+    try:  # an option away from its default without its bridge was ignored in silence
+        options.check_used({name for name, value in locals().items() if name in defaults and value != defaults[name]})
+    except UsvsimError as exc:
+        fail(exc)
     if not 0 <= duration <= 1e7:
         fail(UsvsimError(f"--duration must be a finite number of seconds in [0, 1e7], got {duration}"))
     if (screenshot or video) and not view:

@@ -23,6 +23,17 @@ class BridgeOptions:
     foxglove_port: int
     foxglove_max_clients: int = 16
 
+    def check_used(self, given: set[str]) -> None:
+        """A UsvsimError for a bridge option given (`given`: the names of the options away from their defaults) without
+        its bridge: it was ignored in silence (e.g. `--ros-tcp-profile seed` without `--ros-tcp`)."""
+        bridges = {"--ros2": self.ros2, "--ros-tcp": self.ros_tcp is not None, "--foxglove": self.foxglove}
+        needs = {"domain_id": "--ros2", "ros2_interface": "--ros2", "ros_tcp_profile": "--ros-tcp",
+                 "ros_tcp_vessel": "--ros-tcp", "foxglove_host": "--foxglove", "foxglove_port": "--foxglove",
+                 "foxglove_max_clients": "--foxglove"}  # fmt: skip
+        for name, bridge in needs.items():
+            if name in given and not bridges[bridge]:
+                raise UsvsimError(f"--{name.replace('_', '-')} applies to {bridge}, which is not on: add {bridge}")
+
 
 def host_port(text: str) -> tuple[str, int]:
     """`HOST:PORT` → (host, port), or a UsvsimError saying what is wrong."""
