@@ -138,3 +138,26 @@ def test_fast_position_sentence_is_pyais_bit_for_bit():
         for cls in ("A", "B"):
             channel = "AB"[k % 2]
             assert ais.position_sentence(r, cls, channel) == ais.position_sentences(r, cls, channel)[0]
+
+
+@pytest.mark.parametrize("ais_class", ["A", "B"])
+@pytest.mark.parametrize(("length", "beam", "expected"), [
+    (25.0, 6.25, (25, 6)),  # half-length 12.5 rounded half-to-even to 12 on each side: 24 m (QA)
+    (5.0, 2.0, (5, 2)),  # 2.5 -> 2 each side: 4 m
+    (4.9, 2.49, (5, 2)),
+    (41.0, 9.0, (41, 9)),  # 20.5 / 4.5 each side: 40 x 8 m
+    (20.0, 6.0, (20, 6)),
+    (7.5, 3.5, (8, 4)),  # halves round up
+    (1200.0, 140.0, (1022, 126)),  # beyond the fields: 511 + 511 and 63 + 63 ("that or more")
+])  # fmt: skip
+def test_static_report_dimensions_decode_to_the_configured_length_and_beam(ais_class, length, beam, expected):
+    """ITU-R M.1371: to_bow + to_stern is the length, to_port + to_starboard the beam (pyais decodes); each reads
+    back as the configured one rounded to the nearest metre."""
+    sentences = ais.static_sentences(257000001, "x", 70, "", length, beam, 1.5, ais_class, 0)
+    if ais_class == "A":
+        (msg,) = [decode(*sentences).asdict()]
+    else:  # type 24: part A (name), part B (type, dimensions)
+        msg = [decode(s).asdict() for s in sentences][1]
+        assert msg["partno"] == 1
+    assert (msg["to_bow"] + msg["to_stern"], msg["to_port"] + msg["to_starboard"]) == expected
+    assert abs(msg["to_bow"] - msg["to_stern"]) <= 1 and abs(msg["to_port"] - msg["to_starboard"]) <= 1  # midship

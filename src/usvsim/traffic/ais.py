@@ -123,9 +123,14 @@ _HEAD_XOR = {c: _xor(f"AIVDM,1,1,,{c},,0") for c in "AB"}  # the checksum of a s
 
 
 def _dimensions(length_m: float, beam_m: float) -> dict[str, int]:
-    """Reference point at midship: metres to bow, stern, port, starboard (AIS limits 511/511/63/63)."""
-    half_l, half_b = min(round(0.5 * length_m), 511), min(round(0.5 * beam_m), 63)
-    return {"to_bow": half_l, "to_stern": half_l, "to_port": half_b, "to_starboard": half_b}
+    """Reference point at midship: whole metres to bow, stern, port, starboard (ITU-R M.1371 fields A, B, C, D:
+    A + B is the length, C + D the beam), so that length and beam read back as the configured ones rounded to
+    the nearest metre (halves up); an odd metre goes to the bow and to starboard. The fields' limits are 511, 511,
+    63, 63 (the largest value means "that or more")."""
+    length, beam = math.floor(length_m + 0.5), math.floor(beam_m + 0.5)
+    stern, port = min(length // 2, 511), min(beam // 2, 63)
+    return {"to_bow": min(length - length // 2, 511), "to_stern": stern, "to_port": port,
+            "to_starboard": min(beam - beam // 2, 63)}  # fmt: skip
 
 
 @functools.lru_cache(maxsize=4096)  # the same every 6 minutes: encode once per ship, sequence id and channel
