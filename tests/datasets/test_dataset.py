@@ -233,3 +233,29 @@ def test_instance_masks_hold_only_annotated_ids(tmp_path):
         assert annotated and set(np.unique(inst)) - {0} == annotated == meta
         left_out += int(((inst == 0) & (sem >= CLASSES.index("vessel"))).sum())
     assert left_out > 0  # objects with 1-59 visible pixels are in the frames, unlabelled
+
+
+def _limit_file_size():
+    import resource
+    import signal
+
+    signal.signal(signal.SIGXFSZ, signal.SIG_IGN)  # write() then fails with EFBIG instead of killing the process
+    resource.setrlimit(resource.RLIMIT_FSIZE, (100_000, 100_000))
+
+
+def test_a_full_disk_is_one_line_and_leaves_no_truncated_file(tmp_path):
+    """A full disk (QA: a 600 kB tmpfs) was a ~100-line traceback with exit 1, and a truncated PNG under its real
+    name. Filled here with a file-size limit (a 640x480 RGB PNG is ~140 kB): one line naming the file and the
+    error, exit 2, and no file under a set's name that is not complete (nor a `.partial` one left)."""
+    import subprocess
+    import sys
+
+    out = tmp_path / "set"
+    cmd = [sys.executable, "-m", "usvsim", "dataset", "buoy_field", "--frames", "2", "--out", str(out)]
+    proc = subprocess.run(cmd, capture_output=True, text=True, timeout=600, preexec_fn=_limit_file_size)
+    lines = [ln for ln in proc.stderr.splitlines() if ln.strip()]
+    assert proc.returncode == 2 and len(lines) == 1, proc.stderr[-3000:]
+    assert "cannot write" in lines[0] and "File too large" in lines[0] and "000000.png" in lines[0], lines
+    assert not (out / "dataset.json").exists() and not list(out.rglob("*.partial"))
+    for png in out.rglob("*.png"):
+        Image.open(png).load()  # complete

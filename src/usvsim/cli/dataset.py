@@ -74,7 +74,7 @@ def dataset_command(
             bar.update(task, completed=n)
 
         # SIGTERM used to end the process mid-frame: files cut short, no annotations, data.yaml or dataset.json
-        with stop, Progress(*columns, console=console, transient=True) as bar:
+        with stop, Progress(*columns, console=console, transient=True, disable=not console.is_terminal) as bar:
             task = bar.add_task("frames", total=frames)  # the bar is gone when done: an error stays one line
             generate(spec, progress=progress, stop=lambda: signal_name(stop.signum) if stop.signum else None)
     except UsvsimError as exc:

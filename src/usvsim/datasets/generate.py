@@ -34,7 +34,7 @@ from usvsim.datasets.amodal import AmodalCounter
 from usvsim.datasets.labels import Labeller
 from usvsim.datasets.look import LookAdapter
 from usvsim.datasets.randomization import Choice, Normal, Uniform, draw, draw_all, load_randomization, nested
-from usvsim.datasets.writers import FORMATS, SPLITS, DatasetWriter
+from usvsim.datasets.writers import FORMATS, SPLITS, DatasetWriter, WriteError
 from usvsim.sensors.base import OPTICAL_ROT
 from usvsim.sensors.camera.clip import camera_planes
 from usvsim.sensors.camera.sensor import Camera
@@ -208,7 +208,16 @@ class DatasetGenerator:
     def run(self, progress: Callable[[int], None] | None = None, stop: Callable[[], str | None] | None = None) -> Path:
         """Writes the frames; `stop()` is asked before each frame: a reason (e.g. "SIGTERM") ends the run there,
         with the frames begun written in full and the annotations, data.yaml and dataset.json of those frames
-        (dataset.json: `frames` written, `frames_requested`, `stopped`). `self.frames_written` counts them."""
+        (dataset.json: `frames` written, `frames_requested`, `stopped`). `self.frames_written` counts them. A file
+        that cannot be written (a full disk) stops the run with a WriteError naming it."""
+        spec = self.spec
+        try:
+            return self._run(progress, stop)
+        except WriteError as exc:  # a full disk: no file looks complete that is not (writers.write_atomic)
+            raise WriteError(f"{exc}; {spec.out} holds the frames written before it, without annotations or "
+                             "dataset.json: remove them, or run again with --force") from None  # fmt: skip
+
+    def _run(self, progress, stop) -> Path:
         spec, per_episode = self.spec, (1 if self.rnd.per == "frame" else self.rnd.frames_per_episode)
         workers = max(1, spec.workers)
         stopped, failed = None, None

@@ -14,6 +14,8 @@ All files are written with sorted keys and fixed precision, so the same seed giv
 
 from __future__ import annotations
 
+import contextlib
+import io
 import json
 import os
 import re
@@ -22,6 +24,7 @@ from pathlib import Path, PurePosixPath
 import numpy as np
 from PIL import Image
 
+from usvsim.core.errors import UsvsimError
 from usvsim.datasets.labels import CLASSES, DETECTABLE, GROUPS, ObjectLabel
 
 FORMATS = ("yolo", "coco", "masks")
@@ -68,8 +71,6 @@ def set_files(out: Path) -> tuple[list[str], list[str]]:
 
 def remove_set(out: Path, files: list[str]) -> None:
     """Removes a data set's `files` (relative to `out`, as set_files gives them), then its folders left empty."""
-    from usvsim.core.errors import UsvsimError
-
     folders = set()
     for rel in files:
         try:
@@ -84,24 +85,44 @@ def remove_set(out: Path, files: list[str]) -> None:
             pass
 
 
+class WriteError(UsvsimError):
+    """A file of the set could not be written (a full disk, permissions): one line naming it."""
+
+
+def write_atomic(path: Path, data: bytes) -> None:
+    """Writes `data` to `path` through `.<name>.partial` in the same folder, renamed when complete: a full disk
+    left truncated PNGs under their real names (a ~100-line traceback besides). On an error the partial file is
+    removed and a WriteError names the path."""
+    partial = path.with_name(f".{path.name}.partial")
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        with open(partial, "wb") as f:
+            f.write(data)
+        os.replace(partial, path)
+    except OSError as exc:
+        with contextlib.suppress(OSError):
+            partial.unlink()
+        raise WriteError(f"cannot write {path}: {exc.strerror or exc}") from None
+
+
 def dump_json(path: Path, data) -> None:
-    path.parent.mkdir(parents=True, exist_ok=True)
-    path.write_text(json.dumps(data, sort_keys=True, separators=(",", ":")) + "\n")
+    write_atomic(path, (json.dumps(data, sort_keys=True, separators=(",", ":")) + "\n").encode())
 
 
 def write_png(path: Path, array: np.ndarray) -> None:
     """PNG, fast: RGB by OpenCV with the "up" filter and Huffman-only deflate (noisy images barely compress;
     2x faster than zlib level 1, files ~10 % smaller than Pillow's), masks by Pillow at level 1."""
-    path.parent.mkdir(parents=True, exist_ok=True)
     if array.ndim == 3:
         import cv2
 
         ok, data = cv2.imencode(".png", array[:, :, ::-1], _rgb_png_params())
         if not ok:
-            raise OSError(f"{path}: OpenCV could not encode the image as PNG")
-        path.write_bytes(data.tobytes())
+            raise WriteError(f"{path}: OpenCV could not encode the image as PNG")
+        write_atomic(path, data.tobytes())
     else:
-        Image.fromarray(array).save(path, format="PNG", compress_level=1)
+        buffer = io.BytesIO()
+        Image.fromarray(array).save(buffer, format="PNG", compress_level=1)
+        write_atomic(path, buffer.getvalue())
 
 
 def _rgb_png_params() -> list[int]:
@@ -154,9 +175,7 @@ class DatasetWriter:
                 x0, y0, x1, y1 = lab.visible_box
                 lines.append(f"{DETECTABLE.index(lab.category)} {(x0 + x1) / 2 / w:.6f} {(y0 + y1) / 2 / h:.6f} "
                              f"{(x1 - x0) / w:.6f} {(y1 - y0) / h:.6f}")  # fmt: skip
-            path = self.out / "labels" / split / f"{stem}.txt"
-            path.parent.mkdir(parents=True, exist_ok=True)
-            path.write_text("".join(line + "\n" for line in lines))
+            write_atomic(self.out / "labels" / split / f"{stem}.txt", "".join(line + "\n" for line in lines).encode())
         dump_json(self.out / "meta" / f"{stem}.json", meta)
 
     def coco_records(self, split: str, stem: str, image_id: int, shape, instance, labels: list[ObjectLabel]):
@@ -201,8 +220,8 @@ class DatasetWriter:
                 )
         if "yolo" in self.formats:
             names = "".join(f"  {i}: {c}\n" for i, c in enumerate(DETECTABLE))
-            (self.out / "data.yaml").write_text(f"path: {self.out.resolve()}\ntrain: images/train\nval: images/val\n"
-                                                f"test: images/test\nnames:\n{names}")  # fmt: skip
+            write_atomic(self.out / "data.yaml", f"path: {self.out.resolve()}\ntrain: images/train\nval: images/val\n"
+                                                 f"test: images/test\nnames:\n{names}".encode())  # fmt: skip
         dump_json(
             self.out / "classes.json",
             [{"id": i, "name": c, "group": GROUPS[c]} for i, c in enumerate(CLASSES)],
