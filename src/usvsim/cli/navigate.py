@@ -52,3 +52,5 @@ def navigate_command(
     typer.echo(json.dumps({k: v for k, v in summary.items() if k != "files"}, indent=2))
     typer.echo(" ".join(f"{k}: {'PASS' if ok else 'FAIL'}" for k, ok in checks.items()))
     typer.echo(f"wrote {', '.join(summary['files'])}")
+    if not all(checks.values()):  # as `usvsim experiment`: scripts see a failed check (it exited 0)
+        raise typer.Exit(1)
