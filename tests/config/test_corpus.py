@@ -91,3 +91,12 @@ def test_cli_validate_warns_for_a_hull_that_cannot_float(corpus):
     assert strict.exit_code == 1 and strict.stdout.startswith("NOT OK (--strict)") and "sink" in strict.stderr
     clean = CliRunner().invoke(app, ["validate", "--strict", "harbor"])
     assert clean.exit_code == 0 and clean.stdout.startswith("OK")
+
+
+def test_cli_run_says_what_validate_warns_about(corpus):
+    """`usvsim run` prints validate's warnings before the run (it ran silently: QA)."""
+    path = next(p for p, _ in corpus if p.stem == "heavier_than_displacement")
+    result = CliRunner().invoke(app, ["run", str(path), "--duration", "0.01"])
+    assert result.exit_code == 0 and "warning:" in result.stderr and "sink" in result.stderr
+    clean = CliRunner().invoke(app, ["run", "harbor", "--duration", "0.01"])
+    assert clean.exit_code == 0 and "warning" not in clean.stderr

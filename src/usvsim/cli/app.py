@@ -183,6 +183,7 @@ def _open_run(stack: ExitStack, scenario: str, seed: int, record: Path | None, f
             check_output(record, force)  # before the (slow) build
         sim = Simulation.from_scenario(scenario, seed=seed)
         stack.callback(sim.close)
+        _print_setup_warnings(sim)  # what `usvsim validate` warns about, said before the run too
         configured = sim.scenario.outputs.recording.path
         path = record or (Path(configured) if configured else None)
         if path and not record:  # the scenario's path: the error names the key (it named only a directory)
@@ -203,6 +204,16 @@ def _open_run(stack: ExitStack, scenario: str, seed: int, record: Path | None, f
     except (UsvsimError, OSError) as exc:
         fail(exc)
     return sim, recorder, bridges
+
+
+def _print_setup_warnings(sim) -> list[str]:
+    """Print (stderr) and return the warnings about set-ups that cannot work (world/checks.py)."""
+    from usvsim.world.checks import setup_warnings
+
+    warnings = setup_warnings(sim.world)
+    for warning in warnings:
+        console.print(f"usvsim: warning: {warning}", highlight=False, soft_wrap=True)
+    return warnings
 
 
 def _stats_line(stats: dict) -> str:
@@ -293,15 +304,12 @@ def validate(
     """Check a scenario: schema, files, meshes, rates; builds the world without running it and warns about
     set-ups that cannot work (a hull too heavy to float, bodies overlapping, hulls far from the water)."""
     from usvsim.simulation import Simulation
-    from usvsim.world.checks import setup_warnings
 
     try:
         sim = Simulation.from_scenario(file)
     except UsvsimError as exc:
         fail(exc)
-    warnings = setup_warnings(sim.world)
-    for warning in warnings:
-        console.print(f"usvsim: warning: {warning}", highlight=False, soft_wrap=True)
+    warnings = _print_setup_warnings(sim)
     sim.close()
     sc = sim.scenario
     summary = f"{file}: scenario '{sc.name}', {len(sc.vessels)} vessel(s), {len(sc.objects)} object(s)"
