@@ -129,7 +129,8 @@ def _write(path, text):
     return path
 
 
-@pytest.mark.parametrize("case", ["no_crs", "wrong_crs", "self_intersecting", "raster_outside", "missing"])
+@pytest.mark.parametrize("case", ["no_crs", "wrong_crs", "self_intersecting", "raster_outside", "missing", "points_as_land",
+                                  "not_geodata"])  # fmt: skip
 def test_bad_geodata_is_one_clear_error_naming_the_file(place, tmp_path, case):
     ring = to_utm([0, 100, 0, 100], [200, 300, 300, 200]).tolist()  # a bow tie
     square = to_utm([0, 100, 100, 0], [200, 200, 300, 300]).tolist()
@@ -161,6 +162,12 @@ def test_bad_geodata_is_one_clear_error_naming_the_file(place, tmp_path, case):
         with pytest.raises(UsvsimError, match="depth.tif.*does not cover"):
             Simulation(sc)
         return
+    elif case == "points_as_land":  # said "no polygon within 3000 m (the data lies between (0, 0) and (0, 0))"
+        point = {"type": "Feature", "properties": {}, "geometry": {"type": "Point", "coordinates": square[0]}}
+        text = json.dumps({"type": "FeatureCollection", "features": [point], "crs": crs})
+        geo["land"] = {"file": str(_write(tmp_path / "a.geojson", text))}
+    elif case == "not_geodata":  # GDAL's advice was cut off mid-sentence: "It might help to )"
+        geo["land"] = {"file": str(_write(tmp_path / "a.geojson", "hello"))}
     else:
         geo["structures"] = [{"file": str(tmp_path / "nowhere.geojson")}]
     with pytest.raises(UsvsimError) as err:
@@ -168,7 +175,8 @@ def test_bad_geodata_is_one_clear_error_naming_the_file(place, tmp_path, case):
     message = str(err.value)
     assert "\n" not in message and any(f"{n}." in message for n in ("a", "nowhere"))
     assert {"no_crs": "no CRS", "wrong_crs": "wrong CRS", "self_intersecting": "not a valid polygon",
-            "missing": "geo.structures[0].file: "}[case] in message
+            "missing": "geo.structures[0].file: ", "points_as_land": "holds no polygon (its features are: point)",
+            "not_geodata": "not recognized as being in a supported file format)"}[case] in message  # fmt: skip
 
 
 def test_land_and_structures_are_detected_with_their_classes(place):

@@ -35,7 +35,8 @@ def read_features(path: Path, layer: str | None, crs: str | None, frame: GeoFram
     except GeoError:
         raise
     except Exception as exc:  # GDAL reports every unreadable file its own way
-        raise GeoError(f"{path}: not a vector file pyogrio can read ({str(exc).splitlines()[0][:120]})") from None
+        reason = str(exc).splitlines()[0].split("; ")[0].rstrip(".")  # GDAL's first clause (its advice was cut off)
+        raise GeoError(f"{path}: not a vector file pyogrio can read ({reason[:200]})") from None
     names = list(meta[1]) if meta[1] is not None else []
     file_crs = meta[0]
     if file_crs and crs and not _same_crs(file_crs, crs):
@@ -55,6 +56,11 @@ def read_features(path: Path, layer: str | None, crs: str | None, frame: GeoFram
         for part in _parts(clipped, kinds):
             keep_geoms.append(part)
             keep_props.append({n: _plain(f[i]) for n, f in zip(names, fields)})
+    present = {int(shapely.get_type_id(g)) for g in geoms if g is not None}
+    wanted = {int(shapely.GeometryType[name + k.upper()]) for k in kinds for name in ("", "MULTI")}
+    if len(geoms) and not present & (wanted | {int(shapely.GeometryType.GEOMETRYCOLLECTION)}):
+        found = sorted(shapely.GeometryType(t).name.lower() for t in present if t >= 0)
+        raise GeoError(f"{path}: holds no {'/'.join(kinds).lower()} (its features are: {', '.join(found) or 'empty'})")
     if len(geoms) and not keep_geoms:
         lo, hi = shapely.total_bounds(geoms).reshape(2, 2)
         raise GeoError(f"{path}: no {'/'.join(kinds).lower()} within {extent_m:g} m of the origin (the data lies "
