@@ -351,7 +351,8 @@ def test_errors_found_under_a_progress_bar_are_still_one_line(tmp_path):
         ("taks: station_keeping\n", ["taks", "did you mean 'task'"]),
         ("grid: {mass: [200]}\n", ["grid.mass", "did you mean 'mass_kg'"]),
         ("time_limit_s: 1.0e9\n", ["time_limit_s"]),
-        ("- 1\n", ["valid dictionary"]),
+        ("- 1\n", ["is not a mapping", "task, seeds"]),
+        ("", ["is empty", "a sweep file is a YAML mapping"]),
         ("seeds: []\n", ["seeds", "at least one"]),  # no run: a ZeroDivisionError traceback after the sweep
         ("task: []\n", ["task", "at least one"]),
         ("difficulty: []\n", ["difficulty", "at least one"]),

@@ -34,7 +34,11 @@ def sweep(
             raise UsvsimError(f"{spec}: {'a directory, not' if spec.is_dir() else 'no such'} sweep file (a YAML "
                               "file with task, seeds, difficulty, grid; docs/tasks.md)")  # fmt: skip
         try:
-            config = SweepSpec.model_validate(yaml.load(spec.read_text(), Loader=safe_yaml.Loader))
+            data = yaml.load(spec.read_text(), Loader=safe_yaml.Loader)
+            if not isinstance(data, dict):  # pydantic said "Input should be a valid dictionary or instance of SweepSpec"
+                raise UsvsimError(f"{spec}: {'is empty' if data is None else 'is not a mapping'}: a sweep file is a YAML "
+                                  "mapping (task, seeds, difficulty, grid; docs/tasks.md)")  # fmt: skip
+            config = SweepSpec.model_validate(data)
         except (OSError, yaml.YAMLError, ValidationError) as exc:
             raise UsvsimError(f"{spec}: {_first_error(exc)}") from None
         runs = expand(config)
