@@ -63,7 +63,8 @@ class GeoScene:
         return [(f"land_{i}", "land") for i in range(len(self.land))] + [(s[0], "structure") for s in self.structures]
 
     def depth_at(self, x_m, y_m) -> np.ndarray:
-        """Water depth (m, positive down from still water) at ENU points; on land minus the land height.
+        """Water depth (m, positive down from still water) at ENU points; on land minus the land height (the nearest
+        terrain vertex's, so 0 within about half a terrain cell of the coast, where that vertex is off the land).
 
         Under water: the bathymetry's value (a raster: bilinear within a cell, exact at pixel centres; soundings:
         linear between them, exact at each; at least `min_depth_m`), or the default depth where it has none."""
@@ -84,7 +85,7 @@ class GeoScene:
         return depth
 
     def _land_height(self, x: np.ndarray, y: np.ndarray) -> np.ndarray:
-        t = self.terrain  # land heights are the terrain's vertex values; bilinear between them
+        t = self.terrain  # the nearest terrain vertex's height, at least 0 (a vertex off the coast holds the seabed)
         cx = np.clip(np.interp(x, t.xs, np.arange(len(t.xs))), 0, len(t.xs) - 1)
         cy = np.clip(np.interp(y, t.ys, np.arange(len(t.ys))), 0, len(t.ys) - 1)
         return np.maximum(t.z[np.round(cy).astype(int), np.round(cx).astype(int)], 0.0)
