@@ -6,6 +6,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
+import shapely
 
 from usvsim.config.objects import COLORS, Buoy
 from usvsim.world.obstacles import static_parts
@@ -67,10 +68,15 @@ def _draw_place(ax, place) -> None:
         for hole in polygon.interiors:
             ax.fill(*np.asarray(hole.coords).T, color=WATER, lw=0, zorder=2)
         ax.plot(*np.asarray(polygon.exterior.coords).T, color="#3d4a2a", lw=0.8, zorder=3)
-    for _, mesh, _, color in place.structures:
+    for _, mesh, _, color in place.structures:  # the top faces filled, their outline dark (a quay is a few pixels)
         tris = mesh.vertices[mesh.faces]
-        for tri in tris[np.all(tris[:, :, 2] == tris[:, :, 2].max(), axis=1)]:
+        top = tris[np.all(tris[:, :, 2] == tris[:, :, 2].max(), axis=1)]
+        for tri in top:
             ax.fill(tri[:, 0], tri[:, 1], color=COLORS[color][:3], lw=0, zorder=4)
+        outline = shapely.union_all([shapely.Polygon(tri[:, :2]) for tri in top]).buffer(0)
+        for part in getattr(outline, "geoms", [outline]):
+            if not part.is_empty:
+                ax.plot(*np.asarray(part.exterior.coords).T, color="#202020", lw=1.2, zorder=5)
     ax.set_xlim(-e, e)
     ax.set_ylim(-e, e)
 
