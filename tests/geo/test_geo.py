@@ -315,3 +315,56 @@ def test_every_tasks_plan_marks_name_what_to_do_where_its_scorer_looks():
     labels = {m[3].split(":")[0]: m for m in marks["wildlife"]}
     assert {name: labels[name][:2] for name in ANIMALS} == {name: xy for name, (xy, _) in ANIMALS.items()}
     assert "clockwise" in labels["platypus"][3] and "10 m" in labels["crocodile"][3]
+
+
+def test_vessels_buoys_ships_and_route_legs_on_land_are_warnings_naming_them_and_the_point(place, tmp_path):
+    """Land lies north of y = 100 m. On land: the WAM-V at (0, 150), a buoy at (50, 120), a moored ship at
+    (-100, 300); a route from (-300, 0) north to (-300, 200) meets the coast at (-300, 100). Not: a vessel, a
+    ship and a route at sea, nor a route stopped (speed 0) before the coast. `validate` and `run` print them
+    (they said OK: QA)."""
+    from typer.testing import CliRunner
+
+    from usvsim.cli.app import app
+    from usvsim.world.checks import land_warnings
+
+    def ship(name, mmsi, motion):
+        return {"name": name, "mmsi": mmsi, "motion": motion}
+
+    def route(*legs):
+        return {"type": "route", "waypoints": [{"position": list(p), "speed_mps": v} for p, v in legs]}
+
+    data = {"version": 1, "world": {"origin": {"latitude_deg": ORIGIN[0], "longitude_deg": ORIGIN[1]}},
+            "geo": geo_section(place),
+            "vessels": [{"name": "wamv", "model": "wamv", "pose": {"position": [0, 150, 0]}},
+                        {"name": "afloat", "model": "wamv", "pose": {"position": [-150, -50, 0]}}],
+            "objects": [{"type": "buoy", "name": "b_land", "position": [50, 120, 0]},
+                        {"type": "buoy", "name": "b_sea", "position": [-50, 0, 0]}],
+            "traffic": {"ais": {"enabled": False}, "ships": [
+                ship("moored", 257000001, {"type": "constant", "position": [-100, 300], "course_deg": 0, "speed_mps": 0}),
+                ship("lander", 257000002, route(((-300, 0), 3), ((-300, 200), 3))),
+                ship("stopper", 257000003, route(((200, 0), 3), ((200, 50), 0), ((200, 300), 3))),
+                ship("seaway", 257000004, {"type": "constant", "position": [300, -100], "course_deg": 90, "speed_mps": 2})]}}  # fmt: skip
+    sim = Simulation(parse_scenario(data, str(tmp_path / "land.yaml")))
+    warnings = land_warnings(sim.world)
+    sim.close()
+    assert len(warnings) == 4, warnings
+    frame = GeoFrame(*ORIGIN)
+
+    def at(x, y):
+        lat, lon, _ = frame.to_geodetic(x, y)[0]
+        return f"({x:.1f}, {y:.1f}) m (lat {lat:.6f}, lon {lon:.6f})"
+
+    assert warnings[0] == f"'wamv' starts on land at {at(0.0, 150.0)}"
+    assert warnings[1] == f"'b_land' starts on land at {at(50.0, 120.0)}"
+    assert warnings[2] == f"traffic.ships[0] 'moored' starts on land at {at(-100.0, 300.0)}"
+    assert warnings[3].startswith("traffic.ships[1] 'lander': its route leg from waypoint 0 (-300, 0) to 1 (-300, 200) "
+                                  "crosses land at (-300.0, 100.0) m")  # fmt: skip
+    import yaml
+
+    path = tmp_path / "land.yaml"
+    path.write_text(yaml.safe_dump(data))
+    runner = CliRunner()
+    for args in (["validate", str(path)], ["run", str(path), "--duration", "0.02"]):
+        result = runner.invoke(app, args)
+        assert result.exit_code == 0, result.output
+        assert sum("usvsim: warning:" in line and "land" in line for line in result.output.splitlines()) == 4, result.output

@@ -302,7 +302,8 @@ def validate(
     strict: Annotated[bool, typer.Option(help="exit with status 1 when there are warnings (for CI)")] = False,
 ) -> None:
     """Check a scenario: schema, files, meshes, rates; builds the world without running it and warns about
-    set-ups that cannot work (a hull too heavy to float, bodies overlapping, hulls far from the water)."""
+    set-ups that cannot work (a hull too heavy to float, bodies overlapping, hulls far from the water,
+    vessels or traffic on land)."""
     from usvsim.simulation import Simulation
 
     try:

@@ -8,7 +8,10 @@
 - a water depth that the sea does not use (FFT seas are deep-water);
 - bodies that overlap at t = 0 (MuJoCo contacts deeper than 1 cm: they are pushed apart violently), traffic ships
   (kinematic bodies) named as themselves, not as the static world;
-- a camera or LiDAR mounted inside its own vessel's geometry (it sees only the hull).
+- a camera or LiDAR mounted inside its own vessel's geometry (it sees only the hull);
+- in a real place (`geo:` with land): a vessel, floating object or traffic ship that starts on land, and a traffic
+  route leg (one that is sailed: up to the first waypoint at speed 0) that crosses land, with the point
+  (`land_warnings`).
 
 Frames: world ENU, metres; heights relative to the still water level.
 """
@@ -19,9 +22,14 @@ import math
 
 import mujoco
 import numpy as np
+import shapely
 
+from usvsim.config.loader import base_dir, source_of
+from usvsim.config.traffic import Route
 from usvsim.ocean.fft import FFTWaveField
 from usvsim.ocean.presets import hs_tp
+from usvsim.traffic.kernels import TrackTable
+from usvsim.traffic.motion import make_track
 from usvsim.world.builder import kinematic_geoms
 
 CLEARANCE_M = 1.0  # how far above or below the water a whole hull may start before a warning
@@ -39,7 +47,62 @@ def setup_warnings(world) -> list[str]:
     """Warnings for a `World`'s initial state (bodies, hulls, water level, contacts)."""
     env = world.scenario.environment
     return [*_displacement(world), *_far_from_water(world), *_sea(env), *_tiles(env, world.ocean.waves),
-            *_overlaps(world), *_sensors_inside(world)]  # fmt: skip
+            *_overlaps(world), *_sensors_inside(world), *land_warnings(world)]  # fmt: skip
+
+
+def land_warnings(world) -> list[str]:
+    """A real place's land under a floating body's or a traffic ship's start, or across a route leg a traffic ship
+    sails (world ENU points, with their latitude and longitude). Empty without land."""
+    place = getattr(world, "place", None)
+    polygons = list(place.land_polygons) if place is not None else []
+    if not polygons:
+        return []
+    land = shapely.union_all(polygons)
+    origin = world.scenario.world.origin
+
+    def where(x: float, y: float) -> str:
+        text = f"({x:.1f}, {y:.1f}) m"
+        if origin is not None:
+            from usvsim.geo.frame import GeoFrame
+
+            lat, lon, _ = GeoFrame(origin.latitude_deg, origin.longitude_deg).to_geodetic(x, y)[0]
+            text += f" (lat {lat:.6f}, lon {lon:.6f})"
+        return text
+
+    out = []
+    for body in world.bodies.values():
+        x, y = world.state.pos[body.index, :2]
+        if shapely.contains_xy(land, x, y):
+            out.append(f"'{body.name}' starts on land at {where(x, y)}")
+    ships = world.scenario.traffic.ships
+    kinematic = [k for k, s in enumerate(ships) if s.vessel is None]  # physics ships are bodies (above)
+    if kinematic:
+        source, base = source_of(world.scenario), base_dir(world.scenario)
+        tracks = [make_track(ships[k].motion, origin, base, source, f"traffic.ships[{k}].motion") for k in kinematic]
+        pos, vel, yaw = np.zeros((len(tracks), 2)), np.zeros((len(tracks), 2)), np.zeros(len(tracks))
+        TrackTable.of(tracks).evaluate(0.0, pos, vel, yaw)
+        for k, (x, y) in zip(kinematic, pos):
+            if shapely.contains_xy(land, x, y):
+                out.append(f"traffic.ships[{k}] '{ships[k].name}' starts on land at {where(x, y)}")
+    for k, ship in enumerate(ships):
+        if not isinstance(ship.motion, Route):
+            continue
+        points = [w.position for w in ship.motion.waypoints]
+        speeds = [w.speed_mps for w in ship.motion.waypoints]
+        legs = list(range(len(points) - 1)) + ([len(points) - 1] if ship.motion.loop else [])
+        for i in legs:
+            if speeds[i] <= 0.0:
+                break  # it stops there for good
+            j = (i + 1) % len(points)
+            line = shapely.LineString([points[i], points[j]])
+            if line.length == 0.0 or not line.intersects(land):
+                continue
+            entry = min(line.project(shapely.Point(p)) for p in shapely.get_coordinates(line.intersection(land)))
+            x, y = line.interpolate(entry).coords[0]
+            (ax, ay), (bx, by) = points[i], points[j]
+            out.append(f"traffic.ships[{k}] '{ship.name}': its route leg from waypoint {i} ({ax:g}, {ay:g}) to {j} "
+                       f"({bx:g}, {by:g}) crosses land at {where(x, y)}")  # fmt: skip
+    return out
 
 
 def _displacement(sim) -> list[str]:
