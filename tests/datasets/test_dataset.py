@@ -259,3 +259,11 @@ def test_a_full_disk_is_one_line_and_leaves_no_truncated_file(tmp_path):
     assert not (out / "dataset.json").exists() and not list(out.rglob("*.partial"))
     for png in out.rglob("*.png"):
         Image.open(png).load()  # complete
+
+
+def test_min_visible_fraction_help_names_the_mask_ratio():
+    """The help said '(box areas)' while the filter reads the mask-based visible_fraction."""
+    result = CliRunner().invoke(app, ["dataset", "--help"], env={"COLUMNS": "200", "TERM": "dumb"})
+    text = " ".join(result.output.split())
+    assert result.exit_code == 0 and "box areas" not in text
+    assert "smaller visible_fraction (visible pixels / pixels of the object drawn alone" in text.replace("│ ", "")

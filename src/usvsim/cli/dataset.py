@@ -28,7 +28,8 @@ def dataset_command(
     splits: Annotated[str, typer.Option(help="train,val,test fractions")] = "0.8,0.1,0.1",
     min_visible_pixels: Annotated[int, typer.Option(help="leave out objects with fewer visible pixels")] = 20,
     min_visible_fraction: Annotated[
-        float, typer.Option(help="leave out objects less visible (box areas)")
+        float, typer.Option(help="leave out objects with a smaller visible_fraction (visible pixels / pixels of the "
+                                 "object drawn alone, 0-1)")
     ] = 0.0,
     renderer: Annotated[
         str | None, typer.Option(help="shader (the marine look: sky, waves, fog) or mujoco; default: the scenario's")
