@@ -267,3 +267,14 @@ def test_min_visible_fraction_help_names_the_mask_ratio():
     text = " ".join(result.output.split())
     assert result.exit_code == 0 and "box areas" not in text
     assert "smaller visible_fraction (visible pixels / pixels of the object drawn alone" in text.replace("│ ", "")
+
+
+def test_data_yaml_names_only_folders_that_exist(tmp_path):
+    """data.yaml listed `val: images/val` and `test: images/test` when those splits got no frame, and Ultralytics
+    refuses a data file whose val folder does not exist: the folders of a split without frames exist, empty."""
+    root = generate(DatasetSpec("buoy_field", 1, tmp_path / "s", formats="yolo", resolution=(64, 48),
+                                splits=(1.0, 0.0, 0.0)))  # fmt: skip
+    data = yaml.safe_load((root / "data.yaml").read_text())
+    for split in ("train", "val", "test"):
+        assert (root / data[split]).is_dir() and (root / "labels" / split).is_dir()
+    assert len(list((root / "images" / "train").iterdir())) == 1 and not list((root / "images" / "val").iterdir())

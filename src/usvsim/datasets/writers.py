@@ -219,6 +219,12 @@ class DatasetWriter:
                     {**coco, "categories": categories, "info": info},
                 )
         if "yolo" in self.formats:
+            for split in SPLITS:  # Ultralytics needs `train` and `val` in data.yaml and the val folder to exist
+                for folder in ("images", "labels"):  # a split that got no frame: an empty folder
+                    try:
+                        (self.out / folder / split).mkdir(parents=True, exist_ok=True)
+                    except OSError as exc:
+                        raise WriteError(f"cannot create {self.out / folder / split}: {exc.strerror or exc}") from None
             names = "".join(f"  {i}: {c}\n" for i, c in enumerate(DETECTABLE))
             write_atomic(self.out / "data.yaml", f"path: {self.out.resolve()}\ntrain: images/train\nval: images/val\n"
                                                  f"test: images/test\nnames:\n{names}".encode())  # fmt: skip
