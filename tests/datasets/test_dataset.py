@@ -278,3 +278,26 @@ def test_data_yaml_names_only_folders_that_exist(tmp_path):
     for split in ("train", "val", "test"):
         assert (root / data[split]).is_dir() and (root / "labels" / split).is_dir()
     assert len(list((root / "images" / "train").iterdir())) == 1 and not list((root / "images" / "val").iterdir())
+
+
+@pytest.mark.parametrize(
+    ("scenario", "randomization", "words"),
+    [
+        ("buoy_field", "look: {sun.elevashun_deg: {uniform: [10, 60]}}", ["look.sun.elevashun_deg", "unknown key"]),
+        ("buoy_field", "environment: {sea.type: sea_state, sea.code: 42}", ["environment", "sea"]),
+        ("harbor", None, ["no camera sensor"]),
+    ],
+)
+def test_scenario_and_look_errors_come_before_the_folder(tmp_path, scenario, randomization, words):
+    """A bad look key, a bad drawn environment or a scenario without a camera were found only after --out was
+    created: an empty folder was left, and a blank line printed before the error."""
+    args = ["dataset", scenario, "--frames", "1", "--resolution", "64x48", "--out", str(tmp_path / "ds")]
+    if randomization:
+        (tmp_path / "r.yaml").write_text(f"version: 1\n{randomization}\n")
+        args += ["--randomize", str(tmp_path / "r.yaml")]
+    result = CliRunner().invoke(app, args)
+    assert result.exit_code == 2, result.output
+    assert len(result.stderr.splitlines()) == 1 and result.stderr.startswith("usvsim: error:"), result.stderr
+    for word in words:
+        assert word in result.stderr
+    assert not (tmp_path / "ds").exists()

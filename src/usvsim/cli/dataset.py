@@ -44,7 +44,7 @@ def dataset_command(
     from usvsim.cli.outputs import prepare_folder
     from usvsim.cli.stopping import StopSignals, exit_status, signal_name
     from usvsim.config.loader import load_scenario
-    from usvsim.datasets.generate import DatasetSpec, generate
+    from usvsim.datasets.generate import DatasetGenerator, DatasetSpec
     from usvsim.datasets.randomization import load_randomization
 
     console = Console(stderr=True)
@@ -65,8 +65,6 @@ def dataset_command(
         spec = DatasetSpec(scenario, frames, out, tuple(f.strip() for f in format.split(",")), seed, randomize,
                            size, fractions, min_visible_pixels, min_visible_fraction, renderer=renderer)  # fmt: skip
         load_scenario(scenario), load_randomization(randomize)  # bad input fails before the folder is made
-        prepare_folder(out)
-        _clear_previous(out, force)
         columns = (TextColumn("dataset"), BarColumn(), MofNCompleteColumn(), TimeRemainingColumn())
         written = [0]
 
@@ -75,9 +73,16 @@ def dataset_command(
             bar.update(task, completed=n)
 
         # SIGTERM used to end the process mid-frame: files cut short, no annotations, data.yaml or dataset.json
-        with stop, Progress(*columns, console=console, transient=True, disable=not console.is_terminal) as bar:
-            task = bar.add_task("frames", total=frames)  # the bar is gone when done: an error stays one line
-            generate(spec, progress=progress, stop=lambda: signal_name(stop.signum) if stop.signum else None)
+        with stop:
+            gen = DatasetGenerator(spec)  # the scenario's cameras, the look keys and the drawn environment are
+            try:  # checked here, before the folder is made (an empty --out folder was left behind)
+                prepare_folder(out)
+                _clear_previous(out, force)
+                with Progress(*columns, console=console, transient=True, disable=not console.is_terminal) as bar:
+                    task = bar.add_task("frames", total=frames)  # the bar is gone when done: an error stays one line
+                    gen.run(progress=progress, stop=lambda: signal_name(stop.signum) if stop.signum else None)
+            finally:
+                gen.close()
     except UsvsimError as exc:
         console.print(f"[bold red]usvsim: error:[/] {escape(str(exc))}", highlight=False, soft_wrap=True)
         raise typer.Exit(2) from None
