@@ -301,3 +301,17 @@ def test_scenario_and_look_errors_come_before_the_folder(tmp_path, scenario, ran
     for word in words:
         assert word in result.stderr
     assert not (tmp_path / "ds").exists()
+
+
+def test_dataset_json_records_the_cameras_intrinsics(tmp_path):
+    """dataset.json had `horizontal_fov_deg: null` and no intrinsics: now each camera's K, size and field of view,
+    fx = (width / 2) / tan(hfov / 2) with the principal point at the image centre (pixel-centre coordinates)."""
+    root = generate(DatasetSpec("buoy_field", 1, tmp_path / "s", resolution=(160, 120), formats="coco"))
+    (cam,) = json.loads((root / "dataset.json").read_text())["cameras"]
+    meta = json.loads((root / "meta" / "000000.json").read_text())
+    fx = 80.0 / math.tan(math.radians(cam["horizontal_fov_deg"]) / 2)
+    assert cam["camera"] == meta["camera"] and (cam["width"], cam["height"]) == (160, 120)
+    assert 30.0 <= cam["horizontal_fov_deg"] <= 120.0 and cam["distortion"] == [0.0] * 5
+    assert cam["fx"] == pytest.approx(fx, rel=1e-12) and cam["fy"] == pytest.approx(fx, rel=1e-12)
+    assert (cam["cx"], cam["cy"]) == (79.5, 59.5)
+    assert cam["K"] == [[cam["fx"], 0.0, 79.5], [0.0, cam["fy"], 59.5], [0.0, 0.0, 1.0]]

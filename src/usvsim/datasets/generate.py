@@ -246,7 +246,7 @@ class DatasetGenerator:
             while pending:
                 self.writer.add_coco(pending.popleft().result())
         settings = {**asdict(spec), "out": str(spec.out), "environment": self.environment,
-                    "randomization": self.rnd.model_dump(mode="json")}  # fmt: skip
+                    "randomization": self.rnd.model_dump(mode="json"), "cameras": self.camera_records()}  # fmt: skip
         if stopped:
             settings |= {"frames": self.frames_written, "frames_requested": spec.frames, "stopped": stopped}
         self.writer.finish(settings)
@@ -254,6 +254,18 @@ class DatasetGenerator:
             raise UsvsimError(f"{failed}; stopped at frame {self.frames_written}: the {self.frames_written} frames "
                               f"before it are in {spec.out} (dataset.json: stopped)")  # fmt: skip
         return spec.out
+
+    def camera_records(self) -> list[dict]:
+        """Each camera's intrinsics for dataset.json: width, height, fx, fy, cx, cy (px; cx, cy in pixel-centre
+        coordinates, OpenCV's: the first pixel's centre is 0), K, horizontal_fov_deg, distortion (plumb_bob k1, k2,
+        p1, p2, k3; the images are the distorted ones) and the camera's meta name (vessel/camera)."""
+        out = []
+        for vessel, cam in self.cameras:
+            k = cam.intrinsics
+            out.append({"camera": f"{vessel}/{cam.cfg.name}", "width": k.width, "height": k.height, "fx": k.fx,
+                        "fy": k.fy, "cx": k.cx, "cy": k.cy, "K": k.K.tolist(),
+                        "horizontal_fov_deg": cam.cfg.horizontal_fov_deg, "distortion": list(k.D)})  # fmt: skip
+        return out
 
     def close(self) -> None:
         for _, cam in self.cameras:
