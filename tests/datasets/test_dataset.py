@@ -315,3 +315,17 @@ def test_dataset_json_records_the_cameras_intrinsics(tmp_path):
     assert cam["fx"] == pytest.approx(fx, rel=1e-12) and cam["fy"] == pytest.approx(fx, rel=1e-12)
     assert (cam["cx"], cam["cy"]) == (79.5, 59.5)
     assert cam["K"] == [[cam["fx"], 0.0, 79.5], [0.0, cam["fy"], 59.5], [0.0, 0.0, 1.0]]
+
+
+def test_without_randomize_a_note_says_every_frame_is_the_same(tmp_path):
+    """Without --randomize every frame of buoy_field (a calm sea) is the same bytes, 0.5 s after a reset, and
+    nothing said so: a one-line note on stderr after the run (docs/datasets.md). With --randomize, no note."""
+    args = ["dataset", "buoy_field", "--frames", "2", "--resolution", "64x48", "--splits", "1,0,0"]
+    result = CliRunner().invoke(app, [*args, "--out", str(tmp_path / "a")])
+    assert result.exit_code == 0 and result.stdout.startswith("wrote 2 frames")
+    (note,) = [ln for ln in result.stderr.splitlines() if ln.strip()]
+    assert note.startswith("usvsim: note: no --randomize: nothing was drawn") and "0.5 s after a reset" in note
+    images = sorted((tmp_path / "a" / "images" / "train").iterdir())
+    assert len(images) == 2 and images[0].read_bytes() == images[1].read_bytes()
+    result = CliRunner().invoke(app, [*args, "--out", str(tmp_path / "b"), "--randomize", "clear_calm"])
+    assert result.exit_code == 0 and "note" not in result.stderr

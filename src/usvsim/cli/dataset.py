@@ -91,6 +91,10 @@ def dataset_command(
                    "annotations, data.yaml and dataset.json cover those frames (dataset.json: stopped, frames_requested)")  # fmt: skip
         raise typer.Exit(exit_status(stop.signum))
     typer.echo(f"wrote {frames} frames to {out}")  # the result on stdout, progress on stderr
+    if randomize is None:  # after the run: an error stays one line
+        console.print(f"usvsim: note: no --randomize: nothing was drawn; every frame is the scenario as written, "
+                      f"{spec.settle_s:g} s after a reset (only a wavy sea's phases differ); give --randomize "
+                      "clear_calm, foggy_wavy or a file", highlight=False, soft_wrap=True)  # fmt: skip
 
 
 def _clear_previous(out: Path, force: bool) -> None:
