@@ -1,6 +1,7 @@
 """What the viewer saves besides the window: screenshots on the P key and an optional video of every frame.
 
-Screenshots go to `shots_dir` as `usvsim_<scenario>_<sim time>s.png`. The video (`--video FILE`, MP4 or
+Screenshots go to `shots_dir` as `usvsim_<scenario>_<sim time>s.png`, or `..._<sim time>s_2.png`, `_3`, ... when
+that name is taken (P pressed twice while paused overwrote the first). The video (`--video FILE`, MP4 or
 AVI) holds one frame per drawn frame at a nominal `fps`; OpenCV writes it (imported only when asked for).
 """
 
@@ -22,12 +23,21 @@ class Capture:
     def frame(self, window, sim_time_s: float, screenshot_requested: bool) -> None:
         """Call after drawing, before swapping buffers."""
         if screenshot_requested:
-            path = self.shots_dir / f"usvsim_{self.name}_{sim_time_s:09.3f}s.png"
+            path = self.shot_path(sim_time_s)
             window.screenshot(path)
             self.saved.append(path)
             print(f"usvsim: saved {path}", file=sys.stderr)
         if self.video_path is not None:
             self._write_video(window)
+
+    def shot_path(self, sim_time_s: float) -> Path:
+        """A screenshot's file name at `sim_time_s` that no file has: a counter suffix after the first."""
+        stem = f"usvsim_{self.name}_{sim_time_s:09.3f}s"
+        path, n = self.shots_dir / f"{stem}.png", 1
+        while path.exists() or path in self.saved:
+            n += 1
+            path = self.shots_dir / f"{stem}_{n}.png"
+        return path
 
     def _write_video(self, window) -> None:
         rgb = window.renderer.read_rgb(window.viewport)

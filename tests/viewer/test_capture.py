@@ -1,0 +1,31 @@
+"""Screenshots on the P key (viewer/capture.py), without a window: names never overwrite an earlier file."""
+
+from __future__ import annotations
+
+from usvsim.viewer.capture import Capture
+
+
+class _Window:
+    """Stands in for the viewer's window: a screenshot writes the frame's number."""
+
+    def __init__(self):
+        self.shots = 0
+
+    def screenshot(self, path):
+        self.shots += 1
+        path.write_text(str(self.shots))
+
+
+def test_screenshots_at_the_same_time_get_a_counter_suffix(tmp_path):
+    """P pressed three times while paused (same simulated time) printed three 'saved' lines and left one file,
+    the last: the names were time-based only. A file from an earlier session is kept too."""
+    (tmp_path / "usvsim_harbor_00012.500s_2.png").write_text("earlier session")
+    capture, window = Capture("harbor", tmp_path), _Window()
+    for _ in range(3):
+        capture.frame(window, 12.5, screenshot_requested=True)
+    capture.frame(window, 13.0, screenshot_requested=True)
+    names = [p.name for p in capture.saved]
+    assert names == ["usvsim_harbor_00012.500s.png", "usvsim_harbor_00012.500s_3.png",
+                     "usvsim_harbor_00012.500s_4.png", "usvsim_harbor_00013.000s.png"]  # fmt: skip
+    assert [p.read_text() for p in capture.saved] == ["1", "2", "3", "4"]
+    assert (tmp_path / "usvsim_harbor_00012.500s_2.png").read_text() == "earlier session"
