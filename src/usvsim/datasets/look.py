@@ -5,7 +5,8 @@ With `renderer: shader` the camera draws the look itself (sun, sky, haze, fog, w
 vignetting, blur: usvsim.rendering) and only the look's noise is added here. With `renderer: mujoco` this
 module approximates it with MuJoCo's plain renderer: the sun is the model's directional light
 (direction from azimuth/elevation, colour warmer when low, scaled by `intensity`), fog is blended into the
-image from the depth image by Koschmieder's law (contrast 2 % at the visibility; the sky counts as 1 km),
+image in linear light from the depth image by Koschmieder's law (contrast 2 % at the visibility; the sky counts as
+1 km; the fog colour is linear RGB, as for the shader look),
 and the camera effects (exposure, vignetting, blur, noise) are applied to the 8-bit image. Sky turbidity,
 haze and the water look are not approximated. Switching to the shader renderer changes only this module;
 the randomization file format stays the same.

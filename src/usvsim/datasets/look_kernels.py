@@ -11,7 +11,9 @@ from numba import njit
 @njit(cache=True, nogil=True)
 def finish_look(rgb, depth, ray_scale, fog_per_m, fog_rgb, sky_m, gain, vignette, out):
     """out = (fogged rgb) · gain · (1 - vignette) as float32 0–1; fog by Koschmieder from the ray length
-    (depth · ray_scale; NaN depth: the sky, `sky_m` away); fog_per_m = 0 turns fog off."""
+    (depth · ray_scale; NaN depth: the sky, `sky_m` away); fog_per_m = 0 turns fog off. The fog is blended in
+    linear light, as the shader look blends it: the 8-bit value x decodes to x² (display gamma 2, MuJoCo's space and
+    the shader's `display`), mixes with the linear `fog_rgb`, and is encoded back by the square root."""
     h, w = depth.shape
     for v in range(h):
         for u in range(w):
@@ -23,7 +25,9 @@ def finish_look(rgb, depth, ray_scale, fog_per_m, fog_rgb, sky_m, gain, vignette
             g = gain * (1.0 - vignette[v, u])
             for c in range(3):
                 x = rgb[v, u, c] / 255.0
-                out[v, u, c] = (x * keep + (1.0 - keep) * fog_rgb[c]) * g
+                if keep < 1.0:
+                    x = math.sqrt(x * x * keep + (1.0 - keep) * fog_rgb[c])
+                out[v, u, c] = x * g
 
 
 @njit(cache=True, nogil=True)
