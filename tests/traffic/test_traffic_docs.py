@@ -51,3 +51,38 @@ def test_figure_script_runs(tmp_path):
                    check=True, capture_output=True)  # fmt: skip
     assert (tmp_path / "traffic_radar.png").stat().st_size > 10_000
     assert (tmp_path / "traffic_encounter.png").stat().st_size > 10_000
+
+
+def test_the_example_run_report_is_what_the_run_prints(tmp_path):
+    """The report table in docs/traffic.md is the one `usvsim run` prints for the scenario the text describes (a
+    ship stopped 200 m east, one crossing 30 m north westward at 5 m/s from 100 m east, 30 s). It said TCPA 19.0
+    where the run gives 18.0 (QA)."""
+    doc = DOC.read_text()
+    table = re.search(r"```\n(target +min dist.*?)```", doc, flags=re.S)
+    assert table is not None
+    expected = [line.split() for line in table.group(1).strip().splitlines()]
+    scenario = tmp_path / "report.yaml"
+    scenario.write_text(
+        "version: 1\nvessels:\n  - {name: wamv, model: wamv}\ntraffic:\n  ships:\n"
+        "    - {name: still, mmsi: 257000061, motion: {type: route, waypoints: [{position: [200, 0], speed_mps: 0},"
+        " {position: [200, 10], speed_mps: 0}]}}\n"
+        "    - {name: crosser, mmsi: 257000062, motion: {type: constant, position: [100, 30], course_deg: 270, speed_mps: 5}}\n"
+    )
+    env = dict(os.environ, PYTHONPATH=str(ROOT / "src"), COLUMNS="200")
+    out = subprocess.run([sys.executable, "-m", "usvsim.cli", "run", str(scenario), "--duration", "30"], env=env,
+                         check=True, capture_output=True, text=True).stdout  # fmt: skip
+    rows = [line.split() for line in out.splitlines() if line.split() and line.split()[0] in ("target", "still", "crosser")]
+    assert rows == expected
+
+
+def test_the_reference_says_the_radar_turns_clockwise():
+    """Marine radars turn clockwise seen from above; usvsim's spoke k points at -k·360°/n (REP 103, CCW from the
+    bow), i.e. clockwise. The schema (and so docs/scenario-reference.md) said 'CCW seen from above' (QA)."""
+    from usvsim.config.sensors import Radar
+    from usvsim.sensors.radar.revolution import spoke_angle
+
+    assert spoke_angle(1, 360) < 0.0  # spoke 1 is 1° to starboard: clockwise
+    text = (ROOT / "docs" / "scenario-reference.md").read_text()
+    section = text[text.index("X-band marine radar") :].split("\n")[0]
+    assert Radar.__doc__ is not None and "clockwise seen from above" in " ".join(Radar.__doc__.split())
+    assert "clockwise seen from above" in section and "CCW seen from above" not in section

@@ -283,8 +283,9 @@ class Arpa(Section):
 
 
 class Radar(SensorBase):
-    """X-band marine radar (sensors/radar): a beam turning at `rpm` CCW seen from above (REP 103 angles in the
-    sensor frame, 0 = bow), `spokes` azimuths per turn, `range_bins` bins to `range_max_m`; each sample publishes
+    """X-band marine radar (sensors/radar): a beam turning at `rpm` clockwise seen from above, as marine radars
+    do (angles are REP 103 in the sensor frame, counter-clockwise from the bow = 0: spoke k points at
+    -k·360°/`spokes`), `spokes` azimuths per turn, `range_bins` bins to `range_max_m`; each sample publishes
     the spokes swept since the last one as marine_sensor_msgs/RadarSector (echoes 0..1 = 0..`dynamic_range_db`
     over the noise floor). A 1 m² surface facing the radar at 1 km returns `reference_snr_db`."""
 
