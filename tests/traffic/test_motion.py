@@ -178,3 +178,18 @@ def test_ais_csv_with_a_bom_and_utc_times_without_a_zone(tmp_path, monkeypatch):
         monkeypatch.undo()
         time.tzset()
     assert track.t1[-1] == 60.0
+
+
+@pytest.mark.parametrize("course", [360.0, 400.0, -10.0])
+def test_a_constant_course_outside_0_to_360_is_one_clear_error(course):
+    """course_deg is in [0, 360) (400 was accepted: QA); the error names the key."""
+    from usvsim.config.loader import parse_scenario
+
+    data = {"version": 1, "vessels": [{"name": "wamv", "model": "wamv"}], "traffic": {"ships": [
+        {"name": "s", "mmsi": 257000001, "motion": {"type": "constant", "position": [0, 0], "course_deg": course,
+                                                    "speed_mps": 1}}]}}  # fmt: skip
+    with pytest.raises(ScenarioError) as err:
+        parse_scenario(data, "my.yaml")
+    text = str(err.value)
+    assert "traffic.ships[0].motion.course_deg" in text and ("360" in text or " 0" in text)
+    assert len(text.splitlines()) == 1

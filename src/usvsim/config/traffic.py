@@ -47,7 +47,7 @@ class Constant(Section):
 
     type: Literal["constant"] = "constant"
     position: Vec2 = Field(description="world ENU position at t = 0, m")
-    course_deg: float = Field(description="course over ground, degrees clockwise from north")
+    course_deg: float = Field(ge=0.0, lt=360.0, description="course over ground, degrees clockwise from north")
     speed_mps: NonNegativeFloat
 
 
