@@ -44,6 +44,10 @@ def test_schema_command_prints_a_schema_that_shipped_scenarios_satisfy():
     ({"vessels": [{"name": "a", "model": "wamv", "sensors": [{"type": "lidar", "name": "l", "chanels": 4}]}]}, "sensors[0].chanels: unknown key (did you mean 'channels'?)"),
     ({"vessels": [{"name": "a", "model": "wamv", "controller": {"type": "station_keeping", "hold": {"position_gain": 1}}}]}, "(did you mean 'position_gain_1ps'?)"),
     ({"world": {"zzz": 1}}, "world.zzz: unknown key (allowed: physics_rate_hz, gravity_mps2,"),
+    # a required key misspelt: the unknown key and its suggestion, not "position: missing (+1 more error)" (QA)
+    ({"traffic": {"ships": [{"name": "s", "mmsi": 257000001, "motion": {"type": "constant", "positon": [1, 2],
+      "course_deg": 0, "speed_mps": 1}}]}}, "traffic.ships[0].motion.positon: unknown key (did you mean 'position'?)"),
+    ({"vessels": [{"nmae": "a", "model": "wamv"}]}, "vessels[0].nmae: unknown key (did you mean 'name'?)"),
 ])  # fmt: skip
 def test_unknown_keys_get_a_suggestion(data, message):
     with pytest.raises(ScenarioError) as err:

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import difflib
 from importlib import resources
 from pathlib import Path
 
@@ -89,6 +90,11 @@ def first_error_text(exc: ValidationError, data, keys: list[str]) -> str:
 
 def _first_error(exc: ValidationError, source: str, data) -> ScenarioError:
     err = exc.errors()[0]
+    if err["type"] == "missing":  # a required key missing beside an unknown key close to it: its misspelling, so
+        # the line names the unknown key with its "did you mean" (it said "position: missing (+1 more error)")
+        parent, wanted = tuple(err["loc"][:-1]), [str(err["loc"][-1])]
+        err = next((e for e in exc.errors() if e["type"] == "extra_forbidden" and tuple(e["loc"][:-1]) == parent
+                    and difflib.get_close_matches(str(e["loc"][-1]), wanted, n=1, cutoff=0.6)), err)  # fmt: skip
     loc = _readable_path(err["loc"], data)
     msg = err["msg"].removeprefix("Value error, ")  # our own validators' messages stand alone
     if err["type"] == "extra_forbidden":
