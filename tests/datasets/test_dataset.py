@@ -259,6 +259,9 @@ def test_a_full_disk_is_one_line_and_leaves_no_truncated_file(tmp_path):
     assert not (out / "dataset.json").exists() and not list(out.rglob("*.partial"))
     for png in out.rglob("*.png"):
         Image.open(png).load()  # complete
+    assert "run again with --force" in lines[0]  # what is left is the set's own files: --force replaces them
+    result = CliRunner().invoke(app, cmd[3:] + ["--force", "--resolution", "64x48"])
+    assert result.exit_code == 0 and (out / "dataset.json").is_file(), result.output
 
 
 def test_min_visible_fraction_help_names_the_mask_ratio():

@@ -214,8 +214,8 @@ class DatasetGenerator:
         try:
             return self._run(progress, stop)
         except WriteError as exc:  # a full disk: no file looks complete that is not (writers.write_atomic)
-            raise WriteError(f"{exc}; {spec.out} holds the frames written before it, without annotations or "
-                             "dataset.json: remove them, or run again with --force") from None  # fmt: skip
+            raise WriteError(f"{exc}; {spec.out} holds an incomplete set, without dataset.json (written last): "
+                             "remove it, or run again with --force") from None  # fmt: skip
 
     def _run(self, progress, stop) -> Path:
         spec, per_episode = self.spec, (1 if self.rnd.per == "frame" else self.rnd.frames_per_episode)
