@@ -193,3 +193,17 @@ def test_a_constant_course_outside_0_to_360_is_one_clear_error(course):
     text = str(err.value)
     assert "traffic.ships[0].motion.course_deg" in text and ("360" in text or " 0" in text)
     assert len(text.splitlines()) == 1
+
+
+def test_a_physics_ships_pilot_stops_at_a_zero_speed_waypoint_and_holds():
+    """The LOS pilot of a full-physics ship ends its route at the first waypoint of speed 0, as a kinematic ship
+    does: it sails the leg before it at full speed to its end (it switched to the speed-0 leg `accept_m` early, so
+    stopped short) and then holds (no surge, no turning towards the next leg); one stopped at its start holds."""
+    from usvsim.traffic.pilot import LosPilot
+
+    pilot = LosPilot([(0, 0), (100, 0), (100, 100), (200, 100)], [2.0, 0.0, 2.0, 2.0], lookahead_m=20.0, accept_m=20.0)
+    assert pilot.reference((50.0, 0.0), 0.0) == (2.0, 0.0, 0.0)
+    assert pilot.reference((95.0, 0.0), 0.0)[0] == 2.0  # within accept_m of the stop: still sailing to it
+    for pos in ((100.5, 0.0), (100.0, 30.0), (0.0, 0.0)):
+        assert pilot.reference(pos, 0.3) == (0.0, 0.0, 0.0)
+    assert LosPilot([(0, 0), (100, 0)], [0.0, 0.0], 20.0, 20.0).reference((0.0, 0.0), 1.0) == (0.0, 0.0, 0.0)

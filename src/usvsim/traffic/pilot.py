@@ -5,7 +5,9 @@
 Lookahead-based LOS (Fossen, Handbook of Marine Craft Hydrodynamics and Motion Control, 2nd ed., sec. 12.4):
 course = leg direction + atan(-e / Δ) with e the cross-track error (left of the leg positive) and Δ the
 lookahead distance; the next leg starts when the along-track distance comes within `accept_m` of the
-leg's end. Angles are ENU yaw (rad, CCW from east).
+leg's end. A route ends at its first waypoint of speed 0 (the ship stops there for good, as a kinematic ship
+does: motion.route_track) or its last; past the end the pilot holds (no surge, no turning). Angles are ENU yaw
+(rad, CCW from east).
 """
 
 from __future__ import annotations
@@ -20,7 +22,10 @@ from usvsim.core.transforms import wrap_angle
 class LosPilot:
     def __init__(self, points, speeds, lookahead_m: float, accept_m: float, yaw_gain_1ps: float = 0.5,
                  max_yaw_rate: float = 0.3):  # fmt: skip
-        self.points, self.speeds = np.asarray(points, float), np.asarray(speeds, float)
+        points, speeds = np.asarray(points, float), np.asarray(speeds, float)
+        stops = np.flatnonzero(speeds[: len(points) - 1] <= 0.0)
+        end = int(stops[0]) + 1 if len(stops) else len(points)  # a speed-0 waypoint is the route's end
+        self.points, self.speeds = points[:end], speeds[:end]
         self.lookahead_m, self.accept_m = lookahead_m, accept_m
         self.yaw_gain, self.max_yaw_rate = yaw_gain_1ps, max_yaw_rate
         self.leg = 0
