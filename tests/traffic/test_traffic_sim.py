@@ -206,6 +206,32 @@ def test_overlap_warning_names_the_ship_not_the_static_world(scenario_of):
     assert warnings == ["'wamv' and the moving 'ferry' overlap at the start: they will be pushed apart"]
 
 
+def test_waypoints_after_a_stop_are_warned_about(scenario_of):
+    """A waypoint of speed 0 is where a route ship stops for good: validate names the waypoints it never reaches
+    (QA's route_jump meant to go on). A ship stopped at its start with one waypoint for its heading, a route that
+    stops at its last waypoint, and one that never stops are fine."""
+    def route(*legs, loop=False):
+        return {"type": "route", "loop": loop, "waypoints": [{"position": list(p), "speed_mps": v} for p, v in legs]}
+
+    sc = scenario_of({"vessels": [OWN], "traffic": {"ais": {"enabled": False}, "ships": [
+        ship("jumper", 257000001, route(((0, 300), 3), ((30, 300), 0), ((300, 300), 3), ((300, 600), 3))),
+        ship("waiter", 257000002, route(((0, -300), 0), ((300, -300), 3), ((300, -600), 3))),
+        ship("looper", 257000003, route(((500, 0), 3), ((500, 100), 3), ((600, 100), 0), loop=True)),
+        ship("still", 257000004, route(((-300, 0), 0), ((-200, 0), 0))),
+        ship("ender", 257000005, route(((-300, 300), 3), ((-300, 400), 0))),
+        ship("goer", 257000006, route(((-500, 300), 3), ((-500, 400), 3), ((-400, 400), 3), loop=True))]}})  # fmt: skip
+    sim = Simulation(sc)
+    warnings = setup_warnings(sim.world)
+    sim.close()
+    assert warnings == [
+        "traffic.ships[0] 'jumper': waypoint 1 (30, 300) has speed_mps 0, where the ship stops for good: waypoints 2, 3 "
+        "never reached",
+        "traffic.ships[1] 'waiter': waypoint 0 (0, -300) has speed_mps 0, where the ship stops for good: waypoint 2 never "
+        "reached",
+        "traffic.ships[2] 'looper': waypoint 2 (600, 100) has speed_mps 0, where the ship stops for good: no loop",
+    ]
+
+
 def test_ship_boxes_stay_out_of_the_world_bvh_and_pair_only_when_near(scenario_of):
     """The world body's bounding volume tree (built once, at compile time) holds no ship geom, so a far ship costs
     the midphase nothing; a ship's box pairs with floating bodies (conaffinity set) only while it is near one."""

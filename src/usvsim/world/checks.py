@@ -9,6 +9,7 @@
 - bodies that overlap at t = 0 (MuJoCo contacts deeper than 1 cm: they are pushed apart violently), traffic ships
   (kinematic bodies) named as themselves, not as the static world;
 - a camera or LiDAR mounted inside its own vessel's geometry (it sees only the hull);
+- a traffic route's waypoints after a stop (speed 0) that are never reached, or a loop that the stop ends;
 - in a real place (`geo:` with land): a vessel, floating object or traffic ship that starts on land, and a traffic
   route leg (one that is sailed: up to the first waypoint at speed 0) that crosses land, with the point
   (`land_warnings`).
@@ -47,7 +48,30 @@ def setup_warnings(world) -> list[str]:
     """Warnings for a `World`'s initial state (bodies, hulls, water level, contacts)."""
     env = world.scenario.environment
     return [*_displacement(world), *_far_from_water(world), *_sea(env), *_tiles(env, world.ocean.waves),
-            *_overlaps(world), *_sensors_inside(world), *land_warnings(world)]  # fmt: skip
+            *_overlaps(world), *_sensors_inside(world), *_route_stops(world.scenario), *land_warnings(world)]  # fmt: skip
+
+
+def _route_stops(scenario) -> list[str]:
+    """Traffic routes with waypoints after a stop (a waypoint of speed 0, where the ship stays for good) that are
+    never reached: the next one of a route stopped at its start gives its heading; any others are lost."""
+    out = []
+    for k, ship in enumerate(scenario.traffic.ships):
+        if not isinstance(ship.motion, Route):
+            continue
+        points = ship.motion.waypoints
+        stop = next((i for i, w in enumerate(points[:-1]) if w.speed_mps <= 0.0), None)
+        if stop is None and ship.motion.loop and points[-1].speed_mps <= 0.0:
+            stop = len(points) - 1
+        if stop is None:
+            continue
+        lost = list(range(stop + 2 if stop == 0 else stop + 1, len(points)))
+        what = [f"waypoint{'s' if len(lost) > 1 else ''} {', '.join(map(str, lost))} never reached"] if lost else []
+        what += ["no loop"] if ship.motion.loop else []
+        if what:
+            x, y = points[stop].position
+            out.append(f"traffic.ships[{k}] '{ship.name}': waypoint {stop} ({x:g}, {y:g}) has speed_mps 0, where the "
+                       f"ship stops for good: {' and '.join(what)}")  # fmt: skip
+    return out
 
 
 def land_warnings(world) -> list[str]:
