@@ -67,7 +67,15 @@ def test_every_sensor_type_meets_the_reading_contract(sim):
             if array.dtype.names is None and array.dtype.kind == "f" and key not in ("ranges", "depth"):
                 assert np.isfinite(array).all(), f"{name}/{key}"
             if DTYPES.get(key) is not None:
-                assert array.dtype == DTYPES[key] and not array.flags.writeable, key
+                assert array.dtype == DTYPES[key], key
+    assert {k for r in first.values() for k in r} >= {"points", "ranges", "angles", "rgb", "K", "detections_2d",
+                                                      "orientation", "lla", "position_covariance", "detections"}
+    for name, r in later.items():  # every array read-only (docs/python-api.md): the cached Reading cannot be changed
+        for key, array in r.items():
+            assert not array.flags.writeable, f"{name}/{key} is writeable"
+            with pytest.raises(ValueError, match="read-only"):
+                array[...] = array
+        assert sim.sensors[name].latest is r  # the Reading every later observe() hands out
 
 
 def test_reading_fields_and_handles(sim):

@@ -1,9 +1,9 @@
 """Sensor samples as numpy arrays, read from the ROS messages a sensor emitted (no per-element Python).
 
 One `Reading` per sample: `reading["points"]`, `reading["rgb"]`, ...; `reading.messages` keeps the ROS
-messages (topic → message). Arrays are read-only views of the message buffers where the message has one
-(point clouds, scans, images), else small new arrays: every sample has buffers of its own, so a reading
-stays valid after later steps. Fields (frames and units as in the messages):
+messages (topic → message). Every array is read-only (copy to modify): a view of the message buffer where the
+message has one (point clouds, scans, images), else a small new array; every sample has buffers of its own, so a
+reading stays valid after later steps, and the Reading (cached per sample) cannot be changed through its arrays. Fields (frames and units as in the messages):
 
 | message | fields |
 |---|---|
@@ -66,7 +66,7 @@ def reading(envelopes: list[Envelope]) -> Reading | None:
     for env in envelopes:
         convert = _CONVERTERS.get(env.msgtype)
         if convert is not None:
-            arrays.update(convert(env.msg))
+            arrays.update({key: _read_only(a) for key, a in convert(env.msg).items()})
     first = envelopes[0]
     return Reading(first.stamp_ns, _frame_of(first.msg), arrays, {e.topic: e.msg for e in envelopes})
 
@@ -77,21 +77,23 @@ def _frame_of(msg: Any) -> str:
 
 
 def _read_only(a: np.ndarray) -> np.ndarray:
-    a.flags.writeable = False
-    return a
+    """A read-only view of `a` (no copy; the message's own array, if `a` is one, stays as it was)."""
+    view = a.view()
+    view.flags.writeable = False
+    return view
 
 
 def _cloud(msg) -> dict[str, np.ndarray]:
     points = np.frombuffer(msg.data, POINTS_DTYPE).reshape(-1)
     if msg.height > 1:
         points = points.reshape(msg.height, msg.width)
-    return {"points": _read_only(points)}
+    return {"points": points}
 
 
 def _scan(msg) -> dict[str, np.ndarray]:
-    ranges = _read_only(np.asarray(msg.ranges, dtype=np.float32).view())
+    ranges = np.asarray(msg.ranges, dtype=np.float32)
     angles = (msg.angle_min + msg.angle_increment * np.arange(len(ranges))).astype(np.float32)
-    return {"ranges": ranges, "intensities": _read_only(np.asarray(msg.intensities, np.float32).view()),
+    return {"ranges": ranges, "intensities": np.asarray(msg.intensities, np.float32),
             "angles": angles}  # fmt: skip
 
 
@@ -101,7 +103,7 @@ def _image(msg) -> dict[str, np.ndarray]:
     if dtype is None:
         return {}
     shape = (msg.height, msg.width, channels) if channels > 1 else (msg.height, msg.width)
-    return {name: _read_only(np.frombuffer(msg.data, dtype).reshape(shape))}
+    return {name: np.frombuffer(msg.data, dtype).reshape(shape)}
 
 
 def _radar_sector(msg) -> dict[str, np.ndarray]:
@@ -110,7 +112,7 @@ def _radar_sector(msg) -> dict[str, np.ndarray]:
     rows = [np.asarray(e.echoes, np.float32) for e in msg.intensities]
     echoes = np.stack(rows) if rows else np.zeros((0, 0), np.float32)
     angles = (msg.angle_start + msg.angle_increment * np.arange(len(rows))).astype(np.float32)
-    return {"echoes": _read_only(echoes), "angles": angles}
+    return {"echoes": echoes, "angles": angles}
 
 
 def _camera_info(msg) -> dict[str, np.ndarray]:
