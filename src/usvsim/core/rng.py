@@ -16,22 +16,25 @@ from usvsim.core.errors import UsvsimError
 class RngStreams:
     def __init__(self, seed: int):
         self.seed = _checked(seed)
-        self._streams: dict[str, np.random.Generator] = {}
+        self._streams: dict[str, np.random.Generator] = {}  # what `get` returns
+        self._handed: dict[str, np.random.Generator] = {}  # what `get` last returned: a holder keeps it
 
     def get(self, name: str) -> np.random.Generator:
         gen = self._streams.get(name)
         if gen is None:
             gen = self._streams[name] = self._fresh(name)
+        self._handed[name] = gen
         return gen
 
     def reseed(self, seed: int) -> None:
-        """Every stream back to its first number under `seed`, in place: holders of a generator keep it and
-        draw what a fresh `RngStreams(seed)` would give. (`get` after this also returns fresh generators,
-        whose `spawn` children match a fresh run's.)"""
+        """Every stream back to its first number under `seed`, in place: the holder of a generator (the one `get`
+        last returned for its name) keeps it and draws what a fresh `RngStreams(seed)` would give, at every reseed.
+        (`get` after this returns a fresh generator, whose `spawn` children match a fresh run's; it reset the
+        generator in the table instead of the holder's from the second reseed on: sensor noise then differed.)"""
         self.seed = _checked(seed)
-        for name, gen in self._streams.items():
+        for name, held in self._handed.items():
             fresh = self._fresh(name)
-            gen.bit_generator.state = fresh.bit_generator.state
+            held.bit_generator.state = fresh.bit_generator.state
             self._streams[name] = fresh
 
     def _fresh(self, name: str) -> np.random.Generator:
