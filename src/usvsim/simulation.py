@@ -18,7 +18,7 @@ from typing import Any
 import numpy as np
 
 from usvsim.commands import CommandInbox
-from usvsim.config.loader import load_scenario
+from usvsim.config.loader import load_scenario, parse_scenario
 from usvsim.config.scenario import Scenario
 from usvsim.control.factory import control_loop, initial_reference
 from usvsim.core.errors import UsvsimError
@@ -37,13 +37,16 @@ __all__ = ["BodyState", "Simulation", "World"]
 class Simulation:
     """A scenario running in MuJoCo with marine physics. `seed` drives every random stream."""
 
-    def __init__(self, scenario: Scenario | str | Path, seed: int = 0):
-        """`scenario`: a `Scenario`, or a built-in scenario's name (see `usvsim scenarios`) or a YAML file's path."""
+    def __init__(self, scenario: Scenario | Mapping[str, Any] | str | Path, seed: int = 0):
+        """`scenario`: a `Scenario`, a built-in scenario's name (see `usvsim scenarios`), a YAML file's path, or a
+        dict of what the YAML file would hold (checked as a file is)."""
         if isinstance(scenario, str | Path):  # Simulation("harbor") failed deep inside with an AttributeError
             scenario = load_scenario(scenario)
+        elif isinstance(scenario, Mapping):
+            scenario = parse_scenario(dict(scenario), "<dict>")
         elif not isinstance(scenario, Scenario):
-            raise UsvsimError(f"Simulation: give a Scenario, a built-in scenario's name or a YAML file's path, not "
-                              f"{type(scenario).__name__}")  # fmt: skip
+            raise UsvsimError(f"Simulation: give a Scenario, a dict, a built-in scenario's name or a YAML file's path, "
+                              f"not {type(scenario).__name__}")  # fmt: skip
         self.world = world = World(scenario, seed, kinematic_bodies(scenario))  # traffic ships: moving world geoms
         scenario = world.scenario  # with a real place's parts resolved (geo/)
         self._controller_configs = {v.name: v.controller for v in scenario.vessels if v.controller is not None}
@@ -164,12 +167,13 @@ class Simulation:
     def run(
         self, seconds: float, realtime: bool = False, on_step: Callable[[Simulation], None] | None = None
     ):
-        """Run for `seconds` of simulation time, as fast as possible or paced to the wall clock."""
+        """Run for `seconds` of simulation time (a whole number of physics steps, halves rounded up), as fast as
+        possible or paced to the wall clock."""
         if isinstance(seconds, bool) or not isinstance(seconds, numbers.Real) or not math.isfinite(seconds) \
                 or seconds < 0:  # fmt: skip
             raise UsvsimError(f"run: seconds must be a finite number >= 0, not {seconds!r}")  # -1 ran no step
         clock = self.world.clock
-        steps = round(seconds * 1e9 / clock.step_ns)
+        steps = math.floor(seconds * 1e9 / clock.step_ns + 0.5)  # halves up: round() ran 0.005 s as 0 steps, 0.025 as 2
         start_wall = time.perf_counter()
         unwatched = on_step is None and not realtime  # nobody looks between steps (subscribers: see below)
         try:

@@ -138,6 +138,8 @@ EXTREMES = [  # (name, expectation, dotted path, value)
      [{"type": "odometry", "name": "odom", "mount": {"position": [1.0, 0.5, 1.0], "yaw_deg": 90.0}}]),
     ("odometry_default_mount", "ok", "vessels.0.sensors",
      [{"type": "odometry", "name": "odom", "mount": {"position": [0.0, 0.0, 0.0]}}]),
+    ("fossen_without_damping", "warn", "vessels.0.hydrodynamics", {"type": "fossen"}),  # ran at 37 m/s, then spun
+    ("fossen_otter", "ok", "vessels.0.hydrodynamics", {"type": "fossen", "parameters": "otter"}),
     ("camera_inside_hull", "warn", "vessels.0.sensors",  # sees only the inside of its pontoon (was silent)
      [{"type": "camera", "name": "cam", "mount": {"position": [0.5, 0.4, 0.05]}}]),
     ("camera_on_deck", "ok", "vessels.0.sensors", [{"type": "camera", "name": "cam", "mount": {"position": [0.0, 0.0, 0.3]}}]),

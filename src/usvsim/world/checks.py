@@ -10,6 +10,7 @@
   (kinematic bodies) named as themselves, not as the static world;
 - a camera or LiDAR mounted inside its own vessel's geometry (it sees only the hull);
 - a traffic route's waypoints after a stop (speed 0) that are never reached, or a loop that the stop ends;
+- Fossen hydrodynamics with no damping at all (`parameters: custom` and its zero defaults);
 - in a real place (`geo:` with land): a vessel, floating object or traffic ship that starts on land, and a traffic
   route leg (one that is sailed: up to the first waypoint at speed 0) that crosses land, with the point
   (`land_warnings`).
@@ -48,7 +49,21 @@ def setup_warnings(world) -> list[str]:
     """Warnings for a `World`'s initial state (bodies, hulls, water level, contacts)."""
     env = world.scenario.environment
     return [*_displacement(world), *_far_from_water(world), *_sea(env), *_tiles(env, world.ocean.waves),
-            *_overlaps(world), *_sensors_inside(world), *_route_stops(world.scenario), *land_warnings(world)]  # fmt: skip
+            *_overlaps(world), *_sensors_inside(world), *_route_stops(world.scenario), *land_warnings(world),
+            *_undamped(world.scenario)]  # fmt: skip
+
+
+def _undamped(scenario) -> list[str]:
+    """Vessels with Fossen hydrodynamics of `parameters: custom` and no damping coefficient at all (the defaults):
+    nothing but the wind slows them (QA: a WAM-V at full thrust reached 37 m/s in 20 s, then spun out)."""
+    out = []
+    for v in scenario.vessels:
+        h = v.hydrodynamics
+        if getattr(h, "type", None) == "fossen" and h.parameters == "custom" and not any(h.linear_damping) \
+                and not any(h.quadratic_damping) and not h.cross_flow_length_m:  # fmt: skip
+            out.append(f"'{v.name}' has Fossen hydrodynamics with no damping (parameters: custom, every damping "
+                       "coefficient 0): nothing slows it; choose parameters (otter, wamv_vrx) or give the damping")
+    return out
 
 
 def _route_stops(scenario) -> list[str]:

@@ -73,8 +73,8 @@ class World:
         scenario = resolve_geo(scenario)
         self.place = load_place(scenario)  # a real place (geo/), or None
         scenario = with_local_depth(scenario, self.place)
-        self.scenario, self.seed = scenario, int(seed)
-        self.rng = RngStreams(self.seed)
+        self.rng = RngStreams(seed)  # checks the seed (int() truncated 2.9 to 2, and took True and '3')
+        self.scenario, self.seed = scenario, self.rng.seed
         world = scenario.world
         self.rho, self.g, self.rho_air = (
             world.water_density_kgpm3,
@@ -238,9 +238,10 @@ class World:
         """Put body `index` at `pose` with body-frame `twist` (FLU: u, v, w m/s, p, q, r rad/s) now; the
         marine models' histories restart (as after a model switch)."""
         pos, quat = pose_arrays(pose)
+        nu = twist_array(twist)  # both checked before anything changes (a bad twist counted a teleport)
         self.teleports += 1
         self.body_teleports[index] += 1
-        self._place(index, pos, quat, twist_array(twist))
+        self._place(index, pos, quat, nu)
         self.marine.reset()
         self._guard.reset()
         self._update_kinematics()

@@ -1,0 +1,45 @@
+"""Python API inputs QA found mishandled: each is refused before anything changes, or now does what it says."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from usvsim.core.errors import UsvsimError
+from usvsim.simulation import Simulation
+
+BOAT = {"version": 1, "name": "one", "vessels": [{"name": "wamv", "model": "wamv"}]}
+
+
+def test_a_dict_is_a_scenario():
+    sim = Simulation(BOAT, seed=2)
+    assert list(sim.vessels) == ["wamv"] and sim.world.seed == 2
+    with pytest.raises(UsvsimError, match=r"vessels\[0\]\.model: unknown vessel model"):
+        Simulation({**BOAT, "vessels": [{"name": "wamv", "model": "titanic"}]})
+
+
+@pytest.mark.parametrize("seed", [2.9, True, "3", "a", -1, None])
+def test_a_seed_that_is_not_a_non_negative_integer_is_refused(seed):
+    """Simulation(seed=2.9) ran with seed 2, True with 1, '3' with 3; 'a' was a bare ValueError (reset refused
+    them all)."""
+    with pytest.raises(UsvsimError, match="a seed is a non-negative integer"):
+        Simulation(BOAT, seed=seed)
+
+
+def test_a_teleport_with_a_bad_twist_changes_nothing():
+    """The teleport was counted (the next IMU sample took it for a jump) before the twist was refused."""
+    sim = Simulation(BOAT)
+    sim.run(0.1)
+    before = (sim.world.teleports, sim.world.body_teleports.copy(), sim.data.qpos.copy(), sim.data.qvel.copy())
+    with pytest.raises(ValueError, match="twist"):
+        sim.vessels["wamv"].teleport((1.0, 2.0, 0.0, 0.0, 0.0, 0.0), twist=(1.0, float("nan"), 0, 0, 0, 0))
+    assert sim.world.teleports == before[0] and np.array_equal(sim.world.body_teleports, before[1])
+    assert np.array_equal(sim.data.qpos, before[2]) and np.array_equal(sim.data.qvel, before[3])
+
+
+@pytest.mark.parametrize(("seconds", "steps"), [(0.004, 0), (0.005, 1), (0.015, 2), (0.025, 3), (0.3, 30)])
+def test_run_rounds_halves_up(seconds, steps):
+    """round() ran 0.005 s as 0 steps and 0.025 s as 2 at 100 Hz (halves to even)."""
+    sim = Simulation(BOAT)
+    sim.run(seconds)
+    assert sim.clock.steps == steps
