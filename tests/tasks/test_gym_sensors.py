@@ -41,3 +41,22 @@ def test_sensor_only_observation_resets_exactly():
         runs.append([env.step(np.full(4, 0.5, np.float32))[0]["lidar"] for _ in range(3)])
     assert all(np.array_equal(a, b) for a, b in zip(*runs))
     env.close()
+
+
+def test_async_camera_envs_spawned_match_sync():
+    """Camera observations in async vector envs need the 'spawn' start method (OpenGL is not fork-safe, and
+    Gymnasium makes an env in this process first); spawned, they give the same observations as sync envs."""
+    kwargs = {"observation": ("state", "camera"), "time_limit_s": 3.0}
+    results = []
+    for mode, extra in (("sync", {}), ("async", {"vector_kwargs": {"context": "spawn"}})):
+        envs = gymnasium.make_vec("usvsim/StationKeeping-v0", num_envs=2, vectorization_mode=mode, **kwargs, **extra)
+        obs, _ = envs.reset(seed=[11, 12])
+        trace = [obs["state"], obs["camera"]]
+        rng = np.random.default_rng(0)
+        for _ in range(4):
+            obs, reward, *_ = envs.step(rng.uniform(-1, 1, envs.action_space.shape).astype(np.float32))
+            trace += [obs["state"], obs["camera"], reward]
+        envs.close()
+        results.append(trace)
+    assert results[0][-2].std() > 5  # rendered images, not blank frames
+    assert all(np.array_equal(x, y) for x, y in zip(*results))

@@ -22,6 +22,10 @@ class OffscreenViewer:
     ):
         from mujoco import gl_context
 
+        from usvsim.sensors.camera.render import check_gl_fork, note_gl_context
+
+        check_gl_fork()  # a GL context in a child forked after its parent rendered hangs: one clear error instead
+        note_gl_context()
         global_ = sim.model.vis.global_
         size = (max(width, global_.offwidth), max(height, global_.offheight))
         self.sim, self.view = sim, view or View(sim)

@@ -29,6 +29,7 @@ import weakref
 import mujoco
 import numpy as np
 
+from usvsim.core.errors import UsvsimError
 from usvsim.sensors.camera.intrinsics import Intrinsics
 from usvsim.sensors.camera.kernels import finish_rgb_depth, finish_segmentation, finish_segmentation_water
 from usvsim.world.water_visual import WaterUpload, refresh_water_visual
@@ -37,9 +38,29 @@ _R = mujoco.mjtRndFlag
 SKY_ZENITH = np.array([0.55, 0.72, 0.92]) * 255  # the builder's skybox gradient (world/builder.py)
 SKY_HORIZON = np.array([0.95, 0.97, 1.0]) * 255
 PLANE_RENDER_GRID_M = 1e6  # render-grid spacing of planes in sensor contexts: one quad (+ padding strips)
+FORKED_AFTER_RENDER = (
+    "a camera cannot render in a process forked after its parent rendered (OpenGL is not fork-safe): start the "
+    "process with the 'spawn' method (multiprocessing.get_context(\"spawn\"); Gymnasium: gymnasium.make_vec(..., "
+    "vectorization_mode=\"async\", vector_kwargs={\"context\": \"spawn\"}))"
+)
+_gl_pid: int | None = None  # the process that made a GL context (a forked child inherits its parent's pid here)
+
+
+def check_gl_fork() -> None:
+    """Raise in a process forked after its parent made a GL context: EGL/Mesa state copied by fork() is broken, and
+    a new context there hangs for good (inside eglInitialize / MjrContext) instead of failing."""
+    if _gl_pid is not None and _gl_pid != os.getpid():
+        raise UsvsimError(FORKED_AFTER_RENDER)
+
+
+def note_gl_context() -> None:
+    """Record that this process made a GL context (see `check_gl_fork`)."""
+    global _gl_pid
+    _gl_pid = os.getpid()
 
 
 def gl_context(width: int, height: int):
+    check_gl_fork()
     backend = os.environ.get("MUJOCO_GL", "egl").lower()
     if backend == "osmesa":
         from mujoco.osmesa import GLContext
@@ -48,6 +69,7 @@ def gl_context(width: int, height: int):
     else:
         os.environ.setdefault("PYOPENGL_PLATFORM", "egl")
         from mujoco.egl import GLContext
+    note_gl_context()  # before the context: a fork during its making is as broken
     return GLContext(width, height)
 
 
