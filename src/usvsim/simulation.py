@@ -21,7 +21,7 @@ from usvsim.commands import CommandInbox
 from usvsim.config.loader import load_scenario, parse_scenario
 from usvsim.config.scenario import Scenario
 from usvsim.control.factory import control_loop, initial_reference
-from usvsim.core.errors import UsvsimError
+from usvsim.core.errors import Names, UsvsimError
 from usvsim.ground_truth import GroundTruth
 from usvsim.messages.envelope import Envelope
 from usvsim.rendering.wakes import WakeTracks
@@ -50,7 +50,8 @@ class Simulation:
         self.world = world = World(scenario, seed, kinematic_bodies(scenario))  # traffic ships: moving world geoms
         scenario = world.scenario  # with a real place's parts resolved (geo/)
         self._controller_configs = {v.name: v.controller for v in scenario.vessels if v.controller is not None}
-        self.controllers = {name: control_loop(world, name, c) for name, c in self._controller_configs.items()}
+        self.controllers = Names("controller", {name: control_loop(world, name, c)
+                                                for name, c in self._controller_configs.items()})  # fmt: skip
         rec = scenario.outputs.recording
         self.ground_truth = GroundTruth(world, rec.clock_rate_hz, rec.ground_truth_rate_hz)
         self.traffic = Traffic(world, self.controllers)  # other ships: tracks, pilots, awareness, AIS

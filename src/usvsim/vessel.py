@@ -10,6 +10,7 @@ from pydantic import TypeAdapter, ValidationError
 from usvsim.config.loader import first_error_text
 from usvsim.config.schema import did_you_mean
 from usvsim.config.vessel import Buoyancy, Hydrodynamics
+from usvsim.core.errors import Names
 from usvsim.core.transforms import rpy_from_quat
 from usvsim.hydro.thrusters import HOLD_NS
 
@@ -167,8 +168,8 @@ class Vessel(Body):
 
     def __init__(self, world: World, index: int, name: str, model: BodyModel, thrusters: dict[str, Thruster]):
         super().__init__(world, index, name, model)
-        self.thrusters = thrusters
-        self.sensors: dict[str, Any] = {}  # short name → Sensor, filled in by the Simulation
+        self.thrusters = Names("thruster", thrusters)
+        self.sensors: dict[str, Any] = Names("sensor")  # short name → Sensor, filled in by the Simulation
 
     def command(self, thrust: float, angle_rad: float | None = None, hold: bool = True) -> bool:
         """The same command to every thruster (holds until changed, see `Thruster.command`); True if all

@@ -43,3 +43,17 @@ def test_run_rounds_halves_up(seconds, steps):
     sim = Simulation(BOAT)
     sim.run(seconds)
     assert sim.clock.steps == steps
+
+
+def test_an_unknown_name_lists_the_names_there_are():
+    """sim.vessels['nope'] and the like were a bare KeyError: 'nope' (still a KeyError, now an UnknownNameError)."""
+    from usvsim.core.errors import UnknownNameError
+
+    sim = Simulation({**BOAT, "vessels": [{**BOAT["vessels"][0], "sensors": [{"type": "imu", "name": "imu"}]}]})
+    boat = sim.vessels["wamv"]
+    for table, name, names in ((sim.vessels, "nope", "['wamv']"), (sim.bodies, "nope", "['wamv']"),
+                               (sim.sensors, "wamv/x", "['wamv/imu']"), (boat.sensors, "x", "['imu']"),
+                               (boat.thrusters, "x", "'rear_left', 'rear_right'"), (sim.controllers, "x", "[]")):  # fmt: skip
+        with pytest.raises(UnknownNameError, match=f"no .* named '{name}'") as err:
+            table[name]
+        assert isinstance(err.value, KeyError) and names in str(err.value)

@@ -40,3 +40,15 @@ class UnknownNameError(UsvsimError, KeyError):
 
     def __str__(self) -> str:
         return str(self.args[0]) if self.args else ""
+
+
+class Names(dict):
+    """A dict of named things (vessels, bodies, thrusters, sensors, controllers) whose missing name is an
+    UnknownNameError listing the names there are (a bare KeyError: 'nope' named none)."""
+
+    def __init__(self, kind: str, *args, **kwargs):
+        super().__init__(*args, **kwargs)
+        self.kind = kind
+
+    def __missing__(self, key):
+        raise UnknownNameError(f"no {self.kind} named {key!r}; the {self.kind} names: {sorted(self)}")

@@ -10,7 +10,7 @@ from __future__ import annotations
 from collections.abc import Mapping, Sequence
 from typing import TYPE_CHECKING, Any
 
-from usvsim.core.errors import ScenarioError
+from usvsim.core.errors import Names, ScenarioError
 from usvsim.messages import ros
 from usvsim.messages.envelope import EPISODE_TOPIC, Envelope
 from usvsim.sensors.base import Sensor
@@ -77,7 +77,7 @@ class SensorSuite:
     def __init__(self, sim: World, configs: Mapping[str, Sequence[Any]] | None = None):
         if configs is None:
             configs = {v.name: getattr(v, "sensors", None) or () for v in sim.scenario.vessels}
-        self.sensors: dict[str, Sensor] = {}
+        self.sensors: dict[str, Sensor] = Names("sensor")
         self.shared: dict[str, Any] = {}
         names = list(sim.vessels)
         self._reserved = _simulation_topics(sim)
@@ -136,7 +136,7 @@ class SensorSuite:
 
     def of_vessel(self, vessel: str) -> dict[str, Sensor]:
         """The sensors of one vessel, keyed by their short name (`lidar` for `wamv/lidar`)."""
-        return {s.cfg.name: s for s in self.sensors.values() if s.vessel == vessel}
+        return Names("sensor", {s.cfg.name: s for s in self.sensors.values() if s.vessel == vessel})
 
     def observe(self) -> dict[str, Reading | None]:
         """Every sensor's latest reading (None before its first sample), keyed `<vessel>/<name>`."""

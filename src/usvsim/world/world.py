@@ -24,7 +24,7 @@ from usvsim.config.objects import Buoy
 from usvsim.config.scenario import Scenario
 from usvsim.config.vessel import TriangleBuoyancy, VoxelBuoyancy
 from usvsim.core.clock import Clock, period_ns
-from usvsim.core.errors import DivergenceError, ScenarioError, UnknownNameError, UsvsimError
+from usvsim.core.errors import DivergenceError, Names, ScenarioError, UnknownNameError, UsvsimError
 from usvsim.core.overlap import Overlap
 from usvsim.core.rng import RngStreams
 from usvsim.core.transforms import matrix_from_quat, quat_from_rpy
@@ -176,8 +176,8 @@ class World:
         self.settle_hydrostatics()
 
     def _init_handles(self, floating: list[FloatingBody]) -> None:
-        self.vessels: dict[str, Vessel] = {}
-        self.bodies: dict[str, Body] = {}
+        self.vessels: dict[str, Vessel] = Names("vessel")
+        self.bodies: dict[str, Body] = Names("body")
         for i, fb in enumerate(floating):
             if i < len(self.scenario.vessels):
                 handles = {n.split("/", 1)[1]: Thruster(self, k, n) for k, n in enumerate(self.thrusters.names)
