@@ -66,6 +66,7 @@ class Simulation:
         self.episode = 0  # index of the current episode: 0 at construction, +1 at every reset
         self._subscribers: list[Callable[[Envelope], None]] = []
         self._announced = False  # the episode marker, /tf_static and the t = 0 messages go before the first step
+        self._closed = False
 
     @classmethod
     def from_scenario(cls, name_or_path: str | Path, seed: int = 0) -> Simulation:
@@ -130,6 +131,8 @@ class Simulation:
     # -- the loop -------------------------------------------------------------------------------
     def step(self) -> None:
         """Advance one physics step."""
+        if self._closed:  # it stepped the physics, then failed in a closed camera's render context
+            raise UsvsimError("this simulation is closed: make a new one")
         world = self.world
         self.commands.apply()  # a /reset starts the new episode here: its announcement goes out next, before this step's
         self._announce()  # messages (announced first, the step's /clock at 0.01 s went out before the marker and t = 0)
@@ -215,7 +218,12 @@ class Simulation:
         if not callable(callback):  # it failed at the next step, far from the mistake
             raise UsvsimError(f"subscribe: the callback must be callable (a function of one Envelope), not {callback!r}")
         self._subscribers.append(callback)
-        return lambda: self._subscribers.remove(callback)
+
+        def unsubscribe() -> None:  # a second call does nothing (it was a ValueError from list.remove)
+            if callback in self._subscribers:
+                self._subscribers.remove(callback)
+
+        return unsubscribe
 
     @contextmanager
     def record(self, path: str | Path, topics: Iterable[str] | None = None, compression: str = "zstd") -> Iterator[Any]:
@@ -225,7 +233,12 @@ class Simulation:
         from usvsim.io.mcap_recorder import McapRecorder
 
         topics = [topics] if isinstance(topics, str) else topics  # one name: set("/clock") was its characters
-        recorder = McapRecorder(path, compression=compression)  # type: ignore[arg-type]
+        if topics is not None and not (isinstance(topics, Iterable) and all(isinstance(t, str) for t in topics)):
+            raise UsvsimError(f"record: topics is a topic name or names, not {topics!r}")
+        try:
+            recorder = McapRecorder(path, compression=compression)  # type: ignore[arg-type]
+        except OSError as exc:  # a missing folder was a bare FileNotFoundError
+            raise UsvsimError(f"record: cannot write {path}: {exc.strerror or exc}") from None
         wanted = None if topics is None else set(topics)
 
         def write(envelope: Envelope) -> None:
@@ -248,7 +261,8 @@ class Simulation:
         return [gt.episode(self.episode, self.world.seed), *gt.static_transforms(self.sensors.static_transforms())]
 
     def close(self) -> None:
-        """Release sensor resources (render contexts, thread pools)."""
+        """Release sensor resources (render contexts, thread pools); the simulation cannot step after this."""
+        self._closed = True
         self.sensors.close()
         self.traffic.close()
         self.world.close()

@@ -10,7 +10,7 @@ from pydantic import TypeAdapter, ValidationError
 from usvsim.config.loader import first_error_text
 from usvsim.config.schema import did_you_mean
 from usvsim.config.vessel import Buoyancy, Hydrodynamics
-from usvsim.core.errors import Names
+from usvsim.core.errors import InputError, Names
 from usvsim.core.transforms import rpy_from_quat
 from usvsim.hydro.thrusters import HOLD_NS
 
@@ -148,7 +148,7 @@ def _validated(model, annotation, what: str):
         return model
     kinds = ", ".join(repr(get_args(m.model_fields["type"].annotation)[0]) for m in members)
     if not isinstance(model, dict):
-        raise ValueError(f"{what} {model!r}: give a dict like {{'type': ...}} (type one of {kinds}) or a section")
+        raise InputError(f"{what} {model!r}: give a dict like {{'type': ...}} (type one of {kinds}) or a section")
     try:
         return TypeAdapter(annotation).validate_python(model)
     except ValidationError as exc:
@@ -160,7 +160,7 @@ def _validated(model, annotation, what: str):
             text = f"{key}: unknown key" + did_you_mean(key, list(member.model_fields) if member else [])
         else:
             text = first_error_text(exc, model, list(model))
-        raise ValueError(f"{what} {model!r}: {text}") from None
+        raise InputError(f"{what} {model!r}: {text}") from None
 
 
 class Vessel(Body):

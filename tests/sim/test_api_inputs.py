@@ -57,3 +57,29 @@ def test_an_unknown_name_lists_the_names_there_are():
         with pytest.raises(UnknownNameError, match=f"no .* named '{name}'") as err:
             table[name]
         assert isinstance(err.value, KeyError) and names in str(err.value)
+
+
+def test_api_mistakes_are_usvsim_errors_and_change_nothing(tmp_path):
+    """Pose errors were bare ValueErrors (`except UsvsimError` missed them), reset(poses='wamv') said "no body named
+    ['a', 'm', 'v', 'w']", record() into a missing folder a FileNotFoundError and with topics=5 a TypeError, a second
+    unsubscribe a ValueError, and a step after close() advanced the clock, then failed in a closed render context."""
+    from usvsim.core.errors import InputError
+
+    sim = Simulation(BOAT)
+    with pytest.raises(InputError, match="a pose has 6"):
+        sim.vessels["wamv"].teleport((1.0, 2.0))
+    with pytest.raises(InputError, match="poses maps body names"):
+        sim.reset(poses="wamv")  # type: ignore[arg-type]
+    with pytest.raises(UsvsimError, match="cannot write"), sim.record(tmp_path / "no" / "such" / "x.mcap"):
+        pass
+    with pytest.raises(UsvsimError, match="topic name or names"), sim.record(tmp_path / "x.mcap", topics=5):  # type: ignore[arg-type]
+        pass
+    unsubscribe = sim.subscribe(lambda env: None)
+    unsubscribe()
+    unsubscribe()
+    sim.run(0.05)
+    sim.close()
+    steps = sim.clock.steps
+    with pytest.raises(UsvsimError, match="closed"):
+        sim.step()
+    assert sim.clock.steps == steps

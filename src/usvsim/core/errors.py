@@ -34,6 +34,11 @@ class DivergenceError(UsvsimError):
         super().__init__(f"simulation diverged: body '{body}' at t = {time_s:.3f} s {detail}".rstrip())
 
 
+class InputError(UsvsimError, ValueError):
+    """A bad value given to the Python API (a pose, a twist, a model section): `except UsvsimError` and
+    `except ValueError` both catch it."""
+
+
 class UnknownNameError(UsvsimError, KeyError):
     """A name that is not there (a body, a vessel): a KeyError whose text reads as one plain line (KeyError's own
     text is the repr of its message, quotes and escapes included)."""

@@ -13,6 +13,7 @@ from pydantic import ValidationError
 from usvsim.config.base import MAX_COORDINATE_M
 from usvsim.config.loader import first_error_text
 from usvsim.config.vessel import Pose
+from usvsim.core.errors import InputError
 from usvsim.core.transforms import quat_from_rpy
 
 PoseLike = Any  # see `pose_arrays`
@@ -28,7 +29,7 @@ def pose_arrays(pose: PoseLike) -> tuple[np.ndarray, np.ndarray]:
         try:
             pose = Pose.model_validate(dict(pose), strict=False)
         except ValidationError as exc:  # pydantic's several lines with links, as one line naming the key
-            raise ValueError(f"pose {dict(pose)!r}: {first_error_text(exc, dict(pose), list(Pose.model_fields))}") from None
+            raise InputError(f"pose {dict(pose)!r}: {first_error_text(exc, dict(pose), list(Pose.model_fields))}") from None
     if isinstance(pose, Pose):
         rpy = (math.radians(a) for a in (pose.roll_deg, pose.pitch_deg, pose.yaw_deg))
         return np.array(pose.position, dtype=float), np.asarray(quat_from_rpy(*rpy), dtype=float)
@@ -41,12 +42,12 @@ def pose_arrays(pose: PoseLike) -> tuple[np.ndarray, np.ndarray]:
         elif flat.size == 7:
             pos, quat = flat[:3], flat[3:]
         else:
-            raise ValueError(f"a pose has 6 (x, y, z, roll, pitch, yaw) or 7 (x, y, z, qw, qx, qy, qz) numbers, got {flat.size}")
+            raise InputError(f"a pose has 6 (x, y, z, roll, pitch, yaw) or 7 (x, y, z, qw, qx, qy, qz) numbers, got {flat.size}")
     norm = float(np.linalg.norm(quat)) if quat.shape == (4,) else 0.0
     if pos.shape != (3,) or not (np.isfinite(pos).all() and np.isfinite(quat).all() and norm > 0):
-        raise ValueError(f"not a finite pose: position {pos}, quaternion {quat}")
+        raise InputError(f"not a finite pose: position {pos}, quaternion {quat}")
     if np.abs(pos).max() > MAX_COORDINATE_M:  # the limit of every scenario position (docs/limits.md)
-        raise ValueError(f"position {pos.tolist()} is more than {MAX_COORDINATE_M / 1000:.0f} km from the world origin "
+        raise InputError(f"position {pos.tolist()} is more than {MAX_COORDINATE_M / 1000:.0f} km from the world origin "
                          "(positions must be within it)")  # fmt: skip
     return pos.copy(), quat / norm
 
@@ -57,5 +58,5 @@ def twist_array(twist) -> np.ndarray:
         return np.zeros(6)
     out = np.asarray(twist, dtype=float).reshape(-1)
     if out.shape != (6,) or not np.isfinite(out).all():
-        raise ValueError(f"a twist is 6 finite numbers (u, v, w, p, q, r in base_link, FLU), got {twist!r}")
+        raise InputError(f"a twist is 6 finite numbers (u, v, w, p, q, r in base_link, FLU), got {twist!r}")
     return out

@@ -24,7 +24,14 @@ from usvsim.config.objects import Buoy
 from usvsim.config.scenario import Scenario
 from usvsim.config.vessel import TriangleBuoyancy, VoxelBuoyancy
 from usvsim.core.clock import Clock, period_ns
-from usvsim.core.errors import DivergenceError, Names, ScenarioError, UnknownNameError, UsvsimError
+from usvsim.core.errors import (
+    DivergenceError,
+    InputError,
+    Names,
+    ScenarioError,
+    UnknownNameError,
+    UsvsimError,
+)
 from usvsim.core.overlap import Overlap
 from usvsim.core.rng import RngStreams
 from usvsim.core.transforms import matrix_from_quat, quat_from_rpy
@@ -212,6 +219,9 @@ class World:
         random streams, ocean with its wind and current processes, MuJoCo data, thrusters, marine models
         (the scenario's, histories cleared). `poses` (body name → pose, see `world.poses.pose_arrays`)
         places bodies at rest. No recompilation: the MuJoCo model is kept."""
+        if poses is not None and not isinstance(poses, Mapping):  # a name read as its letters: "no body named ['a', ..."
+            raise InputError(f"reset: poses maps body names to poses, e.g. {{'wamv': (x, y, z, roll, pitch, yaw)}}, "
+                             f"not {type(poses).__name__}")  # fmt: skip
         unknown = sorted(set(poses or ()) - set(self.bodies))
         if unknown:
             raise UnknownNameError(f"no body named {unknown}; bodies: {sorted(self.bodies)}")
