@@ -83,3 +83,22 @@ def test_api_mistakes_are_usvsim_errors_and_change_nothing(tmp_path):
     with pytest.raises(UsvsimError, match="closed"):
         sim.step()
     assert sim.clock.steps == steps
+
+
+def test_a_moored_buoy_placed_beyond_its_line_is_refused():
+    """reset(poses=...) 8-50 m from the anchor of a 6 m line was accepted; the first step diverged (221-2981 rad/s)
+    with an error that blamed the time step (QA)."""
+    from usvsim.core.errors import InputError
+
+    sim = Simulation("harbor")
+    start = sim.bodies["red_1"].position
+    near = (start[0] + 2.0, start[1], 0.0, 0.0, 0.0, 0.0)
+    sim.reset(poses={"red_1": near})  # within the line's reach: fine
+    sim.run(0.5)
+    qpos = sim.data.qpos.copy()
+    far = (start[0] + 20.0, start[1], 0.0, 0.0, 0.0, 0.0)
+    with pytest.raises(InputError, match="beyond its mooring line"):
+        sim.reset(poses={"red_1": far})
+    with pytest.raises(InputError, match="beyond its mooring line"):
+        sim.bodies["red_1"].teleport(far)
+    assert np.array_equal(sim.data.qpos, qpos)

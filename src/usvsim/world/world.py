@@ -226,6 +226,7 @@ class World:
         if unknown:
             raise UnknownNameError(f"no body named {unknown}; bodies: {sorted(self.bodies)}")
         placed = {self.bodies[name].index: pose_arrays(pose) for name, pose in (poses or {}).items()}  # checked first
+        self._check_moorings(placed)
         seed = self.seed if seed is None else seed
         self.rng.reseed(seed)  # checks the seed before anything changes
         self.seed = self.rng.seed
@@ -249,6 +250,7 @@ class World:
         marine models' histories restart (as after a model switch)."""
         pos, quat = pose_arrays(pose)
         nu = twist_array(twist)  # both checked before anything changes (a bad twist counted a teleport)
+        self._check_moorings({index: (pos, quat)})
         self.teleports += 1
         self.body_teleports[index] += 1
         self._place(index, pos, quat, nu)
@@ -257,14 +259,35 @@ class World:
         self._update_kinematics()
         self.settle_hydrostatics()
 
-    def _place(self, index: int, pos: np.ndarray, quat: np.ndarray, nu: np.ndarray) -> None:
-        """base_link at `pos` with orientation `quat` and body-frame twist `nu` (of base_link's origin)."""
+    def _place(self, index: int, pos: np.ndarray, quat: np.ndarray, nu: np.ndarray, data=None) -> None:
+        """base_link at `pos` with orientation `quat` and body-frame twist `nu` (of base_link's origin), in `data`
+        (default: the simulation's)."""
+        data = self.data if data is None else data
         a, d = self.qpos_adr[index], self.qvel_adr[index]
         rot = matrix_from_quat(quat)
         com = rot @ self._com_body[index]  # the free joint's origin is the CoM (world/builder.py)
-        self.data.qpos[a : a + 3], self.data.qpos[a + 3 : a + 7] = pos + com, quat
-        self.data.qvel[d : d + 3] = rot @ nu[:3] + np.cross(rot @ nu[3:], com)  # world-frame CoM velocity
-        self.data.qvel[d + 3 : d + 6] = nu[3:]  # and body-frame angular velocity
+        data.qpos[a : a + 3], data.qpos[a + 3 : a + 7] = pos + com, quat
+        data.qvel[d : d + 3] = rot @ nu[:3] + np.cross(rot @ nu[3:], com)  # world-frame CoM velocity
+        data.qvel[d + 3 : d + 6] = nu[3:]  # and body-frame angular velocity
+
+    def _check_moorings(self, placed: dict[int, tuple[np.ndarray, np.ndarray]]) -> None:
+        """An InputError if a pose puts a moored body beyond its line's reach from the anchor (MuJoCo's tendon limit
+        then tears it back: the first step diverged, the error blaming the time step)."""
+        names = list(self.bodies)
+        lines = {i: mujoco.mj_name2id(self.model, mujoco.mjtObj.mjOBJ_TENDON, f"{names[i]}_mooring") for i in placed}
+        lines = {i: t for i, t in lines.items() if t >= 0}
+        if not lines:
+            return
+        data = mujoco.MjData(self.model)
+        data.qpos[:] = self.data.qpos
+        for i in lines:
+            self._place(i, *placed[i], np.zeros(6), data)
+        mujoco.mj_fwdPosition(self.model, data)
+        for i, t in lines.items():
+            length, reach = float(data.ten_length[t]), float(self.model.tendon_range[t, 1])
+            if length > reach + 1e-6:
+                raise InputError(f"'{names[i]}' would be {length:.3g} m from its anchor, beyond its mooring line "
+                                 f"({reach:.3g} m): place it within the line's reach")  # fmt: skip
 
     def _restore_scenario_models(self) -> None:
         buoyancy, hydro = self._scenario_models
