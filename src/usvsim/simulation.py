@@ -233,13 +233,13 @@ class Simulation:
         from usvsim.io.mcap_recorder import McapRecorder
 
         topics = [topics] if isinstance(topics, str) else topics  # one name: set("/clock") was its characters
-        if topics is not None and not (isinstance(topics, Iterable) and all(isinstance(t, str) for t in topics)):
+        wanted = None if topics is None else set(topics) if isinstance(topics, Iterable) else {topics}  # read once
+        if wanted is not None and not all(isinstance(t, str) for t in wanted):
             raise UsvsimError(f"record: topics is a topic name or names, not {topics!r}")
         try:
             recorder = McapRecorder(path, compression=compression)  # type: ignore[arg-type]
         except OSError as exc:  # a missing folder was a bare FileNotFoundError
             raise UsvsimError(f"record: cannot write {path}: {exc.strerror or exc}") from None
-        wanted = None if topics is None else set(topics)
 
         def write(envelope: Envelope) -> None:
             if wanted is None or envelope.topic in wanted:

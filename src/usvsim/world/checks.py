@@ -48,8 +48,9 @@ def hull_volume_m3(vertices: np.ndarray, faces: np.ndarray) -> float:
 def setup_warnings(world) -> list[str]:
     """Warnings for a `World`'s initial state (bodies, hulls, water level, contacts)."""
     env = world.scenario.environment
+    start = _start_data(world)
     return [*_displacement(world), *_far_from_water(world), *_sea(env), *_tiles(env, world.ocean.waves),
-            *_overlaps(world), *_sensors_inside(world), *_route_stops(world.scenario), *land_warnings(world),
+            *_overlaps(world, start), *_sensors_inside(world, start), *_route_stops(world.scenario), *land_warnings(world),
             *_undamped(world.scenario)]  # fmt: skip
 
 
@@ -213,10 +214,15 @@ def _far_from_water(sim) -> list[str]:
     return out
 
 
-def _overlaps(sim) -> list[str]:
+def _start_data(sim) -> mujoco.MjData:
+    """A copy of the world's MuJoCo data at its start pose, forwarded (contacts, geom poses) for the checks."""
     data = mujoco.MjData(sim.model)
     data.qpos[:] = sim.data.qpos
     mujoco.mj_forward(sim.model, data)
+    return data
+
+
+def _overlaps(sim, data: mujoco.MjData) -> list[str]:
     labels = _geom_labels(sim.model)
     pairs = set()
     for contact in data.contact[: data.ncon]:
@@ -225,13 +231,10 @@ def _overlaps(sim) -> list[str]:
     return [f"{a[1]} and {b[1]} overlap at the start: they will be pushed apart" for a, b in sorted(pairs)]
 
 
-def _sensors_inside(sim) -> list[str]:
+def _sensors_inside(sim, data: mujoco.MjData) -> list[str]:
     """Cameras and LiDARs mounted inside their own vessel's geometry: the rays along ±x, ±y, ±z (world) from the mount
     all hit that vessel (MuJoCo's ray cast over every geom group); such a sensor sees only the inside of its hull."""
     model = sim.model
-    data = mujoco.MjData(model)
-    data.qpos[:] = sim.data.qpos
-    mujoco.mj_forward(model, data)
     out, s, geom = [], sim.state, np.zeros(1, dtype=np.int32)
     for cfg in sim.scenario.vessels:
         i = sim.vessels[cfg.name].index
