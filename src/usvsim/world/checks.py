@@ -28,6 +28,7 @@ import shapely
 
 from usvsim.config.loader import base_dir, source_of
 from usvsim.config.traffic import Route
+from usvsim.geo.resolve import frame_of
 from usvsim.ocean.fft import FFTWaveField
 from usvsim.ocean.presets import hs_tp
 from usvsim.traffic.kernels import TrackTable
@@ -99,13 +100,12 @@ def land_warnings(world) -> list[str]:
         return []
     land = shapely.union_all(polygons)
     origin = world.scenario.world.origin
+    frame = frame_of(world.scenario) if origin is not None else None  # the scenario's own, made once
 
     def where(x: float, y: float) -> str:
         text = f"({x:.1f}, {y:.1f}) m"
-        if origin is not None:
-            from usvsim.geo.frame import GeoFrame
-
-            lat, lon, _ = GeoFrame(origin.latitude_deg, origin.longitude_deg).to_geodetic(x, y)[0]
+        if frame is not None:
+            lat, lon, _ = frame.to_geodetic(x, y)[0]
             text += f" (lat {lat:.6f}, lon {lon:.6f})"
         return text
 
