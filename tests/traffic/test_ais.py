@@ -17,6 +17,9 @@ KN = 1852.0 / 3600.0
 
 def test_class_a_intervals_follow_the_table():
     assert ais.class_a_interval(0.0, False) == 180.0
+    assert ais.class_a_interval(0.0, False, moored=False) == 10.0  # stopped, not moored: the own ship
+    assert ais.class_a_interval(2.0, False, moored=True) == 180.0  # moored, not faster than 3 kn
+    assert ais.class_a_interval(4.0, False, moored=True) == 10.0
     assert ais.class_a_interval(10.0, False) == 10.0
     assert ais.class_a_interval(10.0, True) == pytest.approx(10.0 / 3.0)
     assert ais.class_a_interval(18.0, False) == 6.0

@@ -550,3 +550,26 @@ def test_a_topic_clash_with_traffic_names_the_key_that_was_set(scenario_of, traf
     with pytest.raises(ScenarioError, match=words) as info:
         Simulation(scenario)
     assert info.value.key_path == where
+
+
+def test_the_own_ship_at_rest_reports_under_way_and_a_stopped_ship_moored(scenario_of):
+    """ITU-R M.1371 navigational status decoded by pyais: the own ship (a vehicle under its own control) at rest
+    reports 'under way using engine' (0) every 10 s (the 0-14 kn row), not 'moored' every 3 min; a traffic ship
+    at rest (a zero-speed constant motion) reports moored (5) (every 3 min: test_ais)."""
+    from pyais import decode
+
+    sc = scenario_of({"world": {"physics_rate_hz": 50}, "vessels": [OWN],
+                      "outputs": {"recording": {"clock_rate_hz": 10, "ground_truth_rate_hz": 10}}, "traffic": {
+        "ais": {"own_ship": {"vessel": "wamv", "mmsi": 257000009}},
+        "ships": [ship("barge", 257000001, {"type": "constant", "position": [50, 50], "course_deg": 0, "speed_mps": 0})]}})  # fmt: skip
+    sim = Simulation(sc)
+    reports: dict[int, list[tuple[float, int]]] = {}
+    sim.subscribe(lambda env: [reports.setdefault(m.mmsi, []).append((env.stamp_ns * 1e-9, m.status))
+                               for m in [decode(env.msg.sentence)] if m.msg_type == 1]
+                  if env.topic == "/ais" and env.msg.sentence.startswith("!AIVDM,1,1,") else None)  # fmt: skip
+    sim.run(36.0)
+    sim.close()
+    own, barge = reports[257000009], reports[257000001]
+    assert {status for _, status in own} == {0} and {status for _, status in barge} == {5}
+    assert len(own) >= 3 and np.diff([t for t, _ in own]) == pytest.approx(10.0, abs=0.02)
+    assert len(barge) == 1

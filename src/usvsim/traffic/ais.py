@@ -15,7 +15,9 @@ Reporting intervals, ITU-R M.1371-5 Annex 1 table 1 (Class A) and Class B "CS" (
 Static and voyage data (type 5; Class B: type 24 parts A and B): every 6 min.
 
 "Changing course" here means a rate of turn above `TURNING_DEG_PER_MIN` (the standard leaves the threshold
-to the equipment). A ship is taken as moored when it moves slower than 0.1 kn (navigational status 5).
+to the equipment). A traffic ship is taken as moored when it moves slower than 0.1 kn (navigational status 5);
+the own ship (a vehicle under its own control) always reports "under way using engine" (status 0), stopped or
+not, and its reporting interval is that of the 0-14 kn rows when stopped.
 """
 
 from __future__ import annotations
@@ -33,10 +35,10 @@ MOORED_KN = 0.1
 HEADING_NA = 511
 
 
-def class_a_interval(sog_kn: float, turning: bool) -> float:
-    """Seconds between Class A position reports (table above)."""
-    if sog_kn < MOORED_KN:
-        return 180.0
+def class_a_interval(sog_kn: float, turning: bool, moored: bool | None = None) -> float:
+    """Seconds between Class A position reports (table above); `moored` None: moored when slower than MOORED_KN."""
+    if sog_kn < MOORED_KN if moored is None else moored:
+        return 180.0 if sog_kn <= 3.0 else 10.0
     if sog_kn <= 14.0:
         return 10.0 / 3.0 if turning else 10.0
     if sog_kn <= 23.0:
@@ -60,6 +62,12 @@ class Report:
     cog_deg: float
     heading_deg: int  # HEADING_NA when unknown
     utc_second: int
+    moored: bool | None = None  # Class A navigational status 5 (else 0); None: moored when slower than MOORED_KN
+
+    @property
+    def status(self) -> int:
+        """Class A navigational status: 5 moored, 0 under way using engine."""
+        return 5 if (self.sog_kn < MOORED_KN if self.moored is None else self.moored) else 0
 
 
 def _clip_cog(cog_deg: float) -> float:
@@ -77,7 +85,7 @@ def _position_fields(r: Report, ais_class: str) -> dict:
             "course": _clip_cog(r.cog_deg), "heading": r.heading_deg, "second": r.utc_second}  # fmt: skip
     if ais_class == "A":
         # manoeuvre indicator 0 = not available (pyais's default, 3, is not defined by M.1371)
-        return data | {"type": 1, "status": 5 if r.sog_kn < MOORED_KN else 0, "turn": -128, "maneuver": 0}
+        return data | {"type": 1, "status": r.status, "turn": -128, "maneuver": 0}
     return data | {"type": 18, "cs": 1}
 
 
@@ -96,8 +104,7 @@ def position_sentence(r: Report, ais_class: str, channel: str = "A") -> str:
     speed, course = int(min(r.sog_kn, 102.2) * 10.0), int(_clip_cog(r.cog_deg) * 10.0)
     lon, lat = round(r.lon_deg * 600000.0), round(r.lat_deg * 600000.0)
     if ais_class == "A":
-        status = 5 if r.sog_kn < MOORED_KN else 0
-        values = (1, 0, r.mmsi, status, -128, speed, 0, lon, lat, course, r.heading_deg, r.utc_second, 0, 0, 0, 0)
+        values = (1, 0, r.mmsi, r.status, -128, speed, 0, lon, lat, course, r.heading_deg, r.utc_second, 0, 0, 0, 0)
         widths = _TYPE1
     else:
         values = (18, 0, r.mmsi, 0, speed, 0, lon, lat, course, r.heading_deg, r.utc_second, 0, 1, 0, 0, 0, 0, 0, 0, 0)

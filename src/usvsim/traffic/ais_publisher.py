@@ -125,7 +125,8 @@ class AisPublisher:
         turn_deg_min = 0.0 if math.isnan(t.last_yaw) or now <= t.last_t else \
             abs(math.degrees(math.remainder(yaw - t.last_yaw, 2 * math.pi))) * 60.0 / (now - t.last_t)  # fmt: skip
         turning = turn_deg_min > ais.TURNING_DEG_PER_MIN
-        interval = ais.class_a_interval(sog_kn, turning) if t.ais_class == "A" else ais.class_b_interval(sog_kn)
+        moored = False if t.ship is None else None  # the own ship is under way, stopped or not
+        interval = ais.class_a_interval(sog_kn, turning, moored) if t.ais_class == "A" else ais.class_b_interval(sog_kn)
         t.last_yaw, t.last_t = yaw, now
         if self.cfg.dropout_probability > 0 and self.rng.random() < self.cfg.dropout_probability:
             self.dropped += 1
@@ -136,7 +137,7 @@ class AisPublisher:
         o = self.origin
         lat, lon = ais.enu_to_latlon(x, y, o.latitude_deg, o.longitude_deg)
         cog = math.degrees(math.atan2(vx, vy)) % 360.0
-        report = ais.Report(t.mmsi, lat, lon, sog_kn, cog, ais.heading_deg(yaw), int(now) % 60)
+        report = ais.Report(t.mmsi, lat, lon, sog_kn, cog, ais.heading_deg(yaw), int(now) % 60, moored)
         return interval, [ais.position_sentence(report, t.ais_class)]
 
     def _publish(self, world: World, sentences: list[str], publish: bool) -> list[Envelope]:
