@@ -294,10 +294,9 @@ class MarinePass:
 
     def set_light(self, light: Daylight, look, level_m: float) -> None:
         """Sun, sky, fog and water uniforms for this frame."""
-        from usvsim.rendering.weather import extinction_per_m
+        from usvsim.rendering.weather import fog_extinction_per_m
 
-        fog_sigma = 0.0 if look.fog.visibility_m is None else 3.912 / look.fog.visibility_m
-        fog_sigma += extinction_per_m(look.rain.rate_mm_h)  # rain thins the air like fog
+        fog_sigma = fog_extinction_per_m(look)  # fog and rain (datasets/fog_sight.py labels with the same)
         brightness = float(np.clip(np.dot(light.ambient * 3.0 + light.sun_color * max(light.sun_dir[2], 0.0), (0.3, 0.6, 0.1)), 0.02, 1.2))  # fmt: skip
         common = {"u_sun_dir": tuple(light.sun_dir), "u_sun_color": tuple(light.sun_color),
                   "u_ambient": tuple(light.ambient), "u_haze_color": tuple(light.horizon),

@@ -41,6 +41,14 @@ def extinction_per_m(rate_mm_h: float) -> float:
     return 0.0 if rate_mm_h <= 0 else 0.25e-3 * rate_mm_h**0.63
 
 
+def fog_extinction_per_m(look) -> float:
+    """The shader look's fog extinction at sea level (1/m): Koschmieder's 3.912 / `fog.visibility_m` (contrast 2 %
+    at the visibility; 0 without fog) plus the rain's. Shared by the fog pass (marine.py) and the labels
+    (datasets/fog_sight.py)."""
+    fog = 0.0 if look.fog.visibility_m is None else 3.912 / look.fog.visibility_m
+    return fog + extinction_per_m(look.rain.rate_mm_h)  # rain thins the air like fog
+
+
 def _rng(seed: int, name: str, *extra: int) -> np.random.Generator:
     return np.random.default_rng([int(seed) & 0xFFFFFFFF, zlib.crc32(name.encode()), *extra])
 
