@@ -26,7 +26,9 @@ def dataset_command(
     ] = None,
     resolution: Annotated[str | None, typer.Option(help="WIDTHxHEIGHT for every camera")] = None,
     splits: Annotated[str, typer.Option(help="train,val,test fractions")] = "0.8,0.1,0.1",
-    min_visible_pixels: Annotated[int, typer.Option(help="leave out objects with fewer visible pixels")] = 20,
+    min_visible_pixels: Annotated[int, typer.Option(
+        help="leave out objects with fewer visible pixels (in fog: pixels that keep at least 2 % of their contrast, "
+        "docs/datasets.md)")] = 20,
     min_visible_fraction: Annotated[
         float, typer.Option(help="leave out objects with a smaller visible_fraction (visible pixels / pixels of the "
                                  "object drawn alone, 0-1)")

@@ -31,6 +31,7 @@ from usvsim.config.loader import parse_scenario, resolve
 from usvsim.core.errors import ScenarioError, UsvsimError
 from usvsim.core.transforms import quat_from_rpy, quat_multiply
 from usvsim.datasets.amodal import AmodalCounter
+from usvsim.datasets.fog_sight import FogSight
 from usvsim.datasets.labels import Labeller
 from usvsim.datasets.look import LookAdapter
 from usvsim.datasets.randomization import Choice, Normal, Uniform, draw, draw_all, load_randomization, nested
@@ -195,13 +196,14 @@ class DatasetGenerator:
         ]
         objects = catalogue(self.sim.world)
         self.buoys = [o.name for o in objects if o.category == "buoy"]
-        self.labellers, self.looks, self.amodals = [], [], []
+        self.labellers, self.looks, self.amodals, self.fogs = [], [], [], []
         for vessel, cam in self.cameras:
             mine = [o for o in objects if o.name != vessel]
             self.labellers.append(Labeller(self.sim.model, mine, cam.intrinsics, cam.cfg.near_m,
                                            camera_planes(cam.intrinsics, cam.cfg.near_m)))  # fmt: skip
             self.looks.append(LookAdapter(self.sim.world, cam.renderer, cam.intrinsics))
             self.amodals.append(AmodalCounter(self.sim.model, mine, self.labellers[-1].owner))
+            self.fogs.append(FogSight(cam.intrinsics))
         self.writer = DatasetWriter(spec.out, spec.formats)
         self.frames_written = 0
 
@@ -304,20 +306,26 @@ class DatasetGenerator:
 
     def render(self, k: int, pos, rot, look):
         """Camera k's images (rgb, depth, segmentation) from pose (pos ENU m, FLU → world rotation) under
-        `look`, and its object labels (amodal masks rendered for the visible fractions)."""
+        `look`, and its object labels (amodal masks rendered for the visible fractions; only the pixels the fog
+        leaves visible, datasets/fog_sight.py: images['fog_hidden'] marks the others when there is fog)."""
         (_, cam), lab, sim = self.cameras[k], self.labellers[k], self.sim
         self.looks[k].before(look)
         images = cam.render(sim.world, pose=(pos, rot), streams=("rgb", "depth", "segmentation"))
-        labels = lab.objects_in(sim, images["segmentation"], pos, rot @ OPTICAL_ROT, self.spec.min_visible_pixels,
+        rot_optical = rot @ OPTICAL_ROT
+        fog = self.fogs[k].frame(look, images["depth"], pos, rot_optical, sim.world.ocean.level_m)
+        labels = lab.objects_in(sim, images["segmentation"], pos, rot_optical, self.spec.min_visible_pixels,
                                 self.spec.min_visible_fraction,
-                                partial(self.amodals[k].counts, cam, sim, (pos, rot)) if self.spec.amodal_masks else None)  # fmt: skip
+                                partial(self.amodals[k].counts, cam, sim, (pos, rot)) if self.spec.amodal_masks else None,
+                                fog)  # fmt: skip
+        if fog is not None:
+            images["fog_hidden"] = fog.hidden
         return images, labels
 
     def _finish(self, adapter, lab, look, images, labels, where, meta, rng_key):
         """Worker thread: look on the image, masks, COCO records, files."""
         split, stem, image_id = where
         rgb = adapter.after(look, images["rgb"], images["depth"], np.random.default_rng(rng_key))
-        instance, semantic = lab.masks(images["segmentation"], labels)
+        instance, semantic = lab.masks(images["segmentation"], labels, images.get("fog_hidden"))
         records = self.writer.coco_records(split, stem, image_id, rgb.shape, instance, labels)
         self.writer.frame(split, stem, image_id, rgb, instance, semantic, labels, meta)
         return records

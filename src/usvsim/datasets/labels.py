@@ -10,6 +10,10 @@ Boxes are in pixel-edge coordinates (COCO: the pixel at column u covers [u, u + 
   (sensors/camera/clip.py): where the whole object would be if nothing hid it;
 - visible_fraction: visible pixels / pixels of the amodal mask (the object drawn alone, clipped to the
   image; datasets/amodal.py), in 0–1 (1: unoccluded); truncated: the amodal box reaches the image edge.
+
+In fog, a pixel is visible only where the fog's transmittance along its ray reaches Koschmieder's 2 %
+(datasets/fog_sight.py): pixels the fog hides count nowhere (pixel counts, visible box, fraction, instance
+mask), and fog_transmittance is the mean transmittance over the visible pixels (1.0 without fog).
 """
 
 from __future__ import annotations
@@ -19,6 +23,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from usvsim.config.objects import COLORS
+from usvsim.datasets.fog_sight import FogFrame
 from usvsim.sensors.camera.boxes2d import label_stats
 from usvsim.sensors.camera.clip import image_box
 from usvsim.sensors.objects import TrackedObject, geom_owner
@@ -44,6 +49,7 @@ class ObjectLabel:
     visible_pixels: int
     visible_fraction: float
     truncated: bool
+    fog_transmittance: float = 1.0  # mean over the visible pixels of exp(-fog optical depth) along the ray
 
 
 class Labeller:
@@ -60,21 +66,30 @@ class Labeller:
         self.semantic_lut = sem
         self.instance_lut = self.owner.astype(np.uint16)
 
-    def masks(self, seg: np.ndarray, labels: list[ObjectLabel]) -> tuple[np.ndarray, np.ndarray]:
+    def masks(self, seg: np.ndarray, labels: list[ObjectLabel], hidden: np.ndarray | None = None):
         """(instance mask uint16: object index + 1 of the `labels`' objects, 0 elsewhere; semantic mask uint8:
         class id) of a segmentation. Objects left out of the labels (fewer visible pixels or a smaller fraction
-        than asked) are 0 in the instance mask, which holds only ids that have an annotation; they keep their
-        class in the semantic mask."""
+        than asked, or hidden by fog) are 0 in the instance mask, which holds only ids that have an annotation;
+        they keep their class in the semantic mask. `hidden` (FogFrame.hidden): pixels the fog hides, 0 in the
+        instance mask too."""
         keep = np.zeros(len(self.objects) + 1, bool)
         keep[[label.instance for label in labels]] = True
-        return np.where(keep[self.instance_lut], self.instance_lut, 0).astype(np.uint16)[seg], self.semantic_lut[seg]
+        instance = np.where(keep[self.instance_lut], self.instance_lut, 0).astype(np.uint16)[seg]
+        if hidden is not None:
+            instance[hidden] = 0
+        return instance, self.semantic_lut[seg]
 
     def objects_in(self, sim, seg: np.ndarray, pos_world, rot_optical, min_pixels: int, min_fraction: float,
-                   amodal_pixels=None):  # fmt: skip
+                   amodal_pixels=None, fog: FogFrame | None = None):  # fmt: skip
         """ObjectLabel of every object with at least `min_pixels` visible pixels and `min_fraction`.
         `amodal_pixels(indices, boxes)` → {object index: amodal mask pixels} (datasets/amodal.py); None: the
-        fraction falls back to the boxes' area ratio."""
-        counts, bounds = label_stats(seg, self.owner, len(self.objects))
+        fraction falls back to the boxes' area ratio. `fog` (FogSight.frame): only pixels the fog leaves
+        visible count; it marks the others in `fog.hidden`."""
+        if fog is None:
+            counts, bounds = label_stats(seg, self.owner, len(self.objects))
+            keep_sum = counts.astype(np.float64)
+        else:
+            counts, bounds, keep_sum = fog.stats(seg, self.owner, len(self.objects))
         found = [int(k) for k in np.flatnonzero(counts[1:] >= max(min_pixels, 1))]
         boxes = {k: self._boxes(sim, k, bounds[k + 1], pos_world, rot_optical) for k in found}
         amodal_n = None
@@ -93,7 +108,8 @@ class Labeller:
                 continue
             truncated = bool(amodal[0] <= 0 or amodal[1] <= 0 or amodal[2] >= w or amodal[3] >= h)
             out.append(ObjectLabel(int(k + 1), self.objects[k].name, self.objects[k].label, tuple(visible.tolist()),
-                                   tuple(amodal.tolist()), int(counts[k + 1]), min(float(fraction), 1.0), truncated))  # fmt: skip
+                                   tuple(amodal.tolist()), int(counts[k + 1]), min(float(fraction), 1.0), truncated,
+                                   float(keep_sum[k + 1] / counts[k + 1])))  # fmt: skip
         return out
 
     def _boxes(self, sim, k: int, pixel_bounds, pos_world, rot_optical):

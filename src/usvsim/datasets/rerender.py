@@ -46,7 +46,7 @@ def rerender(root: Path, stem: str) -> dict:
         images, labels = gen.render(k, pos, rot, look)
         rng = np.random.default_rng([run["seed"], meta["frame"], k])
         rgb = gen.looks[k].after(look, images["rgb"], images["depth"], rng)
-        instance, semantic = gen.labellers[k].masks(images["segmentation"], labels)
+        instance, semantic = gen.labellers[k].masks(images["segmentation"], labels, images.get("fog_hidden"))
     finally:
         gen.close()
     return {"rgb": rgb, "instance": instance, "semantic": semantic, "labels": labels}

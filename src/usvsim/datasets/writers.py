@@ -6,7 +6,8 @@ Layout under the output folder (`<split>`: train, val, test; `<stem>`: frame num
   masks/instance/<split>/<stem>.png      uint16: object index + 1 (0: none); ids as in the COCO file
   masks/semantic/<split>/<stem>.png      uint8: class id (classes.json)
   annotations/<split>.json               COCO: bbox = visible box, segmentation = uncompressed RLE,
-                                         plus amodal_bbox, visible_fraction, truncated, object name
+                                         plus amodal_bbox, visible_fraction, truncated, object name,
+                                         fog_transmittance (datasets/fog_sight.py)
   meta/<stem>.json                       everything needed to re-render the frame (look, poses, qpos, time)
   data.yaml, classes.json, dataset.json  YOLO data file, class table (ids, LaRS groups), the run's settings
 All files are written with sorted keys and fixed precision, so the same seed gives the same bytes.
@@ -195,7 +196,7 @@ class DatasetWriter:
                 "bbox": _round([x0, y0, x1 - x0, y1 - y0]), "area": lab.visible_pixels, "iscrowd": 0,
                 "segmentation": rle(cols, shape, int(x0) * h), "amodal_bbox": _round([ax0, ay0, ax1 - ax0, ay1 - ay0]),
                 "visible_fraction": round(lab.visible_fraction, 4), "truncated": lab.truncated, "object": lab.name,
-                "instance": lab.instance})  # fmt: skip
+                "instance": lab.instance, "fog_transmittance": round(lab.fog_transmittance, 4)})  # fmt: skip
         return split, image, anns
 
     def add_coco(self, records) -> None:
