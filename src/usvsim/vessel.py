@@ -70,6 +70,12 @@ class Thruster:
         """Current azimuth angle (rad, CCW from the mounting heading)."""
         return float(self._world.thrusters.angle[self._i])
 
+    @property
+    def immersion(self) -> float:
+        """Wet fraction of the propeller disc in the last step (0 in the air, 1 under water): the hull feels
+        `thrust_n` times this."""
+        return float(self._world.thrusters.wet[self._i])
+
 
 class Body:
     """A floating body (vessel or buoy): pose of its frame in the world, twist, hydrostatic outputs."""

@@ -123,6 +123,11 @@ class Thruster(Section):
     time_constant_s: PositiveFloat = 0.2
     max_rate_n_s: PositiveFloat | None = None
     azimuth: Azimuth | None = None
+    propeller_diameter_m: PositiveFloat | None = Field(
+        default=0.2,
+        description="propeller disc (vertical, centred at `position`), m: the thrust scales with its area under the "
+        "local water surface (none in the air); null: full thrust wherever the point is",
+    )
 
 
 class WaterSampling(Section):

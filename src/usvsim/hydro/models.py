@@ -141,7 +141,7 @@ class MarineModels:
             t, s = thrusters, state
             args = (s.rot, s.vcom_world, s.omega_body, water_vel_com, s.nu, hydrostatics.force, hydrostatics.torque,
                     hydrostatics.volume, self.rest_volume, self._state_space, self._wind_kind, self._wind_coef,
-                    self.rho_air, wind_world, t.params, t.cmd_u, t.cmd_angle, t.last_cmd_ns, t.timeout_ns, t.thrust, t.angle, t.body, com_body,
+                    self.rho_air, wind_world, t.params, t.cmd_u, t.cmd_angle, t.last_cmd_ns, t.timeout_ns, t.thrust, t.angle, t.wet, t.body, com_body,
                     self.world_force, self.world_torque, self.displaced_volume_m3, self.body_wrench, self._scratch,
                     t.wrench_body, xfrc)  # fmt: skip
             self._tail = bound = (state, water_vel_com, xfrc, args)

@@ -5,6 +5,13 @@ thrust vector points along heading `mount_yaw + angle` in the body x-y plane (RE
 turns it counter-clockwise seen from above). Commands are a normalized thrust u in [-1, 1] and an
 azimuth angle in radians. Thrust magnitude and angle follow first-order lags with rate limits
 (thesis §4.4.7), integrated exactly over each physics step.
+
+A propeller acts only where it is in the water: its disc (diameter `propeller_diameter_m`, vertical, centred
+at the force point) delivers the thrust times the fraction of its area under the local surface, found each
+step from the wave field at the disc's centre (`wet`: 1 when the disc's top is under water, 0 when its bottom
+is above it). The motor's thrust state (`thrust`) keeps following the command; only the force on the hull
+fades. Ventilation losses beyond the lost disc area (air drawn down a propeller close to the surface) are not
+modelled.
 """
 
 from __future__ import annotations
@@ -16,6 +23,7 @@ import numpy as np
 from numba import njit
 
 from usvsim.config.vessel import Thruster
+from usvsim.ocean.fft_kernels import heights_cached
 
 MAP_CODES = {"linear": 0, "quadratic": 1, "glf": 2}
 HOLD_NS = 2**62  # the stamp of a command that holds until changed: the watchdog never expires it
@@ -44,6 +52,58 @@ def thrust_map(u, kind, max_fwd, max_rev):
 
 
 @njit(cache=True)
+def disc_wet_fraction(depth, radius):
+    """Fraction of the area of a vertical disc of `radius` (m) under a level surface `depth` (m) above its
+    centre (negative: the centre is in the air): 1 - (θ - sin θ) / 2π, θ = 2 acos(depth / radius) the central
+    angle of the dry segment. radius <= 0: a point force, wet (1) at or under the surface."""
+    if radius <= 0.0:
+        return 1.0 if depth >= 0.0 else 0.0
+    if depth >= radius:
+        return 1.0
+    if depth <= -radius:
+        return 0.0
+    theta = 2.0 * math.acos(depth / radius)
+    return 1.0 - (theta - math.sin(theta)) / (2.0 * math.pi)
+
+
+@njit(cache=True)
+def propeller_points(p, body, pos, rot, out):
+    """World (ENU, m) position of every thruster's force point (`p` columns 10-12, base_link FLU) into out (n, 3),
+    from the body origins `pos` (nb, 3) and rotations `rot` (nb, 3, 3)."""
+    for i in range(p.shape[0]):
+        b = body[i]
+        for k in range(3):
+            out[i, k] = pos[b, k] + rot[b, k, 0] * p[i, 10] + rot[b, k, 1] * p[i, 11] + rot[b, k, 2] * p[i, 12]
+
+
+@njit(cache=True)
+def wet_fractions(p, points, eta, wet):
+    """`wet[i]`: the wet fraction of thruster i's disc (radius `p[i, 13]`, m; < 0: no immersion model, always 1)
+    under the surface height eta[i] (m, ENU) at its centre points[i]."""
+    for i in range(p.shape[0]):
+        wet[i] = 1.0 if p[i, 13] < 0.0 else disc_wet_fraction(eta[i] - points[i, 2], p[i, 13])
+
+
+@njit(cache=True)
+def wet_in_still_water(p, body, pos, rot, level, points, wet):
+    """`propeller_points` and `wet_fractions` under a level surface at z = level (m) in one call."""
+    propeller_points(p, body, pos, rot, points)
+    for i in range(p.shape[0]):
+        wet[i] = 1.0 if p[i, 13] < 0.0 else disc_wet_fraction(level - points[i, 2], p[i, 13])
+
+
+@njit(cache=True)
+def wet_in_fft_sea(p, body, pos, rot, level, tiles, wts, inv_cells, eta, band_h, cache, stamp, now, points, wet):
+    """`propeller_points`, the heights there (`fft_kernels.heights_cached`, + level: what `Ocean.elevation` gives)
+    into eta and `wet_fractions`, in one call."""
+    propeller_points(p, body, pos, rot, points)
+    heights_cached(points[:, 0], points[:, 1], tiles, wts, inv_cells, eta, band_h, cache, stamp, now)
+    for i in range(eta.shape[0]):
+        eta[i] += level
+    wet_fractions(p, points, eta, wet)
+
+
+@njit(cache=True)
 def _lag(x, target, dt, tau, max_rate):
     step = (target - x) * (1.0 - math.exp(-dt / tau))
     limit = max_rate * dt
@@ -55,10 +115,11 @@ def _lag(x, target, dt, tau, max_rate):
 
 
 @njit(cache=True)
-def thruster_step(p, cmd_u, cmd_angle, last_cmd_ns, timeout_ns, now_ns, dt, thrust, angle, body, com, out):
+def thruster_step(p, cmd_u, cmd_angle, last_cmd_ns, timeout_ns, now_ns, dt, thrust, angle, wet, body, com, out):
     """Advance every thruster one step and accumulate body-frame wrenches (force, torque about the
-    body's CoM; N, N m) into out (nb, 6). `p` columns: kind, max_fwd, max_rev, tau, rate, az_tau,
-    az_rate, az_min, az_max, mount_yaw, px, py, pz. Commands older than timeout_ns (> 0) are zeroed."""
+    body's CoM; N, N m) into out (nb, 6): thrust times the wet fraction `wet` of each propeller. `p` columns:
+    kind, max_fwd, max_rev, tau, rate, az_tau, az_rate, az_min, az_max, mount_yaw, px, py, pz, propeller
+    radius (m; -1: none). Commands older than timeout_ns (> 0) are zeroed."""
     out[:] = 0.0
     for i in range(thrust.shape[0]):
         b = body[i]
@@ -70,7 +131,8 @@ def thruster_step(p, cmd_u, cmd_angle, last_cmd_ns, timeout_ns, now_ns, dt, thru
             goal = min(max(cmd_angle[i], p[i, 7]), p[i, 8])
             angle[i] = _lag(angle[i], goal, dt, p[i, 5], p[i, 6])
         heading = p[i, 9] + angle[i]
-        fx, fy = thrust[i] * math.cos(heading), thrust[i] * math.sin(heading)
+        force = thrust[i] * wet[i]
+        fx, fy = force * math.cos(heading), force * math.sin(heading)
         rx, ry, rz = p[i, 10] - com[b, 0], p[i, 11] - com[b, 1], p[i, 12] - com[b, 2]
         out[b, 0] += fx
         out[b, 1] += fy
@@ -87,6 +149,7 @@ def _row(t: Thruster) -> list[float]:
         az.time_constant_s if az else 0.0, math.radians(az.max_rate_deg_s) if az else 0.0,
         math.radians(az.min_deg) if az else 0.0, math.radians(az.max_deg) if az else 0.0,
         math.radians(t.mount_yaw_deg), *t.position,
+        -1.0 if t.propeller_diameter_m is None else t.propeller_diameter_m / 2,
     ]  # fmt: skip
 
 
@@ -98,12 +161,14 @@ class ThrusterBank:
         self.index = {name: i for i, name in enumerate(self.names)}
         self.specs = [t for _, _, t in entries]
         n = len(entries)
-        self.params = np.array([_row(t) for _, _, t in entries], dtype=float).reshape(n, 13)
+        self.params = np.array([_row(t) for _, _, t in entries], dtype=float).reshape(n, 14)
         self.body = np.array([b for b, _, _ in entries], dtype=np.int64)
         self.timeout_ns = np.round(np.asarray(timeouts_s, dtype=float) * 1e9).astype(np.int64)
         self.cmd_u, self.cmd_angle = np.zeros(n), np.zeros(n)
         self.thrust, self.angle = np.zeros(n), np.zeros(n)
         self.last_cmd_ns = np.zeros(n, dtype=np.int64)
+        self.wet = np.ones(n)  # wet fraction of each propeller disc (`immerse`)
+        self._points, self._eta = np.zeros((n, 3)), np.zeros(n)
         self.wrench_body = np.zeros((n_bodies, 6))
         self.rejected = 0
 
@@ -111,7 +176,26 @@ class ThrusterBank:
         """Zero every command and state (thrust, angle) and the rejected-command count."""
         for array in (self.cmd_u, self.cmd_angle, self.thrust, self.angle, self.last_cmd_ns):
             array[:] = 0
+        self.wet[:] = 1.0
         self.rejected = 0
+
+    def immerse(self, pos: np.ndarray, rot: np.ndarray, ocean, t: float) -> None:
+        """Find every propeller's wet fraction (`wet`) from the body poses (origins `pos` (nb, 3) ENU m,
+        rotations `rot` (nb, 3, 3) FLU → ENU) and the water surface at its centre at time t (s)."""
+        if not len(self.names):
+            return
+        if ocean.waves is None:
+            wet_in_still_water(self.params, self.body, pos, rot, ocean.level_m, self._points, self.wet)
+            return
+        kernel = getattr(ocean.waves, "height_kernel_args", None)
+        args = kernel(t, len(self.names)) if kernel is not None else None
+        if args is not None:  # an FFT sea without displacement: one compiled call
+            wet_in_fft_sea(self.params, self.body, pos, rot, ocean.level_m, *args[0], self._eta, *args[1],
+                           self._points, self.wet)  # fmt: skip
+            return
+        propeller_points(self.params, self.body, pos, rot, self._points)
+        self._eta[:] = ocean.elevation(self._points[:, 0], self._points[:, 1], t)
+        wet_fractions(self.params, self._points, self._eta, self.wet)
 
     def command(self, i: int, u: float, angle_rad: float | None, now_ns: int) -> bool:
         """Set thruster i's command, stamped `now_ns` for the watchdog (HOLD_NS: no watchdog). Rejects
@@ -142,7 +226,7 @@ class ThrusterBank:
         if len(self.names):
             thruster_step(
                 self.params, self.cmd_u, self.cmd_angle, self.last_cmd_ns, self.timeout_ns, now_ns, dt,
-                self.thrust, self.angle, self.body, com_body, self.wrench_body,
+                self.thrust, self.angle, self.wet, self.body, com_body, self.wrench_body,
             )  # fmt: skip
         return self.wrench_body
 

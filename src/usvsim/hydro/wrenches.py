@@ -89,7 +89,7 @@ def immersion_scale(volume, rest_volume, wrench):
 @njit(cache=True)
 def marine_tail(rot, vcom_world, omega_body, water_vel_world, nu, hs_force, hs_torque, hs_volume, rest_volume,
                 ss_coef, wind_kind, wind_coef, rho_air, wind_world, thruster_params, cmd_u, cmd_angle, last_cmd_ns,
-                timeout_ns, thrust, angle, thruster_body, com_body, world_force, world_torque, volume, body_wrench,
+                timeout_ns, thrust, angle, wet, thruster_body, com_body, world_force, world_torque, volume, body_wrench,
                 scratch, thrust_wrench, xfrc, now_ns, dt):  # fmt: skip
     """One call for what follows the hydrostatics when a body has neither Kerner, Fossen nor voxel models
     (world/world.py's simple step), the same operations in the same order as the separate kernels:
@@ -104,7 +104,7 @@ def marine_tail(rot, vcom_world, omega_body, water_vel_world, nu, hs_force, hs_t
     immersion_scale(volume, rest_volume, body_wrench)
     wind_wrenches(wind_kind, wind_coef, rho_air, rot, vcom_world, wind_world, scratch)
     body_wrench += scratch
-    thruster_step(thruster_params, cmd_u, cmd_angle, last_cmd_ns, timeout_ns, now_ns, dt, thrust, angle,
+    thruster_step(thruster_params, cmd_u, cmd_angle, last_cmd_ns, timeout_ns, now_ns, dt, thrust, angle, wet,
                   thruster_body, com_body, thrust_wrench)  # fmt: skip
     for i in range(rot.shape[0]):  # assemble() over (body_wrench, thrust_wrench)
         for k in range(3):

@@ -620,6 +620,14 @@ class FFTWaveField(WaveField):
         pick(kern.INVERT, len(px))(px, py, *args, x0, y0, z, iters)
         return (x0, y0, z, iters) if return_iterations else (x0, y0, z)
 
+    def height_kernel_args(self, t: float, n: int) -> tuple | None:
+        """What follows the points and precedes `z_out` ... in `fft_kernels.heights_cached` for n points at time t:
+        (tiles, weights, inv_cells), then (band scratch, node cache, stamps, state) -- the kernel `elevation` uses
+        when a sea without displacement is answered serially; None otherwise."""
+        if self.choppiness != 0.0 or pick(kern.HEIGHTS, n) is not kern.HEIGHTS[0]:
+            return None
+        return (self.geometry.tiles, self.update(t), self.inv_cells), (self.scratch("bands", n), *self.node_cache())
+
     def _surface(self, x0, y0, t):
         x0, y0 = as_points(x0, y0)
         wts = self.update(t)

@@ -43,10 +43,11 @@ def pontoon(y_center: float) -> Mesh:
 
 
 def thrusters() -> tuple[Thruster, ...]:
-    """Two fixed propellers, Fossen's bollard pulls: 119.682 N forward, 66.708 N reverse, T ∝ n|n|."""
+    """Two fixed propellers, Fossen's bollard pulls: 119.682 N forward, 66.708 N reverse, T ∝ n|n|; 0.1 m discs
+    (a small electric pod thruster's, estimated: Fossen gives none)."""
     thrust = ThrustMap(type="quadratic", max_forward_n=119.682, max_reverse_n=66.708)
     return tuple(
-        Thruster(name=n, position=(-1.05, y, 0.06), thrust=thrust, time_constant_s=0.1)
+        Thruster(name=n, position=(-1.05, y, 0.06), thrust=thrust, time_constant_s=0.1, propeller_diameter_m=0.1)
         for n, y in (("left", PONTOON_Y_M), ("right", -PONTOON_Y_M))
     )
 

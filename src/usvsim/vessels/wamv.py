@@ -53,7 +53,8 @@ def _mass_properties():
 
 def thrusters() -> tuple[Thruster, ...]:
     """The seed's four azimuth outboards (force points in FLU relative to the keel), 250 N forward
-    and VRX's measured 100 N reverse (generalized logistic maps), ±90 degrees azimuth."""
+    and VRX's measured 100 N reverse (generalized logistic maps), ±90 degrees azimuth; 0.25 m propellers (an
+    electric outboard's, estimated: neither the seed nor VRX gives one)."""
     azimuth = Azimuth(min_deg=-90.0, max_deg=90.0, time_constant_s=0.3, max_rate_deg_s=90.0)
     thrust = ThrustMap(type="glf", max_forward_n=250.0, max_reverse_n=100.0)
     points = {
@@ -63,7 +64,8 @@ def thrusters() -> tuple[Thruster, ...]:
         "front_right": (1.230, -1.027, -0.428),
     }
     return tuple(
-        Thruster(name=n, position=p, thrust=thrust, time_constant_s=0.2, azimuth=azimuth) for n, p in points.items()
+        Thruster(name=n, position=p, thrust=thrust, time_constant_s=0.2, azimuth=azimuth, propeller_diameter_m=0.25)
+        for n, p in points.items()
     )
 
 

@@ -47,7 +47,9 @@ def hud_lines(sim, vessel_name: str, rates: RateMeter | None = None, paused: boo
         ("Heading", f"{compass_heading_deg(yaw):5.1f} deg  (yaw {math.degrees(yaw):+6.1f})"),
     ]
     for name, thruster in vessel.thrusters.items():
-        rows.append((name, f"{thruster.thrust_n:+8.1f} N  {math.degrees(thruster.angle_rad):+6.1f} deg"))
+        wet = thruster.immersion
+        dry = f"  {100 * wet:3.0f}% wet" if wet < 1.0 else ""  # a propeller out of the water
+        rows.append((name, f"{thruster.thrust_n:+8.1f} N  {math.degrees(thruster.angle_rad):+6.1f} deg{dry}"))
     rows.append(("Sim time", f"{sim.time:8.2f} s"))
     if rates is not None:
         rows += [("Real-time", f"{rates.rtf:5.2f} x"), ("FPS", f"{rates.fps:5.1f}")]

@@ -393,6 +393,7 @@ class World:
                 hydrostatics = self.hulls.compute_split(self._overlap, verts, eta, s.com_world, self.rho, self.g, head)
             else:
                 hydrostatics = self.hulls.compute(verts, eta, s.com_world, self.rho, self.g, head)
+        self.thrusters.immerse(s.pos, s.rot, ocean, t)
         if simple:  # the rest of the step in one compiled call (marine.tail)
             assert isinstance(hydrostatics, HydrostaticsResult)  # simple models have no Kerner: no overlapped call
             steady = ocean.steady_velocity_rows(len(s.com_world))
