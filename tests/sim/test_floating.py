@@ -84,16 +84,34 @@ def test_no_hydrodynamic_damping_on_a_hull_in_the_air(scenario_of, model):
     """Released 20 m above calm water with a 2 m/s current: free fall (the integrator's: z = 20 - g dt² n(n+1)/2)
     and no drift until the keel meets the water. The state-space drag (otter, wamv) and Fossen's damping
     (otter_pvs) acted in full on a hull in the air: the Otter fell at 1.3 m/s and drifted with the current.
-    (Fossen's added mass, in MuJoCo's armature, stays: otter_pvs falls at m / (m + A_33) g.)"""
+    Fossen's added mass (otter_pvs, in MuJoCo's armature) fades with the damping: it fell at m / (m + A_33) g =
+    0.59 g."""
     sc = scenario_of({"environment": {"current": {"speed_mps": 2.0, "direction_deg": 0.0}},
                       "vessels": [{"name": "b", "model": model, "pose": {"position": [0.0, 0.0, 20.0]}}]})  # fmt: skip
     sim = Simulation(sc)
     n = 120
     sim.run(n * sim.world.clock.dt)
     boat, dt = sim.vessels["b"], sim.world.clock.dt
-    mass = boat.model.mass_kg
-    heave_added = sim.model.dof_armature[sim.world.qvel_adr[0] + 2]  # Fossen's heave added mass stays (MuJoCo armature)
-    fall = 9.81 * mass / (mass + heave_added) * dt * dt * n * (n + 1) / 2
+    assert not sim.model.dof_armature.any()  # no added mass in the air
+    fall = 9.81 * dt * dt * n * (n + 1) / 2
     assert boat.position[2] == pytest.approx(20.0 - fall, abs=1e-6)
     assert abs(boat.position[0]) < 1e-9 and abs(boat.position[1]) < 1e-9
+    sim.close()
+
+
+def test_fossen_added_mass_returns_with_the_water(scenario_of):
+    """otter_pvs dropped from 1 m: no armature (added mass) in the air, all of Fossen's heave added mass afloat
+    again, and a reset starts with it."""
+    sc = scenario_of({"vessels": [{"name": "b", "model": "otter_pvs", "pose": {"position": [0.0, 0.0, 1.0]}}]})
+    sim = Simulation(sc)
+    heave = sim.world.qvel_adr[0] + 2
+    full = float(sim.model.dof_armature[heave])
+    assert full > 0.0
+    sim.step()
+    assert sim.model.dof_armature[heave] == 0.0
+    sim.run(8.0)
+    assert sim.model.dof_armature[heave] == full  # afloat: at least half the displacement under water
+    sim.run(0.3)
+    sim.reset()
+    assert sim.model.dof_armature[heave] == full
     sim.close()

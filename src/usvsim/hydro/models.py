@@ -102,8 +102,19 @@ class MarineModels:
         return FossenForces(params, self.com_body, at_com=(np.array(explicit), np.array(coriolis)))
 
     def _set_armature(self, armature: np.ndarray) -> None:
+        self._armature, self._armature_scale = armature.copy(), np.ones(len(self._dof_adr))
         for i, adr in enumerate(self._dof_adr):
             self._mj.dof_armature[adr : adr + 6] = armature[6 * i : 6 * i + 6]
+
+    def _fade_armature(self, volume: np.ndarray) -> None:
+        """Fossen's added mass in MuJoCo's armature fades with the damping (`immersion_scale`'s factor: in full
+        while half the displacement at rest is under water, in proportion below, none in the air): a hull in the
+        air carries no water with it. Written only when a factor changes (afloat: never)."""
+        scale = np.minimum(2.0 * volume / self.rest_volume, 1.0)
+        for i in np.flatnonzero(scale != self._armature_scale):
+            adr = self._dof_adr[i]
+            self._mj.dof_armature[adr : adr + 6] = self._armature[6 * i : 6 * i + 6] * scale[i]
+            self._armature_scale[i] = scale[i]
 
     def _build_wind(self) -> None:
         rows = []
@@ -169,6 +180,8 @@ class MarineModels:
         if self._fossen is not None:
             self.body_wrench += self._fossen.compute(state.nu, dt)
         immersion_scale(self.displaced_volume_m3, self.rest_volume, self.body_wrench)  # none on a hull in the air
+        if self._fossen is not None:
+            self._fade_armature(self.displaced_volume_m3)
         wind.wind_wrenches(self._wind_kind, self._wind_coef, self.rho_air, state.rot, state.vcom_world, wind_world,
                            self._scratch)  # fmt: skip
         self.body_wrench += self._scratch
@@ -223,3 +236,4 @@ class MarineModels:
             self._kerner.reset()
         if self._fossen is not None:
             self._fossen.reset()
+            self._set_armature(self._armature)
