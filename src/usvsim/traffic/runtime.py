@@ -52,7 +52,7 @@ class Traffic:
             return steps + 1
         out = math.inf
         if self.situation is not None:
-            out = (steps // self.situation.every + 1) * self.situation.every
+            out = (steps // self.situation.sample_every + 1) * self.situation.sample_every
         if self.ais is not None:  # a step early rather than late when the float time falls on a step
             out = min(out, max(steps + 1, math.floor(self.ais.next_due_s * 1e9 / world.clock.step_ns)))
         return out

@@ -1,8 +1,10 @@
 """The ground-truth situation of the own ship on `traffic.awareness.topic` (usvsim_msgs/TrafficSituation, frame
 `world`), and the run report: per target the least distance to the own ship over the sampled relative track
-(from t = 0, then at every sample; between two samples, on the straight line joining the two relative
-positions: the distances at the samples are exact, a closest pass of straight relative motion between two
-samples is found exactly, and nothing is extrapolated), when it happened, the least CPA
+(from t = 0, then every `sample_every` steps: at least REPORT_RATE_HZ and at every message, whatever the message
+rate; between two samples, on the straight line joining the two relative positions: the distances at the
+samples are exact, a closest pass of straight relative motion between two samples is found exactly, a turn
+between samples puts the chord at most its sagitta off (L²/8R for an arc of length L and radius R), and nothing
+is extrapolated), when it happened, the least CPA
 predicted with 0 <= TCPA <= `tcpa_limit_s` (ARPA's CPA/TCPA alarm window) and the TCPA it came with, and the
 range, CPA, TCPA and relative speed at the last sample. The message's `cpa` (m) and `tcpa` (s) are every
 target's straight-line prediction as an ARPA shows it, whatever its TCPA: negative TCPA: opening, the closest
@@ -17,7 +19,7 @@ import numpy as np
 from numba import njit
 
 from usvsim.config.loader import source_of
-from usvsim.core.clock import steps_per_period
+from usvsim.core.clock import NS_PER_S, steps_per_period
 from usvsim.core.errors import ScenarioError
 from usvsim.messages import ros
 from usvsim.messages.envelope import Envelope
@@ -27,6 +29,8 @@ if TYPE_CHECKING:
     from usvsim.config.traffic import Awareness
     from usvsim.traffic.fleet import Fleet
     from usvsim.world.world import World
+
+REPORT_RATE_HZ = 10.0  # the run report samples the relative tracks at least this often (Hz)
 
 
 class SituationPublisher:
@@ -41,6 +45,8 @@ class SituationPublisher:
             raise ScenarioError(source, "traffic.awareness.rate_hz", str(exc)) from None
         self.cfg, self.fleet, self.own = cfg, fleet, world.vessels[own]
         self.period_s = self.every * world.clock.dt
+        # report samples: every message step and at least REPORT_RATE_HZ (steps of at most 1 / REPORT_RATE_HZ)
+        self.sample_every = math.gcd(self.every, max(1, int(NS_PER_S / REPORT_RATE_HZ // world.clock.step_ns)))
         self.targets = np.array([k for k, s in enumerate(fleet.ships) if s.vessel != own], np.int64)
         self._own, self._out = np.zeros(5), np.zeros((len(self.targets), 10))
         self.reset(world)
@@ -74,7 +80,7 @@ class SituationPublisher:
                 "encounter": out[:, aw.ENCOUNTER].astype(np.int64)}  # fmt: skip
 
     def due(self, world: World, publish: bool = True) -> list[Envelope]:
-        if world.clock.steps % self.every != 0 or not len(self.targets):
+        if world.clock.steps % self.sample_every != 0 or not len(self.targets):
             return []
         # the run report: the chord from the previous sample (or the start) to now, never past the present (a look
         # ahead reported passes after the run's end) nor an extrapolation (a look back along the current relative
@@ -84,7 +90,7 @@ class SituationPublisher:
         self.sampled = True
         self._last[:, :3] = self._out[:, [aw.RANGE, aw.CPA, aw.TCPA]]
         self._last[:, 3] = np.hypot(self._out[:, aw.VX], self._out[:, aw.VY])
-        if not publish:  # building the message costs more than the rest of the traffic for 50 ships
+        if not publish or world.clock.steps % self.every != 0:  # building the message costs more than the rest of the traffic for 50 ships
             return []
         return [Envelope(self.cfg.topic, world.clock.now_ns, self._message(world.clock.now_ns, self.compute(world)))]
 
