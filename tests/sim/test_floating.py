@@ -114,4 +114,26 @@ def test_fossen_added_mass_returns_with_the_water(scenario_of):
     sim.run(0.3)
     sim.reset()
     assert sim.model.dof_armature[heave] == full
+
+
+def test_fossen_added_mass_acts_on_a_body_mujoco_treats_as_simple(scenario_of, box_stl, tmp_path):
+    """A custom box with diagonal inertia along FLU is a 'simple' body for MuJoCo, whose mass matrix is the constant
+    dof_M0 made at compile time: the armature written afterwards was ignored (a box with A_33 = 410 kg heaved at
+    1.27 s, not 2π√((m + A_33)/(ρ g A_wp)) = 1.55 s). Released from rest 5 cm above its equilibrium, its first step
+    is v = dt F / (m + A_33) with F = -ρ g L B 0.05 (semi-implicit Euler; no damping at rest); after a switch to
+    state-space drag, dt F / m."""
+    mass, a33, rho, g = 820.0, 410.0, 1025.0, 9.81
+    vessel = {"name": "box", "model": "custom", "hull_mesh": box_stl.name, "pose": {"position": [0.0, 0.0, -0.35]},
+              "mass": {"mass_kg": mass, "com": [0.0, 0.0, 0.2], "inertia": [136.0, 300.0, 330.0]},
+              "hydrodynamics": {"type": "fossen", "added_mass": [0.0, 0.0, a33, 40.0, 0.0, 0.0]}}  # fmt: skip
+    sim = Simulation(scenario_of({"vessels": [vessel]}, tmp_path))
+    assert sim.model.body_simple[1]  # the case under test
+    box, dt = sim.vessels["box"], sim.world.clock.dt
+    force = -rho * g * 2.0 * 1.0 * 0.05  # N, the box is 2 m x 1 m at the waterline
+    sim.step()
+    assert box.velocity_body[2] == pytest.approx(dt * force / (mass + a33), rel=1e-9)
+    sim.reset()
+    box.set_hydrodynamics({"type": "state_space"})
+    sim.step()
+    assert box.velocity_body[2] == pytest.approx(dt * force / mass, rel=1e-9)  # no added mass any more
     sim.close()

@@ -49,6 +49,9 @@ class MarineModels:
         self.world_force, self.world_torque = np.zeros((nb, 3)), np.zeros((nb, 3))
         self.body_wrench, self._scratch = np.zeros((nb, 6)), np.zeros((nb, 6))
         self.displaced_volume_m3: np.ndarray | None = None  # per body, of its active buoyancy model (last step)
+        # MuJoCo's constant diagonal of M without any armature: a "simple" body (free joint, principal axes along
+        # its frame) takes its mass matrix from dof_M0, made at compile time, and ignores a later dof_armature
+        self._dof_m0 = np.array(mj_model.dof_M0) - np.array(mj_model.dof_armature)
         self._rebuild()
 
     # -- choosing models ----------------------------------------------------------------------
@@ -103,8 +106,15 @@ class MarineModels:
 
     def _set_armature(self, armature: np.ndarray) -> None:
         self._armature, self._armature_scale = armature.copy(), np.ones(len(self._dof_adr))
-        for i, adr in enumerate(self._dof_adr):
-            self._mj.dof_armature[adr : adr + 6] = armature[6 * i : 6 * i + 6]
+        for i in range(len(self._dof_adr)):
+            self._write_armature(i, armature[6 * i : 6 * i + 6])
+
+    def _write_armature(self, i: int, values: np.ndarray) -> None:
+        """Body i's implicit added mass into MuJoCo: dof_armature, and dof_M0 as mj_setConst would make it (what a
+        simple body's mass matrix is; with the armature alone its added mass was silently ignored)."""
+        adr = self._dof_adr[i]
+        self._mj.dof_armature[adr : adr + 6] = values
+        self._mj.dof_M0[adr : adr + 6] = self._dof_m0[adr : adr + 6] + values
 
     def _fade_armature(self, volume: np.ndarray) -> None:
         """Fossen's added mass in MuJoCo's armature fades with the damping (`immersion_scale`'s factor: in full
@@ -112,8 +122,7 @@ class MarineModels:
         air carries no water with it. Written only when a factor changes (afloat: never)."""
         scale = np.minimum(2.0 * volume / self.rest_volume, 1.0)
         for i in np.flatnonzero(scale != self._armature_scale):
-            adr = self._dof_adr[i]
-            self._mj.dof_armature[adr : adr + 6] = self._armature[6 * i : 6 * i + 6] * scale[i]
+            self._write_armature(i, self._armature[6 * i : 6 * i + 6] * scale[i])
             self._armature_scale[i] = scale[i]
 
     def _build_wind(self) -> None:
