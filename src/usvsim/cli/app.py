@@ -45,7 +45,10 @@ EXPERIMENTS = {
         "heeled box: righting moment vs the wall-sided formula",
     ),
     "drafts": ("usvsim.experiments.drafts", "library vessels' equilibrium drafts vs Archimedes"),
-    "heave-decay": ("usvsim.experiments.heave_decay", "heave natural period vs the analytic value"),
+    "heave-decay": (
+        "usvsim.experiments.heave_decay",
+        "heave and roll natural periods of a box, with and without added mass, vs closed forms",
+    ),
     "otter": ("usvsim.experiments.otter", "Fossen's Otter straight runs vs PythonVehicleSimulator"),
     "kerner-vectors": ("usvsim.experiments.kerner_vectors", "single-triangle Kerner forces vs test vectors"),
     "waves": ("usvsim.experiments.waves", "wave statistics, dispersion and height queries"),
