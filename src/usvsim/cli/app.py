@@ -49,7 +49,10 @@ EXPERIMENTS = {
         "usvsim.experiments.heave_decay",
         "heave and roll natural periods of a box, with and without added mass, vs closed forms",
     ),
-    "otter": ("usvsim.experiments.otter", "Fossen's Otter straight runs vs PythonVehicleSimulator"),
+    "otter": (
+        "usvsim.experiments.otter",
+        "Fossen's Otter: his equations vs PythonVehicleSimulator's runs, and usvsim's otter_pvs vs his equations",
+    ),
     "kerner-vectors": ("usvsim.experiments.kerner_vectors", "single-triangle Kerner forces vs test vectors"),
     "waves": ("usvsim.experiments.waves", "wave statistics, dispersion and height queries"),
     "detection-robustness": (
