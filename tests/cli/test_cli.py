@@ -104,6 +104,17 @@ def test_experiment_unknown_name():
     assert_one_line_error(usvsim("experiment", "nonesuch"), "nonesuch", "sphere")
 
 
+def test_experiment_help_says_what_each_experiment_checks_and_how_long_it_takes():
+    """The names alone were listed (the descriptions were never shown; endurance runs ~15 minutes unannounced)."""
+    from usvsim.cli.app import EXPERIMENTS
+
+    result = usvsim("experiment", "--help", env={**os.environ, "COLUMNS": "400", "NO_COLOR": "1"})
+    assert result.returncode == 0
+    lines = result.stdout.splitlines()
+    for name, (_, text, took) in EXPERIMENTS.items():
+        assert any(f"{name}: {text} (about {took})" in line for line in lines), name
+
+
 @pytest.fixture(autouse=True)
 def _no_color(monkeypatch):
     monkeypatch.setenv("NO_COLOR", "1")

@@ -34,36 +34,23 @@ app = typer.Typer(
 )
 app.command()(imazu)  # usvsim imazu (cli/traffic.py)
 
-EXPERIMENTS = {
-    "sphere": ("usvsim.experiments.sphere", "sphere lowered through flat water: volume vs the analytic cap"),
-    "voxel-sphere": (
-        "usvsim.experiments.voxel_sphere",
-        "voxel buoyancy of the sphere, with and without cutting",
-    ),
-    "box-righting": (
-        "usvsim.experiments.box_righting",
-        "heeled box: righting moment vs the wall-sided formula",
-    ),
-    "drafts": ("usvsim.experiments.drafts", "library vessels' equilibrium drafts vs Archimedes"),
-    "heave-decay": (
-        "usvsim.experiments.heave_decay",
-        "heave and roll natural periods of a box, with and without added mass, vs closed forms",
-    ),
-    "otter": (
-        "usvsim.experiments.otter",
-        "Fossen's Otter: his equations vs PythonVehicleSimulator's runs, and usvsim's otter_pvs vs his equations",
-    ),
-    "kerner-vectors": ("usvsim.experiments.kerner_vectors", "single-triangle Kerner forces vs test vectors"),
-    "waves": ("usvsim.experiments.waves", "wave statistics, dispersion and height queries"),
-    "detection-robustness": (
-        "usvsim.experiments.detection_robustness",
-        "YOLO trained on clear synthetic buoys, evaluated on clear and foggy sets (extra: yolo)",
-    ),
-    "endurance": (
-        "usvsim.experiments.endurance",
-        "one hour in sea state 6 with each model: afloat, upright, bounded",
-    ),
-}
+EXPERIMENTS = {  # name: (module, what it checks, run time on the shared 2-core machine at load 2-7)
+    "sphere": ("usvsim.experiments.sphere", "sphere lowered through flat water: volume vs the analytic cap", "10 s"),
+    "voxel-sphere": ("usvsim.experiments.voxel_sphere", "voxel buoyancy of the sphere, with and without cutting", "5 s"),
+    "box-righting": ("usvsim.experiments.box_righting", "heeled box: righting moment vs the wall-sided formula", "5 s"),
+    "drafts": ("usvsim.experiments.drafts", "library vessels' equilibrium drafts vs Archimedes", "30 s"),
+    "heave-decay": ("usvsim.experiments.heave_decay",
+                    "heave and roll natural periods of a box, with and without added mass, vs closed forms", "10 s"),
+    "otter": ("usvsim.experiments.otter", "Fossen's Otter: his equations vs PythonVehicleSimulator's runs, and "
+              "usvsim's otter_pvs vs his equations", "30 s"),
+    "kerner-vectors": ("usvsim.experiments.kerner_vectors", "single-triangle Kerner forces vs test vectors", "15 s"),
+    "waves": ("usvsim.experiments.waves", "wave statistics, dispersion and height queries", "1.5 min"),
+    "detection-robustness": ("usvsim.experiments.detection_robustness", "YOLO trained on clear synthetic buoys, "
+                             "evaluated on clear and foggy sets (needs Ultralytics: docs/datasets.md)", "30 min"),
+    "endurance": ("usvsim.experiments.endurance",
+                  "one hour in sea state 6 with each of four models: afloat, upright, bounded", "15 min"),
+}  # fmt: skip
+EXPERIMENT_HELP = "\n".join(f"{name}: {text} (about {took})" for name, (_, text, took) in EXPERIMENTS.items())
 
 
 @app.command()
@@ -340,12 +327,13 @@ def scenarios() -> None:
     Console().print(table)
 
 
-@app.command()
+@app.command(epilog=EXPERIMENT_HELP)
 def experiment(
     name: Annotated[str, typer.Argument(help=f"one of: {', '.join(EXPERIMENTS)}")],
     out: Annotated[Path, typer.Option(help="output directory")] = Path("out/experiments"),
 ) -> None:
-    """Run a validation experiment; writes NAME.json and NAME.png under --out (dashes in NAME become underscores)."""
+    """Run a validation experiment; writes NAME.json and NAME.png under --out (dashes in NAME become underscores),
+    prints its summary and PASS or FAIL (exit status 1 on FAIL)."""
     import importlib
     import json
 
