@@ -17,7 +17,9 @@ def cache(tmp_path, monkeypatch):
 
 def _check(result, out, name):
     assert result["passed"], result["summary"]
-    assert json.loads((out / f"{name}.json").read_text())["passed"]
+    saved = json.loads((out / f"{name}.json").read_text())
+    assert saved["passed"]
+    assert " m" in saved["units"] and ("ENU" in saved["units"] or "FLU" in saved["units"])  # units and frames stated
     assert (out / f"{name}.png").stat().st_size > 1000
 
 
@@ -68,7 +70,17 @@ def test_voxel_sphere(tmp_path):
 
 
 def test_drafts(tmp_path):
-    _check(drafts.run(tmp_path, seconds=20.0), tmp_path, "drafts")
+    """Judged against trimesh's cut of the settled hull (it compared with usvsim's own hydrostatics: its level draft
+    by bisection on HullSet, and the simulation's own displaced volume, within 0.5 %)."""
+    result = drafts.run(tmp_path, seconds=20.0)
+    _check(result, tmp_path, "drafts")
+    rows = {r["vessel"]: r for r in result["rows"]}
+    for name, row in rows.items():
+        assert row["volume_trimesh_m3"] * drafts.RHO == pytest.approx(row["mass_kg"], rel=1e-5), name
+    assert not rows["wamv"]["level"]  # trims 0.4°: its draft is reported, not judged
+    for name in ("otter", "otter_pvs", "box"):
+        assert rows[name]["level"] and rows[name]["draft_sim_m"] == pytest.approx(rows[name]["draft_analytic_m"], abs=1e-4)
+    assert rows["box"]["draft_analytic_m"] == pytest.approx(820.0 / (1025.0 * 2.0 * 1.0), abs=1e-9)  # m / (ρ L B)
 
 
 def test_heave_decay(tmp_path):
@@ -95,6 +107,7 @@ def test_endurance_short_run(tmp_path):
 
     result = endurance.run(tmp_path, duration_s=120.0)
     assert result["passed"], result["summary"]
+    assert "rad" in result["units"] and "FLU" in result["units"]
     assert (tmp_path / "endurance.json").exists() and (tmp_path / "endurance.png").exists()
 
 

@@ -14,6 +14,7 @@ def test_sphere_experiment(tmp_path):
     assert (tmp_path / "sphere.png").stat().st_size > 10_000
     saved = json.loads((tmp_path / "sphere.json").read_text())
     assert saved["table"] == result["table"]
+    assert "m³" in saved["units"] and "ENU" in saved["units"]
     assert [row["faces"] for row in result["table"]] == [80, 320, 1280, 5120]
     for row in result["table"]:
         assert row["max_rel_err_vs_clipped"] <= 1e-9

@@ -21,7 +21,8 @@ def test_waves_experiment(tmp_path):
     runs = [r for sea in wave_records.SEAS for key, r in records[sea].items() if key.startswith("seed")]
     assert len(runs) == 18  # sea states 3-6 and two JONSWAP seas, three seeds each
     assert all(abs(r["hs_error"]) <= 0.02 and abs(r["tp_error"]) <= 0.05 for r in runs)
-    assert json.loads((tmp_path / "waves.json").read_text())["passed"]
+    saved = json.loads((tmp_path / "waves.json").read_text())
+    assert saved["passed"] and "ENU" in saved["units"] and "rad" in saved["units"]
     assert (tmp_path / "waves.png").stat().st_size > 10_000
 
 

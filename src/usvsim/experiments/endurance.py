@@ -27,6 +27,8 @@ MODELS = {  # name: (vessel model, buoyancy, hydrodynamics or None for the vesse
     "fossen": ("otter", {"type": "triangles"}, {"type": "fossen", "parameters": "otter"}),  # with added mass
     "voxels": ("wamv", {"type": "voxels", "voxel_size_m": 0.05}, None),
 }
+UNITS = ("t s; roll and pitch rad in series, max_*_deg degrees (REP 103, body FLU); volumes m³; energy J: "
+         "½ m |v|² of base_link's velocity (world ENU), sampled once a second after the ramp")  # fmt: skip
 SEA = {"sea": {"type": "sea_state", "code": 6, "realization": {"resolution": 64}}, "ramp_time_s": 20.0}
 
 
@@ -78,7 +80,7 @@ def run(out_dir: pathlib.Path, duration_s: float = 3600.0) -> dict:
     summary = {r["model"]: f"{'PASS' if r['passed'] else 'FAIL'}: max roll {r['max_roll_deg']:.1f} deg, "
                f"max pitch {r['max_pitch_deg']:.1f} deg, mean volume {r['mean_volume_over_rest']:.3f} of m/rho"
                for r in results}  # fmt: skip
-    result = {"experiment": "endurance", "duration_s": duration_s, "sea": SEA, "runs": results,
+    result = {"experiment": "endurance", "units": UNITS, "duration_s": duration_s, "sea": SEA, "runs": results,
               "passed": all(r["passed"] for r in results), "summary": summary}  # fmt: skip
     (out_dir / "endurance.json").write_text(json.dumps(result, indent=1))
     _plot(out_dir / "endurance.png", results)

@@ -31,6 +31,11 @@ REFERENCE = {
 }  # fmt: skip
 
 
+UNITS = ("forces N, world ENU (z up): hydrostatic_fz, pressure_* and slam_* are z components, viscous_fx the x "
+         "component; reynolds and c_f dimensionless. References: physics.md §1.10; for slam_* the impulse formula "
+         "in this module's docstring (the triangle, flat water at z = 0, velocities in m/s)")  # fmt: skip
+
+
 def _kerner(hulls, cfg, mass=80.0, length=2.0):
     return KernerForces(hulls, [cfg], [mass], [length], rho_water=1025.0)
 
@@ -86,7 +91,8 @@ def run(out_dir: Path) -> dict:
     # match; tests/hydro/test_kerner.py checks the same kernels against full-precision formulas at 1e-9
     rel = {k: abs(got[k] - v) / abs(v) for k, v in REFERENCE.items()}
     passed = all(r <= 5e-5 for r in rel.values())
-    result = {"passed": bool(passed), "summary": {"max_rel_err": max(rel.values())},
+    result = {"experiment": "kerner-vectors", "units": UNITS, "passed": bool(passed),
+              "summary": {"max_rel_err": max(rel.values())},
               "values": got, "reference": REFERENCE, "rel_err": rel}  # fmt: skip
     (Path(out_dir) / "kerner_vectors.json").write_text(json.dumps(result, indent=2))
     _plot(Path(out_dir) / "kerner_vectors.png", got)
@@ -104,7 +110,8 @@ def _plot(path: Path, got: dict) -> None:
     ax.bar(range(len(keys)), [got[k] / REFERENCE[k] for k in keys])
     ax.axhline(1.0, color="k", lw=0.5)
     ax.set_xticks(range(len(keys)), keys, rotation=40, ha="right", fontsize=7)
-    ax.set(ylabel="usvsim / physics.md §1.10", ylim=(0.99, 1.01), title="Kerner single-triangle test vectors")
+    ax.set(ylabel="usvsim / reference", ylim=(0.99, 1.01),
+           title="Kerner single-triangle test vectors (physics.md §1.10; slamming: impulse formula)")  # fmt: skip
     fig.tight_layout()
     fig.savefig(path, dpi=110)
     plt.close(fig)

@@ -26,6 +26,8 @@ RADIUS_M = 0.5
 RHO_KG_M3 = 1000.0
 G_M_S2 = 9.81
 SUBDIVISIONS = (1, 2, 3, 4)  # 80, 320, 1280, 5120 faces
+UNITS = ("volumes m³, depths m: d is the depth of the sphere's lowest point below still water at z = 0 "
+         "(world ENU, z up), centre at z = R - d; errors m³ and % of the sphere's volume")  # fmt: skip
 # Seed thesis, triangles with cutting: max abs error (m³), same as % of the sphere, RMS error (m³)
 SEED_ERRORS = {
     80: (0.0663, 12.65, 0.0385),
@@ -133,6 +135,7 @@ def run(out_dir: pathlib.Path, n_depths: int = 401) -> dict:
         curves[len(mesh.faces)] = {"volume_m3": kernel.tolist(), "clipped_m3": reference.tolist()}
     result = {
         "experiment": "sphere",
+        "units": UNITS,
         "radius_m": RADIUS_M,
         "table": rows,
         "passed": all(r["pass"] for r in rows),

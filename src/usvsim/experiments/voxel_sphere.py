@@ -27,6 +27,10 @@ SEED_TABLE = {  # seed-repository.md §6: voxels → (max, RMS) m³ not cut / cu
 }  # fmt: skip
 
 
+UNITS = ("volumes m³ (max_step_m3: the largest change between immersions 1 mm apart), voxel_size_m m; "
+         "h is the immersion of the sphere's lowest point below still water at z = 0 (world ENU, z up)")  # fmt: skip
+
+
 def cap_volume(h):
     h = np.clip(h, 0.0, 2 * R)
     return np.pi * h * h * (3 * R - h) / 3.0
@@ -69,7 +73,7 @@ def run(out_dir: Path, sizes=SIZES, n_depths: int = 1001) -> dict:
                "seed_method_cut_max_err_s0.05": seedlike[0]["max_err_m3"] if seedlike else None,
                "seed_reported_cut_max_err_4154": 0.0044, "cut_is_continuous": smooth}  # fmt: skip
     passed = smooth and (not best or best[0]["max_err_m3"] <= 0.0044)
-    result = {"passed": bool(passed), "summary": summary, "rows": rows,
+    result = {"experiment": "voxel-sphere", "passed": bool(passed), "summary": summary, "units": UNITS, "rows": rows,
               "seed_table": {str(k): v for k, v in SEED_TABLE.items()}}  # fmt: skip
     (Path(out_dir) / "voxel_sphere.json").write_text(json.dumps(result, indent=2))
     _plot(Path(out_dir) / "voxel_sphere.png", depths, exact, curves, rows, sizes)

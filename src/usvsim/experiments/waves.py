@@ -30,6 +30,8 @@ from usvsim.ocean.patch import WaterPatch
 
 HS, TP, GAMMA, SPREAD, MEAN_DIR = 2.0, 8.0, 3.3, 10.0, 0.5
 WORKED = {0.0: -0.009550, 2.0: -0.683306}
+UNITS = ("heights and Hs m, periods s, ω rad/s, S(ω) m² s/rad; directions rad, the direction the waves travel "
+         "toward, counter-clockwise from east (world ENU); *_error and relative figures dimensionless")  # fmt: skip
 
 
 def _spectrum(w):
@@ -232,6 +234,7 @@ def run(out_dir: pathlib.Path) -> dict:
     clean: dict[str, Any] = {k: {kk: vv for kk, vv in v.items() if not kk.startswith("_")} for k, v in results.items()}
     clean["passed"] = all(v["pass"] for v in clean.values())
     clean["summary"] = _summary(clean)
+    clean["units"] = UNITS
     (out_dir / "waves.json").write_text(json.dumps(clean, indent=2, default=float))
     return clean
 
