@@ -104,6 +104,24 @@ def test_experiment_unknown_name():
     assert_one_line_error(usvsim("experiment", "nonesuch"), "nonesuch", "sphere")
 
 
+def test_long_experiments_report_progress_on_stderr(tmp_path, monkeypatch):
+    """endurance (~15 min) and detection-robustness (~30 min) ran without a word until their verdict."""
+    from typer.testing import CliRunner
+
+    from usvsim.cli.app import app
+    from usvsim.experiments import endurance
+
+    def fake_run(out, duration_s=3600.0, progress=None):
+        progress("model 1 of 4, state_space: 3600 s of sea state 6 ...")
+        return {"passed": True, "summary": {}}
+
+    monkeypatch.setattr(endurance, "run", fake_run)
+    result = CliRunner().invoke(app, ["experiment", "endurance", "--out", str(tmp_path)])
+    assert result.exit_code == 0, result.output
+    assert "usvsim: endurance: model 1 of 4, state_space" in result.stderr
+    assert "endurance: PASS" in result.stdout
+
+
 def test_experiment_help_says_what_each_experiment_checks_and_how_long_it_takes():
     """The names alone were listed (the descriptions were never shown; endurance runs ~15 minutes unannounced)."""
     from usvsim.cli.app import EXPERIMENTS

@@ -105,8 +105,10 @@ def test_endurance_short_run(tmp_path):
     """The endurance experiment's checks on a 2-minute run of every model (the CLI runs one hour)."""
     from usvsim.experiments import endurance
 
-    result = endurance.run(tmp_path, duration_s=120.0)
+    heard: list[str] = []
+    result = endurance.run(tmp_path, duration_s=120.0, progress=heard.append)
     assert result["passed"], result["summary"]
+    assert len(heard) == 2 * len(endurance.MODELS) and heard[-1].startswith("model 4 of 4, voxels: PASS")
     assert "rad" in result["units"] and "FLU" in result["units"]
     assert (tmp_path / "endurance.json").exists() and (tmp_path / "endurance.png").exists()
 

@@ -346,8 +346,12 @@ def experiment(
     except UsvsimError as exc:
         fail(exc)
     module = importlib.import_module(EXPERIMENTS[name][0])
+    kwargs = {}
+    if "progress" in inspect.signature(module.run).parameters:  # long ones say where they are, on stderr (after
+        # their own checks of the environment, whose failure stays one line)
+        kwargs["progress"] = lambda text: console.print(f"usvsim: {name}: {text}", highlight=False, markup=False)
     try:
-        result = module.run(out)
+        result = module.run(out, **kwargs)
     except UsvsimError as exc:
         fail(exc)
     passed = result.get("passed")

@@ -23,6 +23,7 @@ import os
 import shutil
 import subprocess
 import sys
+from collections.abc import Callable
 from pathlib import Path
 
 import numpy as np
@@ -187,10 +188,13 @@ def _sizes() -> dict:
     return sizes
 
 
-def run(out_dir: Path) -> dict:
+def run(out_dir: Path, progress: Callable[[str], None] | None = None) -> dict:
+    """The experiment; `progress` (if given) hears one line as each stage starts."""
+    say = progress or (lambda _text: None)
     sizes, python = _sizes(), yolo_python()  # both fail now, not after the data sets are made
     work, imgsz = Path(out_dir) / "detection_robustness_data", sizes["imgsz"]
     size, formats, min_px = (imgsz, imgsz * 3 // 4), ("yolo", "coco"), sizes["min_visible_pixels"]
+    say(f"rendering {sizes['clear_frames']} clear and {sizes['foggy_frames']} foggy frames ...")
     clear = generate(DatasetSpec("buoy_field", sizes["clear_frames"], work / "clear", formats, 11, "clear_calm",
                                  size, (0.8, 0.2, 0.0), min_px, horizontal_fov_deg=FOV_DEG))  # fmt: skip
     foggy = generate(DatasetSpec("buoy_field", sizes["foggy_frames"], work / "foggy", formats, 12, "foggy_wavy",
@@ -198,6 +202,7 @@ def run(out_dir: Path) -> dict:
     job = {"train": str(clear / "data.yaml"), "epochs": sizes["epochs"], "imgsz": imgsz, "batch": 8,
            "conf": 0.001, "train_args": TRAIN_ARGS,
            "evals": {"clear": str(clear / "data.yaml"), "foggy": str(foggy / "data.yaml")}}  # fmt: skip
+    say(f"training YOLOv8n for {sizes['epochs']} epochs on the CPU and evaluating it (most of the run) ...")
     result = run_yolo(job, work / "yolo", python)
     present = sorted({int(line.split()[0]) for root in (clear, foggy) for f in (root / "labels").rglob("*.txt")
                       for line in f.read_text().splitlines()})  # fmt: skip

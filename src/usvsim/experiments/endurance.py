@@ -15,6 +15,8 @@ from __future__ import annotations
 import json
 import math
 import pathlib
+import time
+from collections.abc import Callable
 
 import numpy as np
 
@@ -73,10 +75,19 @@ def _verdict(name: str, rows: np.ndarray, rest_volume_m3: float) -> dict:
     }
 
 
-def run(out_dir: pathlib.Path, duration_s: float = 3600.0) -> dict:
+def run(out_dir: pathlib.Path, duration_s: float = 3600.0, progress: Callable[[str], None] | None = None) -> dict:
+    """Run every model for duration_s; `progress` (if given) hears one line as each model starts and ends."""
     out_dir = pathlib.Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
-    results = [run_model(name, duration_s) for name in MODELS]
+    results = []
+    for k, name in enumerate(MODELS, 1):
+        start = time.monotonic()
+        if progress:
+            progress(f"model {k} of {len(MODELS)}, {name}: {duration_s:g} s of sea state 6 ...")
+        results.append(run_model(name, duration_s))
+        if progress:
+            progress(f"model {k} of {len(MODELS)}, {name}: {'PASS' if results[-1]['passed'] else 'FAIL'} "
+                     f"({time.monotonic() - start:.0f} s)")  # fmt: skip
     summary = {r["model"]: f"{'PASS' if r['passed'] else 'FAIL'}: max roll {r['max_roll_deg']:.1f} deg, "
                f"max pitch {r['max_pitch_deg']:.1f} deg, mean volume {r['mean_volume_over_rest']:.3f} of m/rho"
                for r in results}  # fmt: skip
