@@ -8,6 +8,8 @@ volume is compared with
   this isolates the kernel's error, and
 - the analytic spherical cap V = π d² (3R - d) / 3: this adds the mesh's discretisation error,
   the quantity the seed reports (max |error| in m³ and as % of the full sphere volume).
+The centre of buoyancy's height is compared the same way: with trimesh's centroid of the clipped mesh (within
+1e-9 m) and, for 1280 faces, with physics.md §2.3's table (d = 0.25, 0.5, 0.75 m; printed to 5 decimals).
 """
 
 from __future__ import annotations
@@ -26,6 +28,8 @@ RADIUS_M = 0.5
 RHO_KG_M3 = 1000.0
 G_M_S2 = 9.81
 SUBDIVISIONS = (1, 2, 3, 4)  # 80, 320, 1280, 5120 faces
+# physics.md §2.3: centre of buoyancy z (m, sphere centre at z = R - d, water at z = 0) of the 1280-face icosphere
+PHYSICS_COB_1280 = {0.25: -0.08699, 0.5: -0.18696, 0.75: -0.31202}
 UNITS = ("volumes m³, depths m: d is the depth of the sphere's lowest point below still water at z = 0 "
          "(world ENU, z up), centre at z = R - d; errors m³ and % of the sphere's volume")  # fmt: skip
 # Seed thesis, triangles with cutting: max abs error (m³), same as % of the sphere, RMS error (m³)
@@ -43,29 +47,39 @@ def cap_volume_m3(depth_m: np.ndarray, radius_m: float = RADIUS_M) -> np.ndarray
     return np.pi * d**2 * (3.0 * radius_m - d) / 3.0
 
 
-def clipped_volume_m3(vertices_enu: np.ndarray, faces: np.ndarray) -> float:
-    """Exact volume of a closed mesh below z = 0, by trimesh's clipping (the open cut surface
-    suffices: the missing cap lies in z = 0, through the origin, and adds no volume)."""
+def clipped_volume_m3(vertices_enu: np.ndarray, faces: np.ndarray) -> tuple[float, float]:
+    """Exact volume (m³) of a closed mesh below z = 0 and its centroid's z (m), by trimesh's clipping (the open cut
+    surface suffices: the missing cap lies in z = 0, through the origin, and adds nothing to either)."""
     v, f = slice_faces_plane(vertices_enu, faces, np.array([0.0, 0.0, -1.0]), np.zeros(3))[:2]
-    return float(mass_properties(v[f], skip_inertia=True).volume) if len(f) else 0.0
+    if not len(f):
+        return 0.0, float("nan")
+    props = mass_properties(v[f], skip_inertia=True)
+    return float(props.volume), float(props.center_mass[2])
 
 
-def sweep(mesh: trimesh.Trimesh, depths_m: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Kernel and clipped-reference displaced volumes (m³) of the mesh lowered through z = 0."""
+def sweep(mesh: trimesh.Trimesh, depths_m: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """Kernel and clipped-reference displaced volumes (m³) and centres of buoyancy z (m, world ENU; NaN when dry)
+    of the mesh lowered through z = 0."""
     hulls = HullSet([(mesh.vertices, mesh.faces)])
     eta = np.zeros(len(mesh.vertices))
     rot = np.eye(3)[None]
     kernel, reference = np.empty(len(depths_m)), np.empty(len(depths_m))
+    kernel_cob, reference_cob = np.full(len(depths_m), np.nan), np.empty(len(depths_m))
     for i, depth in enumerate(depths_m):
         pos = np.array([[0.0, 0.0, RADIUS_M - depth]])
         world = hulls.world_vertices(pos, rot)
-        kernel[i] = hulls.compute(world, eta, pos, RHO_KG_M3, G_M_S2).volume[0]
-        reference[i] = clipped_volume_m3(world, mesh.faces)
-    return kernel, reference
+        res = hulls.compute(world, eta, pos, RHO_KG_M3, G_M_S2)
+        kernel[i] = res.volume[0]
+        if kernel[i] > 0.0:
+            kernel_cob[i] = res.cob[0, 2]
+        reference[i], reference_cob[i] = clipped_volume_m3(world, mesh.faces)
+    return kernel, reference, kernel_cob, reference_cob
 
 
-def table_row(n_faces: int, kernel: np.ndarray, reference: np.ndarray, analytic: np.ndarray) -> dict:
-    """Error figures of one mesh next to the seed's; pass = ours <= seed's (as the seed rounds)."""
+def table_row(n_faces: int, kernel: np.ndarray, reference: np.ndarray, analytic: np.ndarray,
+              cob: tuple[np.ndarray, np.ndarray] | None = None) -> dict:
+    """Error figures of one mesh next to the seed's; pass = ours <= seed's (as the seed rounds), the kernel's volume
+    and (if given: kernel, reference) centre of buoyancy z equal to trimesh's clipped mesh."""
     sphere_m3 = 4.0 / 3.0 * np.pi * RADIUS_M**3
     wet = reference > 0.0
     err = np.abs(kernel - analytic)
@@ -82,6 +96,10 @@ def table_row(n_faces: int, kernel: np.ndarray, reference: np.ndarray, analytic:
         "seed_rms_err_m3": seed_rms,
     }
     row["kernel_exact"] = row["max_rel_err_vs_clipped"] <= 1e-9
+    if cob is not None:
+        wetter = reference > 1e-6  # m³: the centroid of a sliver is ill-conditioned
+        row["max_cob_err_vs_clipped_m"] = float(np.max(np.abs(cob[0] - cob[1])[wetter]))
+        row["kernel_exact"] = row["kernel_exact"] and row["max_cob_err_vs_clipped_m"] <= 1e-9
     row["pass"] = bool(
         row["kernel_exact"]
         and round(row["max_abs_err_m3"], 4) <= seed_abs
@@ -130,20 +148,27 @@ def run(out_dir: pathlib.Path, n_depths: int = 401) -> dict:
     rows, curves = [], {}
     for subdivisions in SUBDIVISIONS:
         mesh = trimesh.creation.icosphere(subdivisions=subdivisions, radius=RADIUS_M)
-        kernel, reference = sweep(mesh, depths)
-        rows.append(table_row(len(mesh.faces), kernel, reference, analytic))
+        kernel, reference, kernel_cob, reference_cob = sweep(mesh, depths)
+        rows.append(table_row(len(mesh.faces), kernel, reference, analytic, (kernel_cob, reference_cob)))
+        if len(mesh.faces) == 1280:
+            cob = sweep(mesh, np.array(list(PHYSICS_COB_1280)))[2]
+            cob_table = {f"d={d:g} m": [float(z), ref] for (d, ref), z in zip(PHYSICS_COB_1280.items(), cob)}
         curves[len(mesh.faces)] = {"volume_m3": kernel.tolist(), "clipped_m3": reference.tolist()}
+    cob_ok = all(abs(z - ref) <= 1e-5 for z, ref in cob_table.values())  # the table's 5 decimals
     result = {
         "experiment": "sphere",
         "units": UNITS,
         "radius_m": RADIUS_M,
         "table": rows,
-        "passed": all(r["pass"] for r in rows),
+        "cob_z_1280_vs_physics_md_m": cob_table,
+        "passed": all(r["pass"] for r in rows) and cob_ok,
         "summary": {
-            f"{r['faces']} faces": f"max error {r['max_abs_err_m3']:.4f} m3 = {r['max_err_pct_of_sphere']:.2f} % "
-            f"(seed {r['seed_max_err_pct_of_sphere']} %), kernel vs exact clipped volume {r['max_rel_err_vs_clipped']:.1e}"
-            for r in rows
-        },
+            **{f"{r['faces']} faces": f"max error {r['max_abs_err_m3']:.4f} m3 = {r['max_err_pct_of_sphere']:.2f} % "
+               f"(seed {r['seed_max_err_pct_of_sphere']} %), kernel vs exact clipped volume "
+               f"{r['max_rel_err_vs_clipped']:.1e}, centre of buoyancy {r['max_cob_err_vs_clipped_m']:.1e} m"
+               for r in rows},
+            "centre of buoyancy z, 1280 faces, vs physics.md 2.3 [m]": cob_table,
+        },  # fmt: skip
         "depths_m": depths.tolist(),
         "analytic_m3": analytic.tolist(),
         "curves": {str(k): v for k, v in curves.items()},
