@@ -121,7 +121,7 @@ class MarineModels:
         while half the displacement at rest is under water, in proportion below, none in the air): a hull in the
         air carries no water with it. Written only when a factor changes (afloat: never)."""
         scale = np.minimum(2.0 * volume / self.rest_volume, 1.0)
-        for i in np.flatnonzero(scale != self._armature_scale):
+        for i in np.flatnonzero(scale != self._armature_scale).tolist():
             self._write_armature(i, self._armature[6 * i : 6 * i + 6] * scale[i])
             self._armature_scale[i] = scale[i]
 

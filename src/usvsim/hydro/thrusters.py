@@ -190,8 +190,9 @@ class ThrusterBank:
         kernel = getattr(ocean.waves, "height_kernel_args", None)
         args = kernel(t, len(self.names)) if kernel is not None else None
         if args is not None:  # an FFT sea without displacement: one compiled call
-            wet_in_fft_sea(self.params, self.body, pos, rot, ocean.level_m, *args[0], self._eta, *args[1],
-                           self._points, self.wet)  # fmt: skip
+            (tiles, weights, inv_cells), (bands, cache, stamp, now) = args
+            wet_in_fft_sea(self.params, self.body, pos, rot, ocean.level_m, tiles, weights, inv_cells, self._eta, bands,
+                           cache, stamp, now, self._points, self.wet)  # fmt: skip
             return
         propeller_points(self.params, self.body, pos, rot, self._points)
         self._eta[:] = ocean.elevation(self._points[:, 0], self._points[:, 1], t)

@@ -620,7 +620,8 @@ class FFTWaveField(WaveField):
         pick(kern.INVERT, len(px))(px, py, *args, x0, y0, z, iters)
         return (x0, y0, z, iters) if return_iterations else (x0, y0, z)
 
-    def height_kernel_args(self, t: float, n: int) -> tuple | None:
+    def height_kernel_args(self, t: float, n: int) -> tuple[tuple[np.ndarray, np.ndarray, np.ndarray],
+                                                            tuple[np.ndarray, np.ndarray, np.ndarray, int]] | None:
         """What follows the points and precedes `z_out` ... in `fft_kernels.heights_cached` for n points at time t:
         (tiles, weights, inv_cells), then (band scratch, node cache, stamps, state) -- the kernel `elevation` uses
         when a sea without displacement is answered serially; None otherwise."""
