@@ -159,3 +159,24 @@ def test_timing_and_collision_buffer():
     c = CollisionCounter(3.0)
     counted = [c.update(t, True) for t in (1.0, 2.0, 4.0, 4.5, 9.0)]
     assert counted == [1, 0, 0, 1, 1]  # strictly more than 3 s after the last counted one
+
+
+def test_wildlife_time_out_subtracts_the_bonus_of_the_goals_met_as_vrx():
+    """VRX's OnFinished at the time limit: timeout score = score - time bonus, used when positive. Before, a
+    trial that timed out kept the full elapsed time (90 s with the platypus circled and the crocodile never
+    approached, where VRX scores 90 - 60 = 30)."""
+    w = WildlifeScorer([("croc", "avoid"), ("platypus", "circumnavigate_clockwise"),
+                        ("turtle", "circumnavigate_counterclockwise")], time_limit_s=90.0)  # fmt: skip
+    animals = [(100.0, 100.0), (0.0, 0.0), (50.0, 0.0)]
+    for k, (x, y) in enumerate(_circle(0, 0, 6, clockwise=True)):
+        w.update(float(k), x, y, animals)
+    w.update(90.0, 20.0, 0.0, animals)
+    assert w.score == 90.0 and not w.finished
+    w.time_out()
+    assert w.finished and w.score == 90.0 - 2 * 30.0
+    w.update(91.0, 50.0, 6.0, animals)  # nothing changes after the end
+    assert w.score == 30.0
+    short = WildlifeScorer([("croc", "avoid"), ("platypus", "circumnavigate_clockwise")], time_limit_s=20.0)
+    short.update(20.0, 0.0, 50.0, [(0.0, 0.0), (100.0, 0.0)])
+    short.time_out()  # 20 - 30 is not positive: VRX keeps the score
+    assert short.finished and short.score == 20.0

@@ -42,3 +42,18 @@ def test_reference_solution_completes_the_channel_without_collisions():
 def test_reference_station_keeping_holds_the_goal():
     report = run_trial("station_keeping", difficulty=0, seed=1, timing=TaskTiming(running_s=40.0))
     assert 0.0 < report["score"] < 6.0  # mean includes the transit from the start; the final error is small
+
+
+def test_wildlife_task_at_its_time_limit_gets_the_bonus_of_goals_met():
+    """The task calls the scorer's time_out() on its last scored step: the boat left adrift never nears the
+    crocodile (21.6 m ahead), so its bonus (here 0.25 s, to fit a 1 s trial) comes off the 1 s elapsed."""
+    task = TASKS["wildlife"](difficulty=0, seed=0, timing=TaskTiming(running_s=1.0))
+    task.scorer.bonus = 0.25
+    sim = Simulation(task.scenario(), seed=0)
+    task.bind(sim)
+    while not task.finished:
+        sim.step()
+        task.update()
+    assert task.scorer.animals[0].state == "NEVER_ENGAGED"
+    assert task.score == pytest.approx(1.0 - 0.25) and not task.completed
+    sim.close()

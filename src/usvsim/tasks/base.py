@@ -134,6 +134,8 @@ class Task:
         if self.in_contact() and self.collisions.update(self.sim.time, True):
             self.on_collision()
         self.score_step(*self.pose())
+        if steps == self._end_step and not self._finished:
+            self.on_time_out()
 
     def score_step(self, x_m: float, y_m: float, yaw_rad: float) -> None:
         raise NotImplementedError
@@ -143,6 +145,13 @@ class Task:
         collide = getattr(self.scorer, "collide", None)
         if collide is not None:
             collide()
+
+    def on_time_out(self) -> None:
+        """The last scored step at the time limit, the task not completed: scorers with a timeout rule
+        (`time_out`, VRX's `OnFinished`) get it."""
+        time_out = getattr(self.scorer, "time_out", None)
+        if time_out is not None:
+            time_out()
 
     @property
     def score(self) -> float:

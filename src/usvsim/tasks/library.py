@@ -168,7 +168,7 @@ class FollowPath(Task):
 
 class Wildlife(Task):
     """Circle the platypus clockwise and the turtle counter-clockwise, keep 10 m from the crocodile;
-    score: elapsed s minus 30 s per goal met (set when all circles are done). Lower is better.
+    score: elapsed s minus 30 s per goal met (when all circles are done, or at the time limit). Lower is better.
     The animals move as in VRX's wildlife world (tasks/animals.py): each shuttles between two waypoints."""
 
     scorer: WildlifeScorer

@@ -8,7 +8,9 @@ way resets the count, and leaving the engagement circle resets it too (so does a
 counted crossings mark the animal CIRCUMNAVIGATED.
 
 Score (lower is better): elapsed running time (capped at the time limit); when every circling goal is
-done the task finishes and 30 s is subtracted per animal circled and per `avoid` animal never engaged.
+done the task finishes and 30 s is subtracted per animal circled and per `avoid` animal never engaged. At the
+time limit the same bonus is subtracted (`time_out()`: VRX's `OnFinished` sets the timeout score to the score
+minus the bonus, used when it is positive).
 """
 
 from __future__ import annotations
@@ -78,6 +80,15 @@ class WildlifeScorer:
         if all(a.state == "CIRCUMNAVIGATED" for a in self.animals if a.circles):
             self.score -= self.time_bonus()
             self.finished = True
+
+    def time_out(self) -> None:
+        """The time limit is reached before every circle is done: the bonus of the goals met so far is
+        subtracted as VRX does (its timeout score, applied only when positive), and scoring stops."""
+        if self.finished:
+            return
+        if self.score - self.time_bonus() > 0.0:
+            self.score -= self.time_bonus()
+        self.finished = True
 
     def time_bonus(self) -> float:
         done = [(a.goal == "avoid" and a.state == "NEVER_ENGAGED") or a.state == "CIRCUMNAVIGATED"
