@@ -140,3 +140,27 @@ def test_a_step_after_the_episode_ended_is_refused():
     env.reset(seed=1)
     env.step(np.zeros(4, np.float32))  # a new episode steps again
     env.close()
+
+
+def test_multi_agent_actions_all_checked_first_and_no_step_past_the_time_limit():
+    """A bad action of one agent commands nobody; a missing agent's action is an error (it kept its last
+    command); a limit that is not a whole number of control periods ends the episode at the limit (0.15 s
+    was scored over 0.2 s, 20 samples per agent), as TaskEnv does."""
+    pytest.importorskip("pettingzoo")
+    from usvsim.tasks.gym.multi import MultiStationKeeping
+
+    env = MultiStationKeeping(vessels=2, time_limit_s=0.15)
+    env.reset(seed=0)
+    with pytest.raises(ValueError, match="finite"):
+        env.step({"wamv_0": np.ones(4, np.float32), "wamv_1": np.full(4, np.nan, np.float32)})
+    assert not env.sim.thrusters.cmd_u.any()  # wamv_0's valid action was not applied either
+    with pytest.raises(ValueError, match=r"no action for agents \['wamv_1'\]"):
+        env.step({"wamv_0": np.zeros(4, np.float32)})
+    assert env.sim.clock.steps == 0
+    steps = 0
+    while env.agents:
+        env.step({a: np.zeros(4, np.float32) for a in env.agents})
+        steps += 1
+    assert steps == 2 and env.sim.clock.steps == 15
+    assert all(s.samples == 15 for s in env.scorers.values())
+    env.close()

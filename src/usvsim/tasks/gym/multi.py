@@ -3,6 +3,8 @@
 Agents `wamv_0 … wamv_{n-1}` start 20 m apart on a line north–south, heading east; each goal is sampled
 5–15 m from its own start (seeded). Actions and observations per agent as `TaskEnv`'s `thrusters` /
 `state`; reward: minus the agent's mean VRX pose error over the control period. Vessels can collide.
+`step` needs an action for every live agent; all are checked before any is applied. No physics step goes
+past `time_limit_s` (the last period is cut short when the limit is not a whole number of periods).
 """
 
 from __future__ import annotations
@@ -72,18 +74,23 @@ class MultiStationKeeping(ParallelEnv):
         unknown = [a for a in actions if a not in self.agents]
         if unknown:
             raise ValueError(f"actions for unknown or finished agents {unknown}; agents are {self.agents}")
-        for a, act in actions.items():
-            for t, u in zip(self.sim.vessels[a].thrusters.values(), check_action(act, 4)):
+        checked = {a: check_action(act, 4) for a, act in actions.items()}  # all checked before any is commanded
+        missing = [a for a in self.agents if a not in actions]
+        if missing:  # they kept their last command without a word
+            raise ValueError(f"no action for agents {missing}: give one for every agent in env.agents")
+        for a, act in checked.items():
+            for t, u in zip(self.sim.vessels[a].thrusters.values(), act):
                 t.command(float(u))
         sums = dict.fromkeys(self.agents, 0.0)
-        for _ in range(self._every):
+        n = min(self._every, self._limit_steps - self.sim.clock.steps)  # no physics step past the time limit
+        for _ in range(n):
             self.sim.step()
             for a in self.agents:
                 x, y, yaw = self._pose(a)
                 sums[a] += self.scorers[a].update(x, y, yaw)
         truncated = self.sim.clock.steps >= self._limit_steps
         obs = {a: self._observe(a) for a in self.agents}
-        rewards = {a: -sums[a] / self._every for a in self.agents}
+        rewards = {a: -sums[a] / n for a in self.agents}
         infos = {a: {"score": self.scorers[a].score} for a in self.agents}
         terms, truncs = dict.fromkeys(self.agents, False), dict.fromkeys(self.agents, truncated)
         if truncated:
