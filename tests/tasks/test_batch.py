@@ -99,3 +99,29 @@ def test_sweep_stopped_by_sigterm_writes_the_finished_runs_and_leaves_no_worker(
     assert out.read_text() == ""  # 600 s trials: none finished
     for pid in workers:  # the workers went with it (they ran on after the sweep's process before)
         assert not Path(f"/proc/{pid}").exists() or "zombie" in Path(f"/proc/{pid}/status").read_text()
+
+
+def test_sweep_prints_a_mean_score_per_configuration(tmp_path, monkeypatch):
+    """One mean over every run mixed tasks and levels (station keeping metres with follow-the-path points:
+    '4 runs, mean score 5.039'); now a row per configuration, its seeds averaged, with its direction."""
+    from dataclasses import asdict
+
+    import usvsim.batch
+
+    fake = {("station_keeping", 0): 2.0, ("station_keeping", 1): 4.0, ("follow_path", 0): 30.0, ("follow_path", 1): 33.0}
+
+    def scored(runs, *args, finished, **kwargs):
+        for i, r in enumerate(runs):  # a score per (task, seed); collisions: 0 for seed 0, 1 for seed 1
+            finished[i] = {"run": asdict(r), "score": fake[(r.task, r.seed)], "num_collisions": r.seed,
+                           "higher_is_better": r.task == "follow_path"}  # fmt: skip
+        return finished
+
+    monkeypatch.setattr(usvsim.batch, "run", scored)
+    spec = tmp_path / "sweep.yaml"
+    spec.write_text("task: [station_keeping, follow_path]\nseeds: [0, 1]\ntime_limit_s: 2\n")
+    result = CliRunner().invoke(app, ["sweep", str(spec), "--out", str(tmp_path / "runs.jsonl")])
+    assert result.exit_code == 0, result.output
+    rows = {line.split()[0]: line.split()[1:] for line in result.output.splitlines() if line.split()[:1] in
+            (["station_keeping"], ["follow_path"])}  # fmt: skip
+    assert rows == {"station_keeping": ["0", "2", "3", "lower", "1"], "follow_path": ["0", "2", "31.5", "higher", "1"]}
+    assert "4 runs, mean scores of 2 configurations above" in result.output

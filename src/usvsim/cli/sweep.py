@@ -65,13 +65,53 @@ def sweep(
     except OSError as exc:
         typer.echo(lines, nl=False)  # nothing lost: the results go to stdout instead
         fail(f"cannot write {out}: {exc.strerror or exc}; the results were printed to stdout instead")
-    scores = [r["score"] for r in results]
-    mean = f"mean score {sum(scores) / len(scores):.4g}" if scores else "no score"
+    groups = mean_scores(results)
+    _print_table(groups)
+    mean = "no score" if not groups else (f"mean score {groups[0]['mean_score']:.4g}" if len(groups) == 1
+                                          else f"mean scores of {len(groups)} configurations above")  # fmt: skip
     if signum:
         typer.echo(f"stopped ({signal_name(signum)}): {len(results)} of {len(runs)} runs finished, {mean}; wrote "
                    f"them to {out} (the runs under way are not scored)")  # fmt: skip
         raise typer.Exit(exit_status(signum))
     typer.echo(f"{len(results)} runs, {mean}; wrote {out}")
+
+
+def mean_scores(results: list[dict]) -> list[dict]:
+    """The mean score per configuration (the run without its seed), in run order: one mean over every run
+    mixed tasks (metres with gate points) and levels into one meaningless number."""
+    groups: dict[tuple, dict] = {}
+    for r in results:
+        config = {k: v for k, v in r["run"].items() if k != "seed"}
+        key = json.dumps(config, sort_keys=True, default=float)
+        g = groups.setdefault(key, {**config, "higher_is_better": r["higher_is_better"], "scores": [],
+                                    "collisions": 0})  # fmt: skip
+        g["scores"].append(r["score"])
+        g["collisions"] += r["num_collisions"]
+    return [g | {"runs": len(g["scores"]), "mean_score": sum(g["scores"]) / len(g["scores"])} for g in groups.values()]
+
+
+def _print_table(groups: list[dict]) -> None:
+    """One row per configuration; the sea state, mass and hold columns only where the sweep varies them."""
+    from rich.console import Console
+    from rich.table import Table
+
+    if not groups:
+        return
+    optional = {"sea_state": "sea state", "mass_kg": "mass kg", "hold": "hold"}
+    shown = [k for k in optional if any(g[k] not in (None, [], ()) for g in groups)]
+    table = Table(box=None)
+    for title in ("task", "level", *(optional[k] for k in shown), "runs", "mean score", "better", "collisions"):
+        table.add_column(title, overflow="fold", no_wrap=title == "task")
+    for g in groups:
+        cells = {"sea_state": _or_dash(g["sea_state"]), "mass_kg": _or_dash(g["mass_kg"]),
+                 "hold": ", ".join(f"{k}={v:g}" for k, v in g["hold"]) or "-"}  # fmt: skip
+        table.add_row(g["task"], str(g["difficulty"]), *(cells[k] for k in shown), str(g["runs"]),
+                      f"{g['mean_score']:.4g}", "higher" if g["higher_is_better"] else "lower", str(g["collisions"]))  # fmt: skip
+    Console().print(table)
+
+
+def _or_dash(value) -> str:
+    return "-" if value is None else f"{value:g}"
 
 
 def _first_error(exc: Exception) -> str:
