@@ -13,7 +13,8 @@ import pytest
 
 ROOT = Path(__file__).resolve().parents[1]
 RUN_ELSEWHERE = {"README.md": "tests/test_docs_and_examples.py", "geo.md": "tests/geo/test_geo_docs.py",
-                 "rendering.md": "tests/rendering/test_look_config.py"}  # fmt: skip
+                 "rendering.md": "tests/rendering/test_look_config.py",
+                 "tasks.md": "tests/tasks/test_docs_tasks.py"}  # fmt: skip
 PAGES = [p for p in sorted((ROOT / "docs").glob("*.md")) if p.name not in RUN_ELSEWHERE and "```python" in p.read_text()]
 
 
