@@ -68,6 +68,7 @@ def test_bad_env_arguments_name_the_value(kwargs, words):
     ("kwargs", "words"),
     [
         ({"difficulty": 1.5}, "difficulty must be one of .* not 1.5"),
+        ({"difficulty": True}, "difficulty must be one of .* not True"),  # was level 1
         ({"sea_state": 12}, "sea_state must be .* 0-9 .* not 12"),
         ({"sea_state": -1}, "sea_state must be .* not -1"),
     ],
@@ -91,6 +92,8 @@ def test_multi_env_refuses_bad_actions_and_steps_after_the_end():
         MultiStationKeeping(vessels=2, time_limit_s=math.nan)
     with pytest.raises(ValueError, match="vessels .* not 0"):
         MultiStationKeeping(vessels=0)
+    with pytest.raises(ValueError, match="vessels .* not True"):  # was one vessel
+        MultiStationKeeping(vessels=True)
     env = MultiStationKeeping(vessels=2, time_limit_s=0.1)
     env.reset(seed=0)
     with pytest.raises(ValueError, match=r"shape \(4,\), got shape \(2,\)"):

@@ -15,7 +15,7 @@ LEVELS = {0: "calm", 1: "moderate", 2: "rough"}
 
 def environment(difficulty: int, sea_state: int | None = None) -> dict:
     """The scenario `environment` section (a plain dict) of a difficulty level."""
-    if difficulty not in LEVELS:
+    if isinstance(difficulty, bool) or difficulty not in LEVELS:  # True was level 1
         raise UsvsimError(f"difficulty must be one of {sorted(LEVELS)}, not {difficulty!r}")
     if sea_state is not None and (isinstance(sea_state, bool) or sea_state not in range(10)):
         raise UsvsimError(f"sea_state must be a WMO sea-state code 0-9 or None, not {sea_state!r}")

@@ -32,7 +32,7 @@ class MultiStationKeeping(ParallelEnv):
                  time_limit_s: float = 60.0, numba_threads: int | None = 1):  # fmt: skip
         from usvsim.simulation import Simulation
 
-        if not isinstance(vessels, int) or vessels < 1:
+        if isinstance(vessels, bool) or not isinstance(vessels, int) or vessels < 1:  # True was one vessel
             raise ValueError(f"vessels must be a whole number >= 1, not {vessels!r}")
         check_seconds("time_limit_s", time_limit_s, positive=True)
         limit_numba_threads(numba_threads)
