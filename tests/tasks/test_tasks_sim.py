@@ -57,3 +57,25 @@ def test_wildlife_task_at_its_time_limit_gets_the_bonus_of_goals_met():
     assert task.scorer.animals[0].state == "NEVER_ENGAGED"
     assert task.score == pytest.approx(1.0 - 0.25) and not task.completed
     sim.close()
+
+
+def test_gymkhana_black_box_samples_the_whole_run_as_vrx():
+    """VRX's gymkhana world runs the black box (a station-keeping plugin, no heading term) with the task's own
+    timing, so its mean distance to the pinger includes the channel transit; the score is that mean once the
+    channel is completed (200 before), + 1 per collision. It sampled only after the channel (3.0 here)."""
+    task = TASKS["gymkhana"](difficulty=0, seed=0, timing=TaskTiming(running_s=1.0))
+    sim = Simulation(task.scenario(), seed=0)
+    task.bind(sim)
+    px, py, _ = task.pinger
+    transit = [(px - 80.0, py), (px - 70.0, py), (px - 50.0, py), (px - 40.0, py), (px - 20.0, py), (px - 10.0, py)]
+    scores = []
+    for x, y in transit + [(px, py + 3.0)] * 4:  # through the three gates (15, 45, 75 m), then 3 m off the pinger
+        sim.step()
+        hold(sim, task.index, x, y, 0.0)
+        task.update()
+        scores.append(task.score)
+    assert task.scorer.gates_crossed == 3 and task.collisions.count == 0
+    assert scores[4] == 200.0  # the channel is not completed before the last gate
+    assert task.score == pytest.approx((80 + 70 + 50 + 40 + 20 + 10 + 4 * 3.0) / 10, abs=1e-9)
+    assert task.collision_buffer_s == 3.0 and task.collision_penalty == 1.0
+    sim.close()

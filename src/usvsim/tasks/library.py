@@ -289,10 +289,15 @@ class Perception(Task):
 
 
 class Gymkhana(FollowPath):
-    """The channel, then hold position (no heading term) at a "black box" pinger 15 m past the last gate;
-    score: the hold's mean error, 200 if the channel is not completed, +0.1 per collision. Lower is better."""
+    """The channel, then hold position (no heading term) at a "black box" pinger 15 m past the last gate.
+    Score, as VRX's gymkhana world runs it (practice_2022_gymkhana*_task.sdf): the black box's mean distance to
+    the pinger, 200 while the channel is not completed, + 1 per collision (the world's `obstacle_penalty`).
+    The black box is a station-keeping plugin with the task's own timing, so it samples from the start of the
+    running state, the channel transit included. Lower is better."""
 
     name, vrx_name, n_features, higher_is_better = "gymkhana", "gymkhana", 8, False
+    collision_penalty = 1.0
+    collision_buffer_s = 3.0  # the world's gymkhana plugin sets none: VRX's default (it inherited follow_path's 10)
 
     def sample(self, rng):
         super().sample(rng)
@@ -310,13 +315,12 @@ class Gymkhana(FollowPath):
     def score_step(self, x, y, yaw):
         if not self.scorer.finished:
             self.scorer.update(x, y)
-        else:
-            self.blackbox.update(x, y, yaw)
+        self.blackbox.update(x, y, yaw)  # every running step (it sampled only after the channel)
 
     @property
     def score(self):
-        base = self.blackbox.score if self.scorer.finished and self.blackbox.samples else 200.0
-        return base + 0.1 * self.collisions.count
+        base = self.blackbox.score if self.scorer.finished else 200.0
+        return base + self.collision_penalty * self.collisions.count
 
     def features(self):
         x, y, yaw = self.pose()
