@@ -167,3 +167,24 @@ def test_multi_agent_actions_all_checked_first_and_no_step_past_the_time_limit()
     assert steps == 2 and env.sim.clock.steps == 15
     assert all(s.samples == 15 for s in env.scorers.values())
     env.close()
+
+
+def test_a_time_limit_under_one_physics_step_is_refused():
+    """0.004 s rounded to 0 steps of 10 ms: a trial ran no step and scored NaN (station keeping) or inf
+    (wayfinding), written as NaN/Infinity into the JSON report, and an env was over at reset (its first
+    step raised 'the episode is over')."""
+    from usvsim.core.errors import UsvsimError
+    from usvsim.tasks.solutions import run_trial
+
+    for task in ("station_keeping", "wayfinding"):
+        with pytest.raises(UsvsimError, match=r"running time 0.004 s is shorter than one physics step \(0.01 s\)"):
+            run_trial(task, timing=TaskTiming(running_s=0.004))
+    with pytest.raises(ValueError, match="shorter than one physics step"):
+        usvsim.tasks.gym.TaskEnv(time_limit_s=0.004)
+    pytest.importorskip("pettingzoo")
+    from usvsim.tasks.gym.multi import MultiStationKeeping
+
+    with pytest.raises(ValueError, match="time_limit_s 0.004 is shorter than one physics step"):
+        MultiStationKeeping(vessels=1, time_limit_s=0.004)
+    report = run_trial("station_keeping", timing=TaskTiming(running_s=0.01))  # one step is enough
+    assert report["details"]["samples"] == 1 and math.isfinite(report["score"])

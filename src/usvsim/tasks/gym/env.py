@@ -55,7 +55,11 @@ class TaskEnv(gym.Env):
         sensors = sensor_configs(observation, control_rate_hz)
         self._scenario = self.task.scenario({"sensors": sensors} if sensors else None)
         self.sim = Simulation(self._scenario, seed=0)
-        self.task.bind(self.sim)
+        try:
+            self.task.bind(self.sim)  # a time limit under one physics step: ValueError
+        except ValueError:
+            self.sim.close()
+            raise
         self.vessel = self.sim.vessels["wamv"]
         self._thrusters = list(self.vessel.thrusters.values())
         self._thruster_ids = [t._i for t in self._thrusters]

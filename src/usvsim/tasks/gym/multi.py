@@ -45,6 +45,10 @@ class MultiStationKeeping(ParallelEnv):
         self.sim = Simulation(self._scenario, seed=0)
         self._every = steps_per_period(control_rate_hz, self.sim.clock.step_ns)
         self._limit_steps = round(time_limit_s * 1e9 / self.sim.clock.step_ns)
+        if self._limit_steps < 1:
+            self.sim.close()
+            raise ValueError(f"time_limit_s {time_limit_s:g} is shorter than one physics step "
+                             f"({self.sim.clock.step_ns / 1e9:g} s)")  # fmt: skip
         self.agents: list[str] = []
 
     @functools.cache  # noqa: B019 - one space object per agent, as PettingZoo expects
