@@ -188,3 +188,12 @@ def test_a_time_limit_under_one_physics_step_is_refused():
         MultiStationKeeping(vessels=1, time_limit_s=0.004)
     report = run_trial("station_keeping", timing=TaskTiming(running_s=0.01))  # one step is enough
     assert report["details"]["samples"] == 1 and math.isfinite(report["score"])
+
+
+def test_render_fps_is_the_control_rate():
+    """One rendered frame per env step: a video recorder playing the frames at metadata['render_fps'] shows
+    real time. It was 10 whatever the control rate (5 Hz control played twice as fast)."""
+    env = usvsim.tasks.gym.TaskEnv(control_rate_hz=5.0, time_limit_s=1.0)
+    assert env.metadata["render_fps"] == 5.0
+    assert usvsim.tasks.gym.TaskEnv.metadata["render_fps"] == 10  # the class default is left as it was
+    env.close()

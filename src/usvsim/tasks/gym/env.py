@@ -48,6 +48,7 @@ class TaskEnv(gym.Env):
         self.observation = observation
         limit_numba_threads(numba_threads)
         self.render_mode, self.action_type = render_mode, action_type
+        self.metadata = {**self.metadata, "render_fps": control_rate_hz}  # one frame per step (RecordVideo's rate)
         try:  # a bad difficulty or sea state: a ValueError like every other bad argument here
             self.task = TASKS[task](difficulty, 0, TaskTiming(running_s=time_limit_s), sea_state)
         except UsvsimError as exc:
