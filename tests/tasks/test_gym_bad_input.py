@@ -54,6 +54,7 @@ def test_a_bad_action_is_refused_and_commands_nothing(env, action, words):
         ({"action_type": "thrust"}, "action_type .* not 'thrust'"),
         ({"observation": ("state", "radar")}, r"observation .* not \('state', 'radar'\)"),
         ({"task": "stationkeeping"}, "task must be one of .* not 'stationkeeping'"),
+        ({"task": "perception"}, "perception has no env: its reports .* are not thruster actions"),  # ran, score 10
         ({"control_rate_hz": 0.0}, "rate .* not 0.0"),
         ({"control_rate_hz": math.nan}, "rate .* not nan"),
         ({"render_mode": "rgb_aray"}, "render_mode must be None or 'rgb_array', not 'rgb_aray'"),  # render(): None

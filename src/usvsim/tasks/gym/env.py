@@ -153,8 +153,11 @@ class TaskEnv(gym.Env):
 
 def _check_options(task: str, action_type: str, observation: tuple, time_limit_s: float) -> None:
     """ValueError naming the first bad constructor argument."""
+    if task == "perception":  # it ran: reward 0 and score 10 whatever the agent did (a report is no action)
+        raise ValueError("perception has no env: its reports (class, position) are not thruster actions; score a "
+                         "detector with task.scorer.report() in Python or /vrx/perception/landmark (docs/tasks.md)")
     if task not in TASKS:
-        raise ValueError(f"task must be one of {list(TASKS)}, not {task!r}")
+        raise ValueError(f"task must be one of {[t for t in TASKS if t != 'perception']}, not {task!r}")
     if action_type not in ("thrusters", "velocity"):
         raise ValueError(f"action_type must be 'thrusters' or 'velocity', not {action_type!r}")
     unknown = [o for o in observation if o not in OBSERVATIONS]
