@@ -67,9 +67,10 @@ def test_gymkhana_black_box_samples_the_whole_run_as_vrx():
     sim = Simulation(task.scenario(), seed=0)
     task.bind(sim)
     px, py, _ = task.pinger
-    transit = [(px - 80.0, py), (px - 70.0, py), (px - 50.0, py), (px - 40.0, py), (px - 20.0, py), (px - 10.0, py)]
+    # through the gates at 15, 45 and 75 m
+    transit = [(px - d, py) for d in (80.0, 70.0, 50.0, 40.0, 20.0, 10.0)]
     scores = []
-    for x, y in transit + [(px, py + 3.0)] * 4:  # through the three gates (15, 45, 75 m), then 3 m off the pinger
+    for x, y in transit + [(px, py + 3.0)] * 4:  # then 3 m off the pinger
         sim.step()
         hold(sim, task.index, x, y, 0.0)
         task.update()

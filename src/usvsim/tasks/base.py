@@ -85,7 +85,8 @@ class Task:
         step_s = sim.clock.step_ns / 1e9
         self._start_step = round(self.timing.start_s / step_s)
         self._end_step = self._start_step + round(self.timing.running_s / step_s)
-        if self._end_step == self._start_step:  # it ran no step and scored NaN (station keeping) or inf (wayfinding)
+        # no step at all: it ran none and scored NaN (station keeping) or inf (wayfinding)
+        if self._end_step == self._start_step:
             raise InputError(f"the running time {self.timing.running_s:g} s is shorter than one physics step "
                              f"({step_s:g} s): nothing would be scored")  # fmt: skip
         self.clear()
