@@ -79,7 +79,7 @@ def sweep(
 def mean_scores(results: list[dict]) -> list[dict]:
     """The mean score per configuration (the run without its seed), in run order: one mean over every run
     mixed tasks (metres with gate points) and levels into one meaningless number."""
-    groups: dict[tuple, dict] = {}
+    groups: dict[str, dict] = {}
     for r in results:
         config = {k: v for k, v in r["run"].items() if k != "seed"}
         key = json.dumps(config, sort_keys=True, default=float)
