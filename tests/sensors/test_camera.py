@@ -137,3 +137,41 @@ def test_a_simulation_collected_without_close_leaves_the_others_cameras_alone(sc
     for name in before:
         assert np.array_equal(before[name], after[name], equal_nan=True), name
     kept.close()
+
+
+@pytest.mark.parametrize("east_m", [0.0, 900.0])
+def test_plain_look_far_water_has_depth_and_colour(east_m):
+    """MuJoCo's look: beyond the 120 m drawn field the still-water plane is water to `far_m`, wherever the vessel
+    is. Before, the plane was a translucent 1 km square around the origin: from 10 m up its pixels had NaN depth
+    and the sky painted over them (the horizon 8 degrees low), and 900 m east there was no plane at all."""
+    from usvsim.world.water_visual import PLANE_GAP_M
+
+    sim = make_sim(vessel_pose={"position": [east_m, 0.0, 0.0]})
+    cam_cfg = {
+        **CAM,
+        "name": "mast",
+        "far_m": 400.0,
+        "mount": {"position": [0.0, 0.0, 10.0], "pitch_deg": 8.0},
+    }
+    suite = SensorSuite(sim.world, {"wamv": sensor_configs(cam_cfg)})
+    try:
+        sim.run(0.2)
+        cam = suite["wamv/mast"]
+        images = cam.render(sim)
+        depth, seg, rgb = images["depth"], images["segmentation"], images["rgb"]
+        pos, rot = cam.pose_world(sim)
+        rays = (
+            np.concatenate([cam.intrinsics.rays(), np.ones((*depth.shape, 1))], axis=2)
+            @ (rot @ OPTICAL_ROT).T
+        )
+        with np.errstate(divide="ignore"):
+            expected = (-PLANE_GAP_M - pos[2]) / rays[..., 2]  # optical z of the ray's hit on the plane
+        far = (rays[..., 2] < 0) & (expected > 80.0) & (expected < 0.95 * cam.cfg.far_m)  # beyond the field
+        assert far.sum() > 1000
+        water = {i for i, (_, cls) in cam.segmentation_ids.items() if cls == "water"}
+        assert np.isin(seg[far], list(water)).all()
+        assert np.isfinite(depth[far]).all()
+        assert np.abs(depth[far] / expected[far] - 1.0).max() < 0.01
+        assert (rgb[far][:, 0] < 100).all()  # the water's colour, not the sky's (~240 in red)
+    finally:
+        suite.close()

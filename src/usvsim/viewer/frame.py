@@ -13,7 +13,7 @@ from usvsim.core.overlap import Overlap
 from usvsim.viewer.camera import CameraPose
 from usvsim.viewer.hud import HELP, overlay_columns
 from usvsim.viewer.layers import MAX_POINTS, add_points, draw_inset
-from usvsim.world.water_visual import update_water_visual
+from usvsim.world.water_visual import still_water_to_view, update_water_visual
 
 VISIBLE_GROUPS = (0, 1, 1, 0, 0, 0)  # visuals and water; collision pieces (group 3) stay hidden
 
@@ -95,6 +95,8 @@ class FrameRenderer:
         pose.apply(self.camera)
         mujoco.mjv_updateScene(sim.model, sim.data, self.option, None, self.camera, mujoco.mjtCatBit.mjCAT_ALL.value,
                                self.scene)  # fmt: skip
+        if marine is None:  # the plain look's water beyond the drawn field, out to the far plane
+            still_water_to_view(self.scene, sim.model, pose.eye, float(self.scene.camera[0].frustum_far))
         if points is not None and len(points):
             add_points(self.scene, points, max_points=self.max_points)
         if marine is not None and marine.daylight is not None:

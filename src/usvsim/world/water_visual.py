@@ -30,6 +30,7 @@ TROUGH_RGB, MEAN_RGB, CREST_RGB = (
 SLOPE_SHADING = (
     2.5  # brightness change per unit slope toward the (virtual, low) sun: makes the waves readable
 )
+PLANE_SPECULAR, PLANE_SHININESS = 0.6, 0.7  # the field's material (add_water_surface)
 PLANE_GAP_M = 0.05  # the still-water plane sits this far below the field's lowest point
 _MIN_SPAN_M = 1e-4
 
@@ -42,7 +43,7 @@ def add_water_surface(spec: mujoco.MjSpec, size_m: float = SURFACE_SIZE_M, n: in
     spec.add_texture(name=WATER_SURFACE, type=mujoco.mjtTexture.mjTEXTURE_2D, builtin=mujoco.mjtBuiltin.mjBUILTIN_FLAT,
                      width=n, height=n, rgb1=list(MEAN_RGB))  # fmt: skip
     material = spec.add_material(
-        name=WATER_SURFACE, texrepeat=[1, 1], texuniform=False, specular=0.6, shininess=0.7
+        name=WATER_SURFACE, texrepeat=[1, 1], texuniform=False, specular=PLANE_SPECULAR, shininess=PLANE_SHININESS
     )
     material.textures[mujoco.mjtTextureRole.mjTEXROLE_RGB] = WATER_SURFACE
     geom = spec.worldbody.add_geom(name=WATER_SURFACE, type=mujoco.mjtGeom.mjGEOM_HFIELD, hfieldname=WATER_SURFACE,
@@ -78,6 +79,25 @@ def snapped_center(center_xy, size_m: float, n: int) -> tuple[float, float]:
     """Centre rounded to the grid spacing, so vertices stay put in the world as the field follows a boat."""
     step = size_m / (n - 1)
     return float(np.round(center_xy[0] / step) * step), float(np.round(center_xy[1] / step) * step)
+
+
+def still_water_to_view(scene: mujoco.MjvScene, model: mujoco.MjModel, eye_xy, reach_m: float) -> None:
+    """After `mjv_updateScene`: the scene's still-water plane centred under the eye (world ENU x, y in m), `reach_m`
+    out in every direction, opaque and in the flat field's colour. It is then water to the view's far plane wherever
+    the vessel is, and it writes depth: a fixed 1 km square around the origin, translucent (no depth), left the
+    plain look's cameras with NaN depth beyond the 120 m field and the sky painted over it (the horizon 8 degrees
+    low from 10 m up), and the viewer with no sea at all 500 m from the origin."""
+    plane = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_GEOM, STILL_WATER)
+    if plane < 0:
+        return
+    for i in range(scene.ngeom):  # the plane is the world's first geom: found at once
+        geom = scene.geoms[i]
+        if geom.objtype == mujoco.mjtObj.mjOBJ_GEOM and geom.objid == plane:
+            geom.pos[0], geom.pos[1] = float(eye_xy[0]), float(eye_xy[1])
+            geom.size[0] = geom.size[1] = float(reach_m)
+            geom.rgba[:3], geom.rgba[3] = MEAN_RGB, 1.0
+            geom.specular, geom.shininess = PLANE_SPECULAR, PLANE_SHININESS
+            return
 
 
 def update_water_visual(sim, renderer_context=None, center_xy=(0.0, 0.0)) -> np.ndarray | None:

@@ -32,7 +32,7 @@ import numpy as np
 from usvsim.core.errors import UsvsimError
 from usvsim.sensors.camera.intrinsics import Intrinsics
 from usvsim.sensors.camera.kernels import finish_rgb_depth, finish_segmentation, finish_segmentation_water
-from usvsim.world.water_visual import WaterUpload, refresh_water_visual
+from usvsim.world.water_visual import WaterUpload, refresh_water_visual, still_water_to_view
 
 _R = mujoco.mjtRndFlag
 SKY_ZENITH = np.array([0.55, 0.72, 0.92]) * 255  # the builder's skybox gradient (world/builder.py)
@@ -201,6 +201,8 @@ class PinholeRenderer:
         mujoco.mj_kinematics(self.model, self.data)
         mujoco.mjv_updateScene(self.model, self.data, self.option, self.pert, self.free,
                                mujoco.mjtCatBit.mjCAT_ALL, self.scene)  # fmt: skip
+        if self.marine is None:  # the plain look's water beyond the drawn field, out to the far plane
+            still_water_to_view(self.scene, self.model, pos_world, self.far)
         if self.marine is not None and self.marine.daylight is not None:
             from usvsim.rendering.frame import apply_lights
 
