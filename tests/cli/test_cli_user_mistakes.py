@@ -659,3 +659,13 @@ def test_a_dataset_from_a_scenario_whose_step_10_hz_does_not_divide(tmp_path):
 def test_a_bridge_option_without_its_bridge_is_one_line(tmp_path, args, bridge):
     """Each was ignored in silence (exit 0) when its bridge was not on (QA)."""
     one_line_error(invoke("run", "harbor", "--duration", "0.01", *args), "applies to", bridge)
+
+
+@pytest.mark.parametrize(("option", "name", "words"), [("--screenshot", "shot.txt", ".png"),
+                                                       ("--video", "run.gif", ".mp4 or .avi")])  # fmt: skip
+def test_viewer_output_formats_are_checked_before_the_run(tmp_path, option, name, words):
+    """`--screenshot shot.txt` ran the whole session, then ended in a ValueError traceback from Pillow (the frame
+    lost); `--video run.gif` opened the window and failed on its first frame. Both are one line before any work."""
+    result = invoke("run", "harbor", "--view", "--duration", "0.1", option, tmp_path / name)
+    one_line_error(result, words)
+    assert not (tmp_path / name).exists()

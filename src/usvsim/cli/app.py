@@ -111,6 +111,13 @@ def run(
         fail(UsvsimError(f"--duration must be a finite number of seconds in [0, 1e7], got {duration}"))
     if (screenshot or video) and not view:
         fail(UsvsimError("--screenshot and --video record the viewer's window: add --view"))
+    if screenshot or video:
+        from usvsim.viewer.capture import check_outputs
+
+        try:
+            check_outputs(screenshot, video)
+        except UsvsimError as exc:
+            fail(exc)
     for target in (screenshot, video):  # checked before the run, not when the window closes
         if target is not None:
             try:

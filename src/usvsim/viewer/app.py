@@ -17,7 +17,7 @@ import mujoco
 
 from usvsim.control.manual import DriveAxes, gamepad_axes
 from usvsim.viewer.camera import FollowCamera
-from usvsim.viewer.capture import Capture
+from usvsim.viewer.capture import Capture, check_outputs
 from usvsim.viewer.driver import ManualDriver, ScriptEvent
 from usvsim.viewer.frame import FrameRenderer
 from usvsim.viewer.offscreen import save_png
@@ -127,6 +127,7 @@ def run_viewer(sim, vessel: str | None = None, script: Iterable[ScriptEvent] = (
     Returns {"frames", "wall_s", "sim_s", "steps", "fps"} (sim_s, steps: stepped here, across resets); writes the last frame to `screenshot` if given, every frame
     to `video` (MP4/AVI) if given; the P key saves a screenshot in the working directory. `stop()` is asked
     between frames (never inside a physics step): True ends the run as Esc does (the CLI's Ctrl-C and SIGTERM)."""
+    check_outputs(screenshot, video)  # a bad name is an error now, not when the window closes
     driver = ManualDriver(sim, vessel, script, time_scale, gamepad=read_gamepad if gamepad else None)
     if max_seconds is not None:  # the steps to go from the clock's time now; a reset (R, /reset) adds none
         driver.stop_at_step = max(0, round(max_seconds / sim.clock.dt) - sim.clock.steps)

@@ -52,6 +52,25 @@ class Capture:
             self._writer = None
 
 
+VIDEO_SUFFIXES = (".mp4", ".avi")
+
+
+def check_outputs(screenshot: str | Path | None = None, video: str | Path | None = None) -> None:
+    """Raise a one-line UsvsimError, before the window opens, when `screenshot` has no image format Pillow writes
+    (`x.txt` ended the whole run in a ValueError traceback) or `video` is neither MP4 nor AVI (the window opened,
+    then failed on its first frame)."""
+    if screenshot is not None:
+        from PIL import Image
+
+        fmt = Image.registered_extensions().get(Path(screenshot).suffix.lower())
+        if fmt is None or fmt not in Image.SAVE:
+            raise UsvsimError(
+                f"{screenshot}: a screenshot is an image; give a file name ending in .png (or .jpg)"
+            )
+    if video is not None and Path(video).suffix.lower() not in VIDEO_SUFFIXES:
+        raise UsvsimError(f"{video}: a video is MP4 or AVI; give a file name ending in .mp4 or .avi")
+
+
 def _open_writer(path: Path, width: int, height: int, fps: float):
     try:
         import cv2
