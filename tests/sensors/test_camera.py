@@ -143,9 +143,8 @@ def test_a_simulation_collected_without_close_leaves_the_others_cameras_alone(sc
 def test_plain_look_far_water_has_depth_and_colour(east_m):
     """MuJoCo's look: beyond the 120 m drawn field the still-water plane is water to `far_m`, wherever the vessel
     is. Before, the plane was a translucent 1 km square around the origin: from 10 m up its pixels had NaN depth
-    and the sky painted over them (the horizon 8 degrees low), and 900 m east there was no plane at all."""
-    from usvsim.world.water_visual import PLANE_GAP_M
-
+    and the sky painted over them (the horizon 8 degrees low), and 900 m east there was no plane at all. The plane
+    is drawn under the field's troughs; its depth is the still water's, at the mean level."""
     sim = make_sim(vessel_pose={"position": [east_m, 0.0, 0.0]})
     cam_cfg = {
         **CAM,
@@ -165,13 +164,40 @@ def test_plain_look_far_water_has_depth_and_colour(east_m):
             @ (rot @ OPTICAL_ROT).T
         )
         with np.errstate(divide="ignore"):
-            expected = (-PLANE_GAP_M - pos[2]) / rays[..., 2]  # optical z of the ray's hit on the plane
+            expected = -pos[2] / rays[..., 2]  # optical z of the ray's hit on the still water, z = 0
         far = (rays[..., 2] < 0) & (expected > 80.0) & (expected < 0.95 * cam.cfg.far_m)  # beyond the field
         assert far.sum() > 1000
         water = {i for i, (_, cls) in cam.segmentation_ids.items() if cls == "water"}
         assert np.isin(seg[far], list(water)).all()
         assert np.isfinite(depth[far]).all()
-        assert np.abs(depth[far] / expected[far] - 1.0).max() < 0.01
+        assert np.abs(depth[far] / expected[far] - 1.0).max() < 1e-3
         assert (rgb[far][:, 0] < 100).all()  # the water's colour, not the sky's (~240 in red)
     finally:
         suite.close()
+
+
+def test_plain_look_still_water_beyond_the_waves_is_at_the_mean_level():
+    """With waves the plane is drawn below the field's lowest trough (here ~1 m below the mean level of 1.5 m);
+    the depth of its pixels is the still water's at the mean level, so their points lie at z = 1.5 m."""
+    from usvsim.config.loader import parse_scenario
+    from usvsim.simulation import Simulation
+
+    cam = {**CAM, "name": "mast", "far_m": 400.0, "mount": {"position": [0.5, 0.0, 3.0], "pitch_deg": 15.0}}
+    data = {"version": 1, "environment": {"sea": {"type": "sea_state", "code": 4}, "water_level_m": 1.5},
+            "vessels": [{"name": "wamv", "model": "wamv", "pose": {"position": [0.0, 0.0, 1.5]}, "sensors": [cam]}]}  # fmt: skip
+    sim = Simulation(parse_scenario(data, "test"), seed=0)
+    sim.run(3.0)
+    camera = sim.sensors["wamv/mast"]
+    images = camera.render(sim)
+    depth, seg = images["depth"], images["segmentation"]
+    pos, rot = camera.pose_world(sim)
+    rays = (
+        np.concatenate([camera.intrinsics.rays(), np.ones((*depth.shape, 1))], axis=2) @ (rot @ OPTICAL_ROT).T
+    )
+    still = [i for i, (name, _) in camera.segmentation_ids.items() if name == "still_water"]
+    plane = np.isin(seg, still) & np.isfinite(depth)
+    assert plane.sum() > 500
+    z = pos[2] + depth[plane] * rays[plane][:, 2]
+    assert np.abs(z - 1.5).max() < 1e-3
+    plane_z = sim.model.geom_pos[sim.model.geom("still_water").id, 2]
+    assert plane_z < 1.5 - 0.3  # drawn under the troughs: the depth is not the drawn plane's

@@ -132,3 +132,25 @@ def expose_vignette(rgb, gain, vignetting, intrinsics):
     """In place: rgb · gain · (1 - vignetting · r²/r_corner²), rounded and clipped; r from the principal point.
     The factor is applied in 1/256 steps (integer arithmetic: a quarter of the float loop's time)."""
     apply_factors(rgb, vignette_factors(rgb.shape[0], rgb.shape[1], gain, vignetting, intrinsics))
+
+
+@njit(cache=True, nogil=True)
+def still_water_depth(depth, up_optical, intrinsics, camera_z, plane_z, level_z, far_m):
+    """In place, MuJoCo's look: pixels whose surface point lies on the drawn still-water plane (world z within
+    2 cm of `plane_z`, which sits below the drawn wave field's lowest trough) get the depth of the still water at
+    its mean level `level_z` along the same ray (NaN beyond `far_m`). The drawn field's own points are at or above
+    its lowest trough, 5 cm above the plane. `up_optical`: world up in the optical frame; `camera_z`: world z (m)."""
+    height, width = depth.shape
+    fx, fy, cx, cy = intrinsics[0], intrinsics[1], intrinsics[2], intrinsics[3]
+    for row in range(height):
+        y = (row - cy) / fy
+        for col in range(width):
+            d = depth[row, col]
+            if not np.isfinite(d):
+                continue
+            # world dz per unit of optical z along the pixel's ray
+            rz = ((col - cx) / fx) * up_optical[0] + y * up_optical[1] + up_optical[2]
+            if abs(camera_z + d * rz - plane_z) > 0.02:
+                continue
+            mean = (level_z - camera_z) / rz if rz < 0.0 else np.inf
+            depth[row, col] = mean if mean < far_m else np.nan

@@ -31,8 +31,13 @@ import numpy as np
 
 from usvsim.core.errors import UsvsimError
 from usvsim.sensors.camera.intrinsics import Intrinsics
-from usvsim.sensors.camera.kernels import finish_rgb_depth, finish_segmentation, finish_segmentation_water
-from usvsim.world.water_visual import WaterUpload, refresh_water_visual, still_water_to_view
+from usvsim.sensors.camera.kernels import (
+    finish_rgb_depth,
+    finish_segmentation,
+    finish_segmentation_water,
+    still_water_depth,
+)
+from usvsim.world.water_visual import STILL_WATER, WaterUpload, refresh_water_visual, still_water_to_view
 
 _R = mujoco.mjtRndFlag
 SKY_ZENITH = np.array([0.55, 0.72, 0.92]) * 255  # the builder's skybox gradient (world/builder.py)
@@ -177,6 +182,8 @@ class PinholeRenderer:
         self._intrinsics = np.array([cam.fx, cam.fy, cam.cx, cam.cy])
         self._up_optical = np.array([0.0, -1.0, 0.0])
         self.marine = None  # set per frame by `use_marine`: the shader passes, or None for MuJoCo's look
+        self._plane = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_GEOM, STILL_WATER)
+        self._camera_z, self._level_m = 0.0, 0.0
         self._time_s = 0.0
         self._look_shadows = False
 
@@ -185,6 +192,7 @@ class PinholeRenderer:
         self.marine = self.context.marine_look(sim, center_xy)
         self.option.geomgroup[2] = int(self.marine is None)  # the shader draws its own water
         self._time_s = sim.time
+        self._level_m = float(sim.ocean.level_m)  # the still water's mean level (MuJoCo's look: its depth)
         self._look_shadows = self.marine is not None and sim.look.shadows  # the sun's shadows on geoms
 
     @property
@@ -209,6 +217,7 @@ class PinholeRenderer:
             apply_lights(self.scene, self.marine.daylight, self.marine.materials, self.marine.center_xy, self.far)
         c, n = self.cam, self.near
         self._up_optical = np.ascontiguousarray(rot_optical[2], dtype=np.float64)  # world z in the optical frame
+        self._camera_z = float(pos_world[2])
         left, right = -(c.cx + 0.5) * n / c.fx, (c.width - c.cx - 0.5) * n / c.fx
         top, bottom = (c.cy + 0.5) * n / c.fy, -(c.height - c.cy - 0.5) * n / c.fy
         for gl in self.scene.camera:
@@ -269,6 +278,9 @@ class PinholeRenderer:
             finish_rgb_depth(self._gl_rgb, self._gl_depth, float(self.near), float(self.far), zero_near,
                              self._up_optical, self._intrinsics, SKY_ZENITH, SKY_HORIZON, self.marine is None,
                              out["rgb"], out["depth"])  # fmt: skip
+            if self.marine is None and self._plane >= 0:  # the plane sits under the field's troughs: its depth is
+                still_water_depth(out["depth"], self._up_optical, self._intrinsics, self._camera_z,  # the mean level's
+                                  float(self.model.geom_pos[self._plane, 2]), self._level_m, float(self.far))  # fmt: skip
         if segmentation:
             mujoco.mjr_readPixels(self._gl_ids, None, self.rect, self.ctx)
             out["segmentation"] = np.empty(self._gl_depth.shape, np.uint16)
