@@ -7,9 +7,10 @@ import pytest
 from sensor_rig import make_sim, sensor_configs
 from test_lidar import BOX, _box_distance, _world_points
 
+from usvsim.config.loader import parse_scenario
 from usvsim.sensors import SensorSuite
 from usvsim.sensors.base import OPTICAL_ROT
-from usvsim.sensors.camera.intrinsics import Intrinsics, distort, undistort
+from usvsim.sensors.camera.intrinsics import Intrinsics, Remap, distort, undistort
 
 MOUNT = {"position": [0.7, 0.0, 1.2], "yaw_deg": 5.0}
 DIST = {"k1": -0.15, "k2": 0.03, "p1": 0.001, "p2": -0.0015, "k3": 0.002}
@@ -179,7 +180,6 @@ def test_plain_look_far_water_has_depth_and_colour(east_m):
 def test_plain_look_still_water_beyond_the_waves_is_at_the_mean_level():
     """With waves the plane is drawn below the field's lowest trough (here ~1 m below the mean level of 1.5 m);
     the depth of its pixels is the still water's at the mean level, so their points lie at z = 1.5 m."""
-    from usvsim.config.loader import parse_scenario
     from usvsim.simulation import Simulation
 
     cam = {**CAM, "name": "mast", "far_m": 400.0, "mount": {"position": [0.5, 0.0, 3.0], "pitch_deg": 15.0}}
@@ -201,3 +201,36 @@ def test_plain_look_still_water_beyond_the_waves_is_at_the_mean_level():
     assert np.abs(z - 1.5).max() < 1e-3
     plane_z = sim.model.geom_pos[sim.model.geom("still_water").id, 2]
     assert plane_z < 1.5 - 0.3  # drawn under the troughs: the depth is not the drawn plane's
+
+
+def test_a_lens_without_inverse_over_the_image_is_refused():
+    """k1 = -0.25 on an 80 deg, 640x480 camera segfaulted the run: the radial term r (1 + k1 r^2) peaks at
+    r = sqrt(-1 / (3 k1)) below the corners' radius, so no ray reaches them, the inverse diverged to NaN and the
+    remap indexed outside the image. The threshold from that closed form: k1* = -1 / (6.75 r_c^2) = -0.135 for
+    the corner pixel's normalized radius r_c; the config accepts k1 a little above it and refuses it below."""
+    from usvsim.core.errors import UsvsimError
+
+    f = 320 / np.tan(np.radians(40.0))
+    r_c2 = (319.5 / f) ** 2 + (239.5 / f) ** 2
+    threshold = -1.0 / (6.75 * r_c2)
+    assert -0.137 < threshold < -0.133
+
+    def scenario(k1):
+        cam = {
+            **CAM,
+            "name": "wide",
+            "width": 640,
+            "height": 480,
+            "horizontal_fov_deg": 80.0,
+            "distortion": {"k1": k1},
+        }
+        data = {"version": 1, "vessels": [{"name": "wamv", "model": "wamv", "sensors": [cam]}]}
+        return parse_scenario(data, "lens.yaml")
+
+    scenario(threshold + 0.01)
+    for k1 in (threshold - 0.01, -0.25, 5.0):
+        with pytest.raises(UsvsimError, match=r"vessels\[0\]\.sensors\[0\]: distortion has no inverse"):
+            scenario(k1)
+    remap = Remap(Intrinsics.from_fov(640, 480, 80.0, (-0.25, 0, 0, 0, 0)))  # the Python API: no config check
+    assert 0 <= remap.nearest.min() and remap.nearest.max() < 640 * 480
+    assert 0 <= remap.corners.min() and remap.corners.max() < 640 * 480

@@ -9,8 +9,10 @@ nearest valid values).
 
 from __future__ import annotations
 
+import math
 from typing import Annotated, Literal
 
+import numpy as np
 from pydantic import Field, model_validator
 
 from usvsim.config.base import NonNegativeFloat, PoseDeg, PositiveFloat, Section, TupleOf, Vec2
@@ -183,7 +185,9 @@ class Lidar(SensorBase):
 
 # -- cameras ---------------------------------------------------------------------------------------
 class Distortion(Section):
-    """Brown–Conrady (plumb_bob) coefficients on normalized image coordinates, published as D = [k1 k2 p1 p2 k3]."""
+    """Brown–Conrady (plumb_bob) coefficients on normalized image coordinates, published as D = [k1 k2 p1 p2 k3].
+    Every pixel of the camera's image must have a ray: a lens whose polynomial turns back inside the image (e.g.
+    k1 below -0.135 at 80° and 4:3) is refused."""
 
     k1: float = 0.0
     k2: float = 0.0
@@ -240,7 +244,44 @@ class Camera(SensorBase):
             raise ValueError("streams must list each of rgb, depth, segmentation at most once (at least one)")
         if self.near_m >= self.far_m:
             raise ValueError(f"near_m ({self.near_m} m) must be less than far_m ({self.far_m} m)")
+        d = self.distortion
+        pixel = _pixel_without_ray(self.width, self.height, self.horizontal_fov_deg, (d.k1, d.k2, d.p1, d.p2, d.k3))
+        if pixel is not None:  # the renderer found no ray for it: garbage indices, a segmentation fault
+            raise ValueError(
+                f"distortion has no inverse at pixel {pixel} of this {self.width}x{self.height} image at "
+                f"horizontal_fov_deg {self.horizontal_fov_deg:g}: no ray found for it (the lens polynomial turns back inside "
+                "the image, or is too strong for the renderer's inverse); a calibration is monotonic over its image: check "
+                "the coefficients or the field of view"
+            )
         return self
+
+
+def _pixel_without_ray(width: int, height: int, fov_deg: float, D) -> tuple[int, int] | None:
+    """The first image pixel (u, v) whose distorted normalized coordinates the camera's fixed-point inverse
+    (sensors/camera/intrinsics.undistort: 20 iterations) does not invert to 0.1 px, or None. Checked on the image's
+    border, where the radius is largest, and a grid every 16 pixels inside."""
+    if not any(D):
+        return None
+    f = 0.5 * width / math.tan(math.radians(fov_deg) / 2)
+    us, vs = np.arange(0, width, 16), np.arange(0, height, 16)
+    border = [(u, v) for u in range(width) for v in (0, height - 1)] + [(u, v) for v in range(height) for u in (0, width - 1)]
+    uv = np.array(border + [(u, v) for u in us for v in vs], dtype=float)
+    xy_d = (uv - [(width - 1) / 2, (height - 1) / 2]) / f
+    k1, k2, p1, p2, k3 = D
+
+    def distort(xy):
+        x, y = xy[:, 0], xy[:, 1]
+        r2 = x * x + y * y
+        radial = 1 + r2 * (k1 + r2 * (k2 + r2 * k3))
+        return np.stack([x * radial + 2 * p1 * x * y + p2 * (r2 + 2 * x * x), y * radial + p1 * (r2 + 2 * y * y) + 2 * p2 * x * y], axis=1)
+
+    xy = xy_d.copy()
+    with np.errstate(all="ignore"):
+        for _ in range(20):
+            xy = xy + (xy_d - distort(xy))
+        error = np.abs(distort(xy) - xy_d).max(axis=1) * f
+    bad = ~(error < 0.1)  # NaN too
+    return (int(uv[bad][0, 0]), int(uv[bad][0, 1])) if bad.any() else None
 
 
 # -- ground-truth detections ------------------------------------------------------------------------

@@ -82,12 +82,14 @@ class Remap:
     def __init__(self, cam: Intrinsics):
         self.cam = cam
         xy = cam.rays()
-        reach_x = max(np.abs(xy[..., 0]).max() * cam.fx / max(cam.cx + 0.5, cam.width - cam.cx - 0.5), 1.0)
-        reach_y = max(np.abs(xy[..., 1]).max() * cam.fy / max(cam.cy + 0.5, cam.height - cam.cy - 0.5), 1.0)
+        ok = np.isfinite(xy).all(axis=-1)  # a lens the config refuses (no inverse) leaves some rays undefined
+        reach_x = max(np.abs(xy[ok, 0]).max(initial=0.0) * cam.fx / max(cam.cx + 0.5, cam.width - cam.cx - 0.5), 1.0)
+        reach_y = max(np.abs(xy[ok, 1]).max(initial=0.0) * cam.fy / max(cam.cy + 0.5, cam.height - cam.cy - 0.5), 1.0)
         scale = 1.0 / max(reach_x, reach_y) * 0.999
         self.render = Intrinsics(cam.width, cam.height, cam.fx * scale, cam.fy * scale, cam.cx, cam.cy)
         su = self.render.fx * xy[..., 0] + cam.cx  # source pixel coordinates in the pinhole render
         sv = self.render.fy * xy[..., 1] + cam.cy
+        su, sv = np.nan_to_num(su, nan=-1.0), np.nan_to_num(sv, nan=-1.0)  # never an index out of the image
         self.nearest = (np.clip(np.rint(sv), 0, cam.height - 1).astype(np.intp) * cam.width
                         + np.clip(np.rint(su), 0, cam.width - 1).astype(np.intp)).ravel()  # fmt: skip
         u0 = np.clip(np.floor(su), 0, cam.width - 2).astype(np.int64)
