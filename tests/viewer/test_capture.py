@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import pytest
+
 from usvsim.viewer.capture import Capture
 
 
@@ -29,3 +31,24 @@ def test_screenshots_at_the_same_time_get_a_counter_suffix(tmp_path):
                      "usvsim_harbor_00012.500s_4.png", "usvsim_harbor_00013.000s.png"]  # fmt: skip
     assert [p.read_text() for p in capture.saved] == ["1", "2", "3", "4"]
     assert (tmp_path / "usvsim_harbor_00012.500s_2.png").read_text() == "earlier session"
+
+
+@pytest.mark.parametrize(
+    ("options", "words"),
+    [({"time_scale": 0.0}, "time_scale"), ({"time_scale": -1.0}, "time_scale"),
+     ({"max_seconds": float("nan")}, "max_seconds"), ({"max_seconds": -5.0}, "max_seconds"),
+     ({"screenshot": "shot.txt"}, ".png"), ({"video": "run.gif"}, ".mp4 or .avi")],
+)  # fmt: skip
+def test_run_viewer_refuses_bad_options_before_the_window(monkeypatch, options, words):
+    """time_scale 0 or below never stepped (the window hung until killed); max_seconds NaN was a ValueError
+    traceback and -5 ran one frame; a screenshot name Pillow cannot write failed after the whole run."""
+    from usvsim.core.errors import UsvsimError
+    from usvsim.simulation import Simulation
+    from usvsim.viewer import app
+
+    def no_window(*_args, **_kwargs):
+        raise AssertionError("the window opened although an option was bad")
+
+    monkeypatch.setattr(app, "ViewerWindow", no_window)
+    with pytest.raises(UsvsimError, match=words):
+        app.run_viewer(Simulation.from_scenario("harbor"), **options)

@@ -19,18 +19,22 @@ def main(argv=None) -> None:
 
     os.environ["MUJOCO_GL"] = "glfw"  # camera sensors beside the window: the same window system (GLX)
 
+    from usvsim.core.errors import UsvsimError
     from usvsim.simulation import Simulation
     from usvsim.viewer import run_viewer
     from usvsim.viewer.demo import HARBOR_LAP, HARBOR_LAP_SECONDS, harbor_with_waves
 
-    sim = (
-        Simulation(harbor_with_waves(), args.seed)
-        if args.waves
-        else Simulation.from_scenario(args.scenario, args.seed)
-    )
-    seconds = args.seconds if args.seconds is not None else (HARBOR_LAP_SECONDS if args.lap else None)
-    stats = run_viewer(sim, script=HARBOR_LAP if args.lap else (), max_seconds=seconds, screenshot=args.screenshot,
-                       time_scale=args.time_scale)  # fmt: skip
+    try:  # a user's mistake is one line (exit 2), as in `usvsim run --view`
+        sim = (
+            Simulation(harbor_with_waves(), args.seed)
+            if args.waves
+            else Simulation.from_scenario(args.scenario, args.seed)
+        )
+        seconds = args.seconds if args.seconds is not None else (HARBOR_LAP_SECONDS if args.lap else None)
+        stats = run_viewer(sim, script=HARBOR_LAP if args.lap else (), max_seconds=seconds,
+                           screenshot=args.screenshot, time_scale=args.time_scale)  # fmt: skip
+    except (UsvsimError, RuntimeError) as exc:  # RuntimeError: no display
+        parser.exit(2, f"usvsim: error: {exc}\n")
     print(
         f"{stats['frames']} frames in {stats['wall_s']:.1f} s ({stats['fps']:.1f} fps), simulated {stats['sim_s']:.1f} s"
     )

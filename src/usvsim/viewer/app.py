@@ -8,6 +8,7 @@ on/off, Esc quit; mouse drag orbits, scroll zooms; a gamepad (GLFW mapping) driv
 
 from __future__ import annotations
 
+import math
 import time
 from collections.abc import Callable, Iterable
 from pathlib import Path
@@ -16,6 +17,7 @@ import glfw
 import mujoco
 
 from usvsim.control.manual import DriveAxes, gamepad_axes
+from usvsim.core.errors import UsvsimError
 from usvsim.viewer.camera import FollowCamera
 from usvsim.viewer.capture import Capture, check_outputs
 from usvsim.viewer.driver import ManualDriver, ScriptEvent
@@ -128,6 +130,10 @@ def run_viewer(sim, vessel: str | None = None, script: Iterable[ScriptEvent] = (
     to `video` (MP4/AVI) if given; the P key saves a screenshot in the working directory. `stop()` is asked
     between frames (never inside a physics step): True ends the run as Esc does (the CLI's Ctrl-C and SIGTERM)."""
     check_outputs(screenshot, video)  # a bad name is an error now, not when the window closes
+    if not (math.isfinite(time_scale) and time_scale > 0):  # 0 or less never stepped: the window hung for good
+        raise UsvsimError(f"time_scale must be a finite number above 0, got {time_scale}")
+    if max_seconds is not None and not (math.isfinite(max_seconds) and max_seconds >= 0):
+        raise UsvsimError(f"max_seconds must be a finite number of seconds, 0 or more, got {max_seconds}")
     driver = ManualDriver(sim, vessel, script, time_scale, gamepad=read_gamepad if gamepad else None)
     if max_seconds is not None:  # the steps to go from the clock's time now; a reset (R, /reset) adds none
         driver.stop_at_step = max(0, round(max_seconds / sim.clock.dt) - sim.clock.steps)
