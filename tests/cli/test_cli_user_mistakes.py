@@ -669,3 +669,19 @@ def test_viewer_output_formats_are_checked_before_the_run(tmp_path, option, name
     result = invoke("run", "harbor", "--view", "--duration", "0.1", option, tmp_path / name)
     one_line_error(result, words)
     assert not (tmp_path / name).exists()
+
+
+def test_view_without_a_display_fails_before_building_the_world(monkeypatch, tmp_path):
+    """Without DISPLAY the viewer's one-line error came after the scenario was built (~10 s) and left the
+    recording to be removed again; now it comes first."""
+    import sys
+
+    import usvsim.simulation
+
+    if not sys.platform.startswith("linux"):
+        pytest.skip("DISPLAY is how Linux finds its window system")
+    monkeypatch.delenv("DISPLAY", raising=False)
+    monkeypatch.delenv("WAYLAND_DISPLAY", raising=False)
+    monkeypatch.setattr(usvsim.simulation.Simulation, "from_scenario", never)
+    one_line_error(invoke("run", "harbor", "--view", "--record", tmp_path / "r.mcap"), "no display")
+    assert not (tmp_path / "r.mcap").exists()

@@ -124,6 +124,10 @@ def run(
                 prepare_file(target)
             except UsvsimError as exc:
                 fail(exc)
+    if view and sys.platform.startswith("linux") and not (os.environ.get("DISPLAY") or os.environ.get("WAYLAND_DISPLAY")):
+        from usvsim.viewer import NO_DISPLAY
+
+        fail(UsvsimError(f"cannot open the viewer window: {NO_DISPLAY}"))  # at once, not after building the world
     if view:  # camera sensors then render in hidden GLFW windows beside the viewer's (an EGL context beside
         os.environ["MUJOCO_GL"] = "glfw"  # a GLX window fails with X BadAccess in glXMakeCurrent)
     from usvsim.cli.stopping import StopSignals

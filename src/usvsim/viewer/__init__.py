@@ -15,6 +15,8 @@ from usvsim.viewer.camera import CameraPose, FollowCamera, mujoco_ray
 from usvsim.viewer.driver import ManualDriver
 from usvsim.viewer.hud import hud_lines
 
+NO_DISPLAY = "GLFW could not initialise: no display? (set DISPLAY, or run under Xvfb)"
+
 
 def run_viewer(sim, **kwargs) -> dict:
     """Open the interactive viewer window on `sim`; see `usvsim.viewer.app.run_viewer` for the options."""
@@ -23,4 +25,4 @@ def run_viewer(sim, **kwargs) -> dict:
     return _run(sim, **kwargs)
 
 
-__all__ = ["CameraPose", "FollowCamera", "ManualDriver", "hud_lines", "mujoco_ray", "run_viewer"]
+__all__ = ["NO_DISPLAY", "CameraPose", "FollowCamera", "ManualDriver", "hud_lines", "mujoco_ray", "run_viewer"]

@@ -18,6 +18,7 @@ import mujoco
 
 from usvsim.control.manual import DriveAxes, gamepad_axes
 from usvsim.core.errors import UsvsimError
+from usvsim.viewer import NO_DISPLAY
 from usvsim.viewer.camera import FollowCamera
 from usvsim.viewer.capture import Capture, check_outputs
 from usvsim.viewer.driver import ManualDriver, ScriptEvent
@@ -59,7 +60,7 @@ class ViewerWindow:
         self, driver: ManualDriver, view: View, width: int = 1280, height: int = 720, title: str = "usvsim"
     ):
         if not glfw.init():
-            raise RuntimeError("GLFW could not initialise: no display? (set DISPLAY, or run under Xvfb)")
+            raise RuntimeError(NO_DISPLAY)
         glfw.window_hint(glfw.SAMPLES, 0)  # multisampling costs 2x on a software renderer
         self.window = glfw.create_window(width, height, title, None, None)
         if not self.window:
