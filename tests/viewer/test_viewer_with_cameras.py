@@ -49,3 +49,27 @@ def test_screenshot_key_is_reported_once():
     driver = ManualDriver(Sim())
     driver.key("p", "press")
     assert driver.take_screenshot_request() and not driver.take_screenshot_request()
+
+
+def test_viewer_window_is_visible_and_cameras_work_after_it_closes():
+    """Camera sensors' contexts are hidden GLFW windows whose VISIBLE 0 hint stayed set, so the viewer's own
+    window was created invisible (a user with a display saw nothing); and closing the viewer called
+    glfw.terminate(), which destroyed the cameras' windows: their next images had a black sky and a grey band."""
+    import json
+    from pathlib import Path
+
+    xvfb, display = start_xvfb()
+    env = {k: v for k, v in os.environ.items() if k not in ("MUJOCO_GL", "PYOPENGL_PLATFORM")}
+    env.update(DISPLAY=display)
+    script = Path(__file__).with_name("viewer_then_cameras.py")
+    try:
+        result = subprocess.run([sys.executable, str(script)], capture_output=True, text=True, timeout=300, env=env)
+    finally:
+        xvfb.terminate()
+        xvfb.wait(timeout=10)
+    assert result.returncode == 0, result.stderr[-2000:]
+    out = json.loads(result.stdout.strip().splitlines()[-1])
+    assert out["visible"] == 1
+    red, green, blue = out["sky"]
+    assert blue > 150 and blue > red  # the painted light-blue sky, not black
+    assert "not initialized" not in result.stderr

@@ -61,10 +61,10 @@ class ViewerWindow:
     ):
         if not glfw.init():
             raise RuntimeError(NO_DISPLAY)
-        glfw.window_hint(glfw.SAMPLES, 0)  # multisampling costs 2x on a software renderer
+        glfw.default_window_hints()  # camera sensors' hidden windows (mujoco.glfw) leave VISIBLE 0 behind: the
+        glfw.window_hint(glfw.SAMPLES, 0)  # viewer's window was invisible; multisampling costs 2x on llvmpipe
         self.window = glfw.create_window(width, height, title, None, None)
-        if not self.window:
-            glfw.terminate()
+        if not self.window:  # GLFW stays initialised: camera sensors may hold windows of it
             raise RuntimeError("GLFW could not create a window (OpenGL 2+ with a display is needed)")
         glfw.make_context_current(self.window)
         glfw.swap_interval(0)
@@ -114,9 +114,10 @@ class ViewerWindow:
         return save_png(self.renderer.read_rgb(self.viewport), path)
 
     def close(self) -> None:
+        """Free the window, leaving GLFW initialised: glfw.terminate() also destroyed the camera sensors' hidden
+        windows, and their images after the viewer closed were garbage (black sky, a grey band)."""
         self.renderer.free()
         glfw.destroy_window(self.window)
-        glfw.terminate()
 
 
 def run_viewer(sim, vessel: str | None = None, script: Iterable[ScriptEvent] = (), max_seconds: float | None = None,
