@@ -173,6 +173,9 @@ def test_plain_look_far_water_has_depth_and_colour(east_m):
         assert np.isfinite(depth[far]).all()
         assert np.abs(depth[far] / expected[far] - 1.0).max() < 1e-3
         assert (rgb[far][:, 0] < 100).all()  # the water's colour, not the sky's (~240 in red)
+        field = (rays[..., 2] < 0) & (expected > 20.0) & (expected < 40.0)  # the drawn field, flat sea
+        seam = np.abs(np.median(rgb[far], axis=0) - np.median(rgb[field], axis=0))
+        assert seam.max() <= 4  # the plane in the flat field's colour: no band at the field's edge
     finally:
         suite.close()
 

@@ -154,3 +154,20 @@ def test_every_physics_step_of_the_episode_is_scored():
         *_, info = wildlife.step(np.zeros(wildlife.action_space.shape, np.float32))
     assert info["score"] == pytest.approx(info["elapsed_time"]) == pytest.approx(5.0)
     wildlife.close()
+
+
+def test_the_chase_view_far_from_the_origin_shows_the_sea_to_the_top():
+    """900 m from the origin the plain look's still-water plane (a 1 km square around the origin) was out of view:
+    past the 120 m field the chase view showed sky below the horizon (top rows ~(194, 217, 245)). Now the plane
+    follows the view: the top rows are water, in the field's colour."""
+    env = gymnasium.make("usvsim/StationKeeping-v0", time_limit_s=5.0, render_mode="rgb_array")
+    try:
+        env.reset(seed=1)
+        sim = env.unwrapped.sim
+        sim.world.teleport(next(iter(sim.vessels.values())).index, {"position": [900.0, 0.0, 0.0]})
+        env.step(np.zeros(4, np.float32))
+        frame = env.render().astype(int)
+        top, field = np.median(frame[:20].reshape(-1, 3), axis=0), np.median(frame[200:].reshape(-1, 3), axis=0)
+        assert top[0] < 100 and np.abs(top - field).max() <= 4
+    finally:
+        env.close()

@@ -30,7 +30,6 @@ TROUGH_RGB, MEAN_RGB, CREST_RGB = (
 SLOPE_SHADING = (
     2.5  # brightness change per unit slope toward the (virtual, low) sun: makes the waves readable
 )
-PLANE_SPECULAR, PLANE_SHININESS = 0.6, 0.7  # the field's material (add_water_surface)
 PLANE_GAP_M = 0.05  # the still-water plane sits this far below the field's lowest point
 _MIN_SPAN_M = 1e-4
 
@@ -43,7 +42,7 @@ def add_water_surface(spec: mujoco.MjSpec, size_m: float = SURFACE_SIZE_M, n: in
     spec.add_texture(name=WATER_SURFACE, type=mujoco.mjtTexture.mjTEXTURE_2D, builtin=mujoco.mjtBuiltin.mjBUILTIN_FLAT,
                      width=n, height=n, rgb1=list(MEAN_RGB))  # fmt: skip
     material = spec.add_material(
-        name=WATER_SURFACE, texrepeat=[1, 1], texuniform=False, specular=PLANE_SPECULAR, shininess=PLANE_SHININESS
+        name=WATER_SURFACE, texrepeat=[1, 1], texuniform=False, specular=0.6, shininess=0.7
     )
     material.textures[mujoco.mjtTextureRole.mjTEXROLE_RGB] = WATER_SURFACE
     geom = spec.worldbody.add_geom(name=WATER_SURFACE, type=mujoco.mjtGeom.mjGEOM_HFIELD, hfieldname=WATER_SURFACE,
@@ -96,7 +95,7 @@ def still_water_to_view(scene: mujoco.MjvScene, model: mujoco.MjModel, eye_xy, r
             geom.pos[0], geom.pos[1] = float(eye_xy[0]), float(eye_xy[1])
             geom.size[0] = geom.size[1] = float(reach_m)
             geom.rgba[:3], geom.rgba[3] = MEAN_RGB, 1.0
-            geom.specular, geom.shininess = PLANE_SPECULAR, PLANE_SHININESS
+            geom.specular = 0.0  # lit at its far corners, a specular term made it lighter than the field
             return
 
 

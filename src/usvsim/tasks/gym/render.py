@@ -9,6 +9,7 @@ import mujoco
 import numpy as np
 
 from usvsim.sensors.camera.render import RenderContext
+from usvsim.world.water_visual import still_water_to_view
 
 
 class ChaseRenderer:
@@ -32,6 +33,8 @@ class ChaseRenderer:
         mujoco.mj_camlight(model, self.data)  # the lights
         mujoco.mjv_updateScene(model, self.data, self.option, None, self.camera, mujoco.mjtCatBit.mjCAT_ALL,
                                self.scene)  # fmt: skip
+        eye = self.scene.camera[0]  # the sea beyond the drawn field, under the eye out to the far plane
+        still_water_to_view(self.scene, model, eye.pos, float(eye.frustum_far))
         mujoco.mjr_render(self.rect, self.scene, self.context.ctx)
         rgb = np.empty((self.rect.height, self.rect.width, 3), np.uint8)
         mujoco.mjr_readPixels(rgb, None, self.rect, self.context.ctx)
