@@ -92,3 +92,21 @@ def test_mujoco_ray_pulls_in_before_a_dock(scenario_of):
     )  # eye toward open water
     assert free.pose(boat.position, 0.0, mujoco_ray(sim.model, sim.data, boat.index + 1)).distance == 25.0
     assert np.allclose(view_direction(0.0, 0.0), [1.0, 0.0, 0.0])
+
+
+def test_the_eye_stays_above_the_waves():
+    """At the lowest pitch (1 deg) in sea state 7 the eye went 0.19 m under the surface and the view was black below
+    a slanted line. A surface 3 m up under the eye: the view looks down more steeply from the same distance until
+    the eye is 0.5 m above it; a low surface leaves the pose alone."""
+    from usvsim.viewer.camera import above_water
+
+    camera = FollowCamera(distance=14.0, pitch_deg=1.0)
+    pose = camera.pose(np.zeros(3), 0.0)
+    assert pose.eye[2] < 3.0
+    lifted = above_water(pose, lambda x, y: 3.0)
+    assert lifted.eye[2] == pytest.approx(3.5, abs=2e-3)
+    assert lifted.distance == pose.distance and lifted.azimuth_deg == pose.azimuth_deg
+    assert np.array_equal(lifted.lookat, pose.lookat)
+    assert above_water(pose, lambda x, y: -1.0) is pose
+    sloped = above_water(pose, lambda x, y: 2.0 - 0.1 * x)  # the surface under the eye moves with it
+    assert sloped.eye[2] >= 2.5 - 0.1 * sloped.eye[0] - 2e-3

@@ -121,6 +121,21 @@ class FollowCamera:
         return CameraPose(pivot, distance, azimuth, elevation)
 
 
+def above_water(pose: CameraPose, elevation: Callable[[float, float], float], clearance_m: float = 0.5) -> CameraPose:
+    """`pose` with its eye at least `clearance_m` above the water surface under it (`elevation(x, y)`: world z of
+    the surface, m), by looking down more steeply from the same distance. In a rough sea at a low pitch the eye
+    went under the waves and the view was black below a slanted line (sea state 7, pitch 1 deg: 0.19 m under)."""
+    for _ in range(4):  # the surface under the eye moves as the eye does: a few rounds settle it
+        eye = pose.eye
+        target = elevation(float(eye[0]), float(eye[1])) + clearance_m
+        if eye[2] >= target - 1e-3:
+            return pose
+        sin_el = min(max((float(pose.lookat[2]) - target) / pose.distance, -1.0), 1.0)
+        elevation_deg = max(math.degrees(math.asin(sin_el)), -89.0)
+        pose = CameraPose(pose.lookat, pose.distance, pose.azimuth_deg, min(elevation_deg, pose.elevation_deg))
+    return pose
+
+
 def pulled_in_distance(
     pivot, toward_eye, distance: float, ray: Ray | None, margin: float, minimum: float
 ) -> float:

@@ -8,7 +8,7 @@ from collections.abc import Callable
 import mujoco
 import numpy as np
 
-from usvsim.viewer.camera import CameraPose, FollowCamera, mujoco_ray
+from usvsim.viewer.camera import CameraPose, FollowCamera, above_water, mujoco_ray
 from usvsim.viewer.frame import FrameRenderer
 from usvsim.viewer.hud import HELP, RateMeter, hud_lines
 
@@ -39,7 +39,9 @@ class View:
 
     def camera_pose(self, dt: float = 0.0) -> CameraPose:
         self.camera.update(self.heading_deg, dt)
-        return self.camera.pose(self.vessel.position, self.heading_deg, self._ray)
+        pose = self.camera.pose(self.vessel.position, self.heading_deg, self._ray)
+        ocean, t = self.sim.ocean, self.sim.time
+        return above_water(pose, lambda x, y: float(np.ravel(ocean.elevation(x, y, t))[0]))
 
     def hud_rows(self, paused: bool = False, axes=None) -> list[tuple[str, str]] | None:
         if not self.show_hud:
