@@ -233,8 +233,12 @@ class Camera(SensorBase):
     distortion: Distortion = Distortion()
     rgb_noise_stddev: NonNegativeFloat = Field(default=0.0, description="multiplicative Gaussian, out = in·(1 + σ n)")
     depth_noise_stddev_m: NonNegativeFloat = 0.0
-    shadows: bool = False
-    fog: bool = False
+    shadows: bool = Field(default=False, description="MuJoCo's shadow map of the sun on geoms (also `rendering.shadows`)")
+    fog: bool = Field(
+        default=False,
+        description="MuJoCo's linear fog, from 3 to 10 times the scene's extent (510-1700 m in the harbour: mostly "
+        "beyond far_m); visibility-based fog is `rendering.fog` with `renderer: shader`",
+    )
     water_surface: bool = Field(default=True, description="draw the wave surface from the ocean (else the flat plane)")
     detections: CameraDetections | None = None
 

@@ -207,10 +207,14 @@ class PinholeRenderer:
         """Pose the world (`qpos`) and the camera (optical frame → world rotation, origin in ENU m)."""
         self.data.qpos[:] = qpos
         mujoco.mj_kinematics(self.model, self.data)
+        mujoco.mj_camlight(self.model, self.data)  # the lights' poses (the sun's direction was 0: no sun, no shadows)
         mujoco.mjv_updateScene(self.model, self.data, self.option, self.pert, self.free,
                                mujoco.mjtCatBit.mjCAT_ALL, self.scene)  # fmt: skip
         if self.marine is None:  # the plain look's water beyond the drawn field, out to the far plane
             still_water_to_view(self.scene, self.model, pos_world, self.far)
+            for i in range(self.scene.nlight):  # the headlight looks where this camera looks (it kept the pose of
+                if self.scene.lights[i].headlight:  # the unused free camera: north and down, whatever the heading)
+                    self.scene.lights[i].pos[:], self.scene.lights[i].dir[:] = pos_world, rot_optical[:, 2]
         if self.marine is not None and self.marine.daylight is not None:
             from usvsim.rendering.frame import apply_lights
 
