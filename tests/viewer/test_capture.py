@@ -52,3 +52,41 @@ def test_run_viewer_refuses_bad_options_before_the_window(monkeypatch, options, 
     monkeypatch.setattr(app, "ViewerWindow", no_window)
     with pytest.raises(UsvsimError, match=words):
         app.run_viewer(Simulation.from_scenario("harbor"), **options)
+
+
+def test_the_video_runs_on_simulated_time(tmp_path, monkeypatch):
+    """One frame per drawn frame at a nominal 30 fps played 1 s simulated in 0.4 s (12 frames drawn). Now a frame
+    per 1/30 s of simulated time: the latest drawn frame repeated, extra frames left out, a pause left out."""
+    import numpy as np
+
+    from usvsim.viewer import capture as capture_module
+
+    written = []
+
+    class Writer:
+        def write(self, bgr):
+            written.append(int(bgr[0, 0, 0]))
+
+        def release(self):
+            pass
+
+    monkeypatch.setattr(capture_module, "_open_writer", lambda *args: Writer())
+
+    class Window:
+        viewport = None
+
+        def __init__(self):
+            self.renderer = self
+            self.value = 0
+
+        def read_rgb(self, _viewport):
+            return np.full((4, 4, 3), self.value, np.uint8)
+
+    capture, window = Capture("harbor", tmp_path, video=tmp_path / "v.mp4", fps=10.0), Window()
+    for t in (0.0, 0.25, 0.26, 0.27, 1.0, 1.0, 1.0):  # slow frames, fast frames, then paused at 1 s
+        window.value = round(t * 100) % 256
+        capture.frame(window, t, screenshot_requested=False)
+    assert written == [0, 25, 25] + [100] * 8  # t = 0, 0.1, ..., 1.0: 11 frames, each the latest drawn
+    window.value = 7
+    capture.frame(window, 0.0, screenshot_requested=False)  # a reset: the clock starts again, the video goes on
+    assert written[-1] == 7 and len(written) == 12

@@ -94,7 +94,7 @@ def run(
     ] = 16,
     force: Annotated[bool, typer.Option("--force", help="overwrite an existing recording")] = False,
     screenshot: Annotated[Path | None, typer.Option(help="with --view: save the last frame as PNG")] = None,
-    video: Annotated[Path | None, typer.Option(help="with --view: record every frame to a video (.mp4, .avi)")] = None,
+    video: Annotated[Path | None, typer.Option(help="with --view: record the window to a video (.mp4, .avi) at 30 frames per simulated second")] = None,
 ) -> None:
     """Run a scenario headless or in the viewer, optionally recording it and bridging it to ROS 2 / Foxglove."""
     from usvsim.cli.bridges import BridgeOptions

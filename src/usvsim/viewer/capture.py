@@ -1,8 +1,8 @@
-"""What the viewer saves besides the window: screenshots on the P key and an optional video of every frame.
+"""What the viewer saves besides the window: screenshots on the P key and an optional video.
 
 Screenshots go to `shots_dir` as `usvsim_<scenario>_<sim time>s.png`, or `..._<sim time>s_2.png`, `_3`, ... when
 that name is taken (P pressed twice while paused overwrote the first). The video (`--video FILE`, MP4 or
-AVI) holds one frame per drawn frame at a nominal `fps`; OpenCV writes it (imported only when asked for).
+AVI) runs on simulated time at `fps` frames per simulated second; OpenCV writes it (imported only when asked for).
 """
 
 from __future__ import annotations
@@ -18,6 +18,8 @@ class Capture:
                  fps: float = 30.0):  # fmt: skip
         self.name, self.shots_dir, self.video_path, self.fps = scenario_name, Path(shots_dir), video, fps
         self._writer = None
+        self._next_s: float | None = None  # simulated time of the video's next frame
+        self._last_s = 0.0
         self.saved: list[Path] = []
 
     def frame(self, window, sim_time_s: float, screenshot_requested: bool) -> None:
@@ -28,7 +30,7 @@ class Capture:
             self.saved.append(path)
             print(f"usvsim: saved {path}", file=sys.stderr)
         if self.video_path is not None:
-            self._write_video(window)
+            self._write_video(window, sim_time_s)
 
     def shot_path(self, sim_time_s: float) -> Path:
         """A screenshot's file name at `sim_time_s` that no file has: a counter suffix after the first."""
@@ -39,12 +41,25 @@ class Capture:
             path = self.shots_dir / f"{stem}_{n}.png"
         return path
 
-    def _write_video(self, window) -> None:
+    def _write_video(self, window, sim_time_s: float) -> None:
+        """The video runs on simulated time: a frame per 1/fps s of it, the latest drawn frame repeated when the
+        window draws slower, frames between two ticks left out, a pause left out (one frame per drawn frame at a
+        nominal 30 fps played 1 s simulated in 0.4 s at 12 fps). A reset restarts the clock: the video goes on."""
+        if self._next_s is None or sim_time_s < self._last_s - 1e-9:
+            self._next_s = sim_time_s
+        self._last_s = sim_time_s
+        count = 0
+        while self._next_s <= sim_time_s + 1e-9:
+            count, self._next_s = count + 1, self._next_s + 1.0 / self.fps
+        if count == 0:
+            return
         rgb = window.renderer.read_rgb(window.viewport)
         if self._writer is None:
             assert self.video_path is not None
             self._writer = _open_writer(self.video_path, rgb.shape[1], rgb.shape[0], self.fps)
-        self._writer.write(rgb[..., ::-1].copy())  # OpenCV wants BGR
+        bgr = rgb[..., ::-1].copy()  # OpenCV wants BGR
+        for _ in range(count):
+            self._writer.write(bgr)
 
     def close(self) -> None:
         if self._writer is not None:
