@@ -37,7 +37,8 @@ def test_screenshots_at_the_same_time_get_a_counter_suffix(tmp_path):
     ("options", "words"),
     [({"time_scale": 0.0}, "time_scale"), ({"time_scale": -1.0}, "time_scale"),
      ({"max_seconds": float("nan")}, "max_seconds"), ({"max_seconds": -5.0}, "max_seconds"),
-     ({"screenshot": "shot.txt"}, ".png"), ({"video": "run.gif"}, ".mp4 or .avi")],
+     ({"screenshot": "shot.txt"}, ".png"), ({"video": "run.gif"}, ".mp4 or .avi"),
+     ({"vessel": "nemo"}, "no vessel 'nemo' to follow")],
 )  # fmt: skip
 def test_run_viewer_refuses_bad_options_before_the_window(monkeypatch, options, words):
     """time_scale 0 or below never stepped (the window hung until killed); max_seconds NaN was a ValueError
@@ -90,3 +91,16 @@ def test_the_video_runs_on_simulated_time(tmp_path, monkeypatch):
     window.value = 7
     capture.frame(window, 0.0, screenshot_requested=False)  # a reset: the clock starts again, the video goes on
     assert written[-1] == 7 and len(written) == 12
+
+
+def test_the_viewer_on_a_scenario_without_vessels_is_one_error(monkeypatch):
+    """`usvsim run buoys.yaml --view` with objects only ended in a StopIteration traceback."""
+    from usvsim.config.loader import parse_scenario
+    from usvsim.core.errors import UsvsimError
+    from usvsim.simulation import Simulation
+    from usvsim.viewer import app
+
+    monkeypatch.setattr(app, "ViewerWindow", None)
+    data = {"version": 1, "name": "buoys", "objects": [{"type": "buoy", "name": "b1", "position": [5.0, 0.0, 0.0]}]}
+    with pytest.raises(UsvsimError, match="'buoys' has none"):
+        app.run_viewer(Simulation(parse_scenario(data, "buoys.yaml")))

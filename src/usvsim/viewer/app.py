@@ -136,6 +136,10 @@ def run_viewer(sim, vessel: str | None = None, script: Iterable[ScriptEvent] = (
         raise UsvsimError(f"time_scale must be a finite number above 0, got {time_scale}")
     if max_seconds is not None and not (math.isfinite(max_seconds) and max_seconds >= 0):
         raise UsvsimError(f"max_seconds must be a finite number of seconds, 0 or more, got {max_seconds}")
+    if not sim.vessels:  # a StopIteration traceback before
+        raise UsvsimError(f"the viewer follows and drives a vessel: scenario '{sim.scenario.name}' has none")
+    if vessel is not None and vessel not in sim.vessels:
+        raise UsvsimError(f"no vessel '{vessel}' to follow (vessels: {', '.join(sim.vessels)})")
     driver = ManualDriver(sim, vessel, script, time_scale, gamepad=read_gamepad if gamepad else None)
     if max_seconds is not None:  # the steps to go from the clock's time now; a reset (R, /reset) adds none
         driver.stop_at_step = max(0, round(max_seconds / sim.clock.dt) - sim.clock.steps)
