@@ -11,7 +11,8 @@ Per sea (median of --repeats timings of --steps env steps, one core: numba 1 thr
 Batch: a sweep (station keeping, 300 s, difficulty 0-2 x 4 seeds) and a small batch (8 calm runs) by
 `usvsim.batch.run` on 1 and 2 workers, each a fresh process timed from outside; medians of --batch-repeats
 turns (`--batch-only` for just this part).
-The load average is recorded beside every figure (the machine is shared). Writes benchmarks/results/tasks.json.
+The load average is recorded beside every figure, and the env figures also per second of process CPU time (the
+machine is shared). Writes benchmarks/results/tasks.json.
 """
 
 from __future__ import annotations
@@ -31,17 +32,21 @@ import numpy as np
 RESULTS = Path(__file__).parent / "results" / "tasks.json"
 
 
-def timed(fns: dict, steps: int, repeats: int) -> dict:
-    """Median calls/s of each function over `repeats` rounds of `steps` calls; the functions take turns
-    within each round, so a change of machine load hits all of them alike."""
+def timed(fns: dict, steps: int, repeats: int) -> tuple[dict, dict]:
+    """Median calls/s of each function over `repeats` rounds of `steps` calls, by the wall clock and by the
+    process's CPU time (on a shared machine the less disturbed figure); the functions take turns within each
+    round, so a change of machine load hits all of them alike."""
     rates: dict = {name: [] for name in fns}
+    cpu_rates: dict = {name: [] for name in fns}
     for _ in range(repeats):
         for name, fn in fns.items():
-            start = time.perf_counter()
+            start, cpu = time.perf_counter(), time.process_time()
             for _ in range(steps):
                 fn()
             rates[name].append(steps / (time.perf_counter() - start))
-    return {name: statistics.median(r) for name, r in rates.items()}
+            cpu_rates[name].append(steps / max(time.process_time() - cpu, 1e-9))
+    median = lambda d: {name: statistics.median(r) for name, r in d.items()}  # noqa: E731
+    return median(rates), median(cpu_rates)
 
 
 def bench_sea(sea_state: int | None, steps: int, repeats: int) -> dict:
@@ -68,11 +73,13 @@ def bench_sea(sea_state: int | None, steps: int, repeats: int) -> dict:
             mujoco.mj_step(sim.model, bare_data)
 
     load_before = os.getloadavg()[0]
-    r = timed({"env": lambda: env.step(action), "sim_loop": sim_loop, "bare": bare}, steps, repeats)
+    r, c = timed({"env": lambda: env.step(action), "sim_loop": sim_loop, "bare": bare}, steps, repeats)
     env.close()
     return {"env_steps_per_s": r["env"], "sim_loop_env_steps_per_s": r["sim_loop"],
             "bare_mujoco_env_steps_per_s": r["bare"], "env_vs_sim_loop": r["env"] / r["sim_loop"],
-            "env_vs_bare_mujoco": r["env"] / r["bare"], "load_avg_1min": [load_before, os.getloadavg()[0]]}  # fmt: skip
+            "env_vs_bare_mujoco": r["env"] / r["bare"], "env_steps_per_cpu_s": c["env"],
+            "sim_loop_env_steps_per_cpu_s": c["sim_loop"], "bare_mujoco_env_steps_per_cpu_s": c["bare"],
+            "load_avg_1min": [load_before, os.getloadavg()[0]]}  # fmt: skip
 
 
 # the sweep: station keeping at VRX's three difficulty levels (calm, then sea states with wind and current) x 4
@@ -153,6 +160,9 @@ def main() -> None:
     RESULTS.parent.mkdir(parents=True, exist_ok=True)
     if args.batch_only and RESULTS.is_file():  # keep the env figures of the last full run
         result = json.loads(RESULTS.read_text()) | {"batch": result["batch"], "batch_load_avg_start": result["load_avg_start"]}
+    elif args.no_batch and RESULTS.is_file():  # keep the batch figures of the last run that measured them
+        last = json.loads(RESULTS.read_text())
+        result |= {k: last[k] for k in ("batch", "batch_load_avg_start") if k in last}
     RESULTS.write_text(json.dumps(result, indent=2))
 
 
