@@ -7,6 +7,9 @@
    azimuth oversampling, sea state 3 clutter, ARPA on) on the harbour WAM-V among the 50 ships: the radar's own
    real-time factor (simulated seconds / wall seconds spent in the radar) and the whole simulation's, vs the
    same simulation without radar. Target: radar >= 10x real time.
+3. AIS position reports (types 1 and 18, 200 ships' reports): usvsim's packer (`ais.position_sentence`, what the
+   publisher sends) vs pyais's `encode_dict` (`ais.position_sentences`) on the same reports, the sentences checked
+   equal first; medians of 7 rounds, wall and CPU µs per report.
 
     python benchmarks/bench_traffic.py [--repeats 40] [--seconds 1]
 Writes benchmarks/results/traffic.json. Each case is built and warmed up once (20 simulated s: past the first
@@ -99,6 +102,32 @@ def median(values):
     return float(np.median(values))
 
 
+def ais_packing(rounds: int = 7) -> dict:
+    """µs per position report, usvsim's packer vs pyais on the same 200 reports (Class A and B), same run."""
+    from usvsim.traffic.ais import Report, position_sentence, position_sentences
+
+    reports = [Report(211000000 + i, 59.4 + i * 1e-4, 10.43 + i * 1e-4, 5.0 + i % 20, (13.7 * i) % 360, (13 * i) % 360,
+                      i % 60) for i in range(200)]  # fmt: skip
+    out: dict = {"load_1min_start": os.getloadavg()[0]}
+    for cls in "AB":
+        assert all([position_sentence(r, cls)] == position_sentences(r, cls) for r in reports)
+        fns = {"pyais": lambda r: position_sentences(r, cls), "usvsim": lambda r: position_sentence(r, cls)}  # noqa: B023
+        wall: dict = {k: [] for k in fns}
+        cpu: dict = {k: [] for k in fns}
+        for _ in range(rounds):
+            for name, fn in fns.items():
+                start, cpu_start = time.perf_counter(), time.process_time()
+                for r in reports:
+                    fn(r)
+                wall[name].append((time.perf_counter() - start) / len(reports) * 1e6)
+                cpu[name].append((time.process_time() - cpu_start) / len(reports) * 1e6)
+        w, c = {k: median(v) for k, v in wall.items()}, {k: median(v) for k, v in cpu.items()}
+        out[f"class_{cls}"] = {"us_per_report": w, "cpu_us_per_report": c, "pyais_over_usvsim": w["pyais"] / w["usvsim"],
+                               "pyais_over_usvsim_cpu": c["pyais"] / c["usvsim"]}  # fmt: skip
+    out["load_1min_end"] = os.getloadavg()[0]
+    return out
+
+
 def main() -> None:
     ap = argparse.ArgumentParser()
     ap.add_argument("--repeats", type=int, default=40, help="chunks per case")
@@ -141,6 +170,7 @@ def main() -> None:
         "radar_realtime_factor": args.seconds / radar_s,
         "radar_ms_per_simulated_s": radar_s / args.seconds * 1e3,
         "sim_realtime_factor": {k: 1e6 / (v * 100.0) for k, v in step.items()},  # harbor runs at 100 Hz
+        "ais_position_report_packing": ais_packing(),
     }  # fmt: skip
     RESULTS.mkdir(exist_ok=True)
     (RESULTS / "traffic.json").write_text(json.dumps(result, indent=2) + "\n")
