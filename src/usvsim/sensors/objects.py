@@ -1,18 +1,24 @@
-"""The scene's detectable objects (vessels, buoys, static obstacles) and their ground-truth 3D boxes.
+"""The scene's detectable objects (vessels, buoys, static obstacles, traffic ships) and their ground-truth 3D boxes.
 
 Each object has a box frame: for a floating body (vessel, buoy) its body frame (`<vessel>/base_link` for
-vessels, FLU); for a static obstacle the frame at its scenario `position`, turned by `yaw_deg` about world z.
+vessels, FLU); for a static obstacle the frame at its scenario `position`, turned by `yaw_deg` about world z;
+for a kinematic traffic ship (traffic/) its ship frame (FLU, origin midship on the waterline), which moves with
+its geoms: the fleet writes their poses (`model.geom_pos`/`geom_quat`) before every step, and the box is read
+from them, as the cameras draw them. A traffic ship under full physics is a scenario vessel: it is that vessel's
+entry (named after the vessel).
 The box is the tight axis-aligned box, in that frame, of all the object's visual geoms (group 1): boxes and
 spheres exactly, cylinders from 32 points per rim, meshes from their vertices. So a buoy's box is the cube of
 side 2r centred on the sphere; a dock's box is its scenario box; a pier's box reaches from the deck's top
 down to the piles' feet on the seabed. Class labels: `vessel`, `buoy_<color>`, the static obstacle's
-`type` (dock, wall, box, pier, berth, mesh), and for a real place (geo/) `land` and `structure`, whose boxes
-are axis-aligned in the world frame.
+`type` (dock, wall, box, pier, berth, mesh), for a real place (geo/) `land` and `structure`, whose boxes
+are axis-aligned in the world frame, and `vessel` for a kinematic traffic ship (named as in `traffic.ships`;
+its box: length_m x beam_m, from draft_m below the waterline to the deckhouse's top, 1.5 height_m above it).
 """
 
 from __future__ import annotations
 
 import math
+import re
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
@@ -21,7 +27,7 @@ import numpy as np
 
 from usvsim.config.loader import base_dir, source_of
 from usvsim.config.objects import Buoy
-from usvsim.world.builder import VISUAL_GROUP, base_offset
+from usvsim.world.builder import VISUAL_GROUP, base_offset, kinematic_geoms
 from usvsim.world.obstacles import static_parts
 
 if TYPE_CHECKING:
@@ -34,7 +40,9 @@ _RIM = np.linspace(0.0, 2.0 * math.pi, 32, endpoint=False)
 @dataclass(frozen=True)
 class TrackedObject:
     """One detectable object. `state_index` ≥ 0: a floating body (index into `sim.state`); -1: static,
-    with its box frame at `origin_world` turned by `rot_world`. Box centre and axes are in the box frame."""
+    with its box frame at `origin_world` turned by `rot_world`, or, with `anchor_geom` ≥ 0 (a kinematic traffic
+    ship), at `origin_world` turned by `rot_world` in the frame of that geom wherever the model holds it now.
+    Box centre and axes are in the box frame."""
 
     name: str
     category: str  # vessel | buoy | static
@@ -45,11 +53,15 @@ class TrackedObject:
     rot_world: np.ndarray
     center_box: np.ndarray
     size_m: np.ndarray  # full extents along the box frame's x, y, z
+    anchor_geom: int = -1
 
     def pose_world(self, sim: World) -> tuple[np.ndarray, np.ndarray]:
         """Box centre (ENU, m) and box axes → world rotation at the simulation's current state."""
         if self.state_index >= 0:
             origin, rot = sim.state.pos[self.state_index], sim.state.rot[self.state_index]
+        elif self.anchor_geom >= 0:
+            geom_pos, geom_rot = _geom_pose(sim.model, self.anchor_geom)
+            origin, rot = geom_pos + geom_rot @ self.origin_world, geom_rot @ self.rot_world
         else:
             origin, rot = self.origin_world, self.rot_world
         return origin + rot @ self.center_box, rot
@@ -88,6 +100,17 @@ def _box_of(model: mujoco.MjModel, geoms: np.ndarray, origin: np.ndarray, rot: n
     return 0.5 * (low + high), high - low
 
 
+def _quat_mat(quat) -> np.ndarray:
+    rot = np.zeros(9)
+    mujoco.mju_quat2Mat(rot, np.asarray(quat, float))
+    return rot.reshape(3, 3)
+
+
+def _geom_pose(model: mujoco.MjModel, geom: int) -> tuple[np.ndarray, np.ndarray]:
+    """A world-body geom's position and rotation as the model holds them (moved geoms: where they were put)."""
+    return model.geom_pos[geom].copy(), _quat_mat(model.geom_quat[geom])
+
+
 def _yaw(deg: float) -> np.ndarray:
     c, s = math.cos(math.radians(deg)), math.sin(math.radians(deg))
     return np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
@@ -108,8 +131,34 @@ def _static(sim: World, obj, geoms: np.ndarray) -> TrackedObject:
     return TrackedObject(obj.name, "static", obj.type, geoms, -1, origin, rot, center, size)
 
 
+def _kinematic_ship(sim: World, ship, geoms: np.ndarray) -> TrackedObject:
+    """A kinematic traffic ship: its box in the ship frame, anchored to its first geom. That geom's pose in the
+    ship frame is its part's (traffic/ships.py), after MuJoCo's move of a mesh to its inertial frame (mesh_pos,
+    mesh_quat); the ship frame in the geom's frame is its inverse."""
+    # here, not at the top: the usvsim.traffic package loads the fleet's numba kernels; only scenes with ships need it
+    from usvsim.traffic.ships import ship_parts
+
+    m, anchor = sim.model, int(geoms[0])
+    kind, k = re.fullmatch(r"(solid|vis)(\d+)", m.geom(anchor).name.rsplit("/", 1)[-1]).groups()  # builder's tags
+    solid, visuals = ship_parts(ship)
+    part = (solid if kind == "solid" else visuals)[int(k)]
+    pos, quat = np.asarray(part.pos, float), np.asarray(part.quat, float)
+    if int(m.geom_type[anchor]) == _G.mjGEOM_MESH:
+        mesh, moved = m.geom_dataid[anchor], np.zeros(4)
+        pos = pos + _quat_mat(quat) @ m.mesh_pos[mesh]
+        mujoco.mju_mulQuat(moved, quat, m.mesh_quat[mesh])
+        quat = moved
+    rot_in_geom = _quat_mat(quat).T  # ship axes → geom axes
+    origin_in_geom = -rot_in_geom @ pos
+    geom_pos, geom_rot = _geom_pose(m, anchor)
+    center, size = _box_of(m, geoms, geom_pos + geom_rot @ origin_in_geom, geom_rot @ rot_in_geom)
+    return TrackedObject(ship.name, "vessel", "vessel", geoms, -1, origin_in_geom, rot_in_geom, center, size,
+                         anchor_geom=anchor)  # fmt: skip
+
+
 def catalogue(sim: World) -> list[TrackedObject]:
-    """Every vessel, buoy and static obstacle of the scenario, in scenario order."""
+    """Every vessel, buoy and static obstacle of the scenario, in scenario order, then the kinematic traffic
+    ships in `traffic.ships` order."""
     scenario, m = sim.scenario, sim.model
     out = [_floating(sim, v.name, "vessel", "vessel") for v in scenario.vessels]
     static = np.flatnonzero((m.geom_bodyid == 0) & (m.geom_group == VISUAL_GROUP))  # one per part, in build order
@@ -126,6 +175,11 @@ def catalogue(sim: World) -> list[TrackedObject]:
         center, size = _box_of(m, static[first + k : first + k + 1], np.zeros(3), np.eye(3))
         out.append(TrackedObject(name, "static", label, static[first + k : first + k + 1], -1, np.zeros(3),
                                  np.eye(3), center, size))  # fmt: skip
+    names, geoms, owner = kinematic_geoms(m)
+    ships = {s.name: s for s in scenario.traffic.ships if s.vessel is None}
+    for k, name in enumerate(names):
+        if name in ships:
+            out.append(_kinematic_ship(sim, ships[name], geoms[owner == k]))
     return out
 
 
