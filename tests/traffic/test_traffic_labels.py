@@ -14,6 +14,7 @@ from PIL import Image
 
 from usvsim.datasets.generate import DatasetSpec, generate
 from usvsim.datasets.labels import CLASSES, DETECTABLE
+from usvsim.datasets.rerender import labels_of, rerender
 from usvsim.sensors.base import OPTICAL_ROT
 from usvsim.sensors.camera.intrinsics import Intrinsics
 from usvsim.simulation import Simulation
@@ -137,3 +138,7 @@ def test_dataset_labels_name_the_ship(tmp_path):
         uv = Intrinsics.from_fov(320, 240, 70.0).project((corners - pos) @ rot)
         expected = [uv[:, 0].min() + 0.5, uv[:, 1].min() + 0.5, uv[:, 0].max() + 0.5, uv[:, 1].max() + 0.5]
         np.testing.assert_allclose([ax, ay, ax + aw, ay + ah], expected, atol=0.05)
+    # re-rendered from its metadata (the clock set by hand), the frame has the ship where it was: same labels
+    again = rerender(root, stem)
+    assert again["labels"] == labels_of(meta) and np.array_equal(again["instance"], instance)
+    assert np.array_equal(again["rgb"], np.array(Image.open(root / "images" / image["file_name"])))

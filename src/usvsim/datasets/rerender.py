@@ -1,10 +1,10 @@
 """Re-renders a data set's frame from its metadata file (`meta/<stem>.json`) and the run's `dataset.json`.
 
 The world is rebuilt from the scenario with the run's drawn environment, reset with the episode's seed (its
-ocean), and put in the recorded state: MuJoCo qpos and clock steps (time). The camera renders from the
-recorded pose under the recorded look, labels come from the segmentation as when the set was written, and
-the look's image noise is drawn from the same per-frame generator: the image, masks and labels equal the
-written ones bit for bit (tests/datasets/test_rerender.py).
+ocean), and put in the recorded state: MuJoCo qpos and clock steps (time), kinematic traffic ships placed
+for that time. The camera renders from the recorded pose under the recorded look, labels come from the
+segmentation as when the set was written, and the look's image noise is drawn from the same per-frame
+generator: the image, masks and labels equal the written ones bit for bit (tests/datasets/test_rerender.py).
 """
 
 from __future__ import annotations
@@ -41,6 +41,7 @@ def rerender(root: Path, stem: str) -> dict:
         clock.now_ns = clock.steps * clock.step_ns
         mujoco.mj_forward(sim.model, sim.data)
         sim.world._update_kinematics()  # as generate.apply_scene
+        sim.traffic.fleet.place_now(sim.world)  # traffic ships where the clock puts them
         look = Rendering.model_validate(meta["look"])
         pos, rot = np.array(meta["camera_position_m"]), np.array(meta["camera_rotation_flu_to_world"])
         images, labels = gen.render(k, pos, rot, look)

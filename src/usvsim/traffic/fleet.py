@@ -273,6 +273,13 @@ class Fleet:
             self.pos_enu[k], self.yaw_rad[k] = world.state.pos[i, :2], _yaw(world.state.rot[i])
             self.vel_enu[k] = world.origin_velocity(i)[:2]
 
+    def place_now(self, world: World) -> None:
+        """Kinematic ships' geoms and every ship's state to the clock's current time, for a clock set by hand
+        (datasets/rerender.py puts a recorded frame's time back)."""
+        if self._has_kinematic:
+            self._place(world.clock.now_ns)
+        self.update(world)
+
     def reset(self, world: World) -> None:
         for _, pilot in self.pilots.values():
             pilot.reset()
