@@ -139,7 +139,9 @@ def _kinematic_ship(sim: World, ship, geoms: np.ndarray) -> TrackedObject:
     from usvsim.traffic.ships import ship_parts
 
     m, anchor = sim.model, int(geoms[0])
-    kind, k = re.fullmatch(r"(solid|vis)(\d+)", m.geom(anchor).name.rsplit("/", 1)[-1]).groups()  # builder's tags
+    tag = re.fullmatch(r"(solid|vis)(\d+)", m.geom(anchor).name.rsplit("/", 1)[-1])  # the builder's geom tags
+    assert tag is not None, f"kinematic geom {m.geom(anchor).name!r} has no solid<k>/vis<k> tag"
+    kind, k = tag.groups()
     solid, visuals = ship_parts(ship)
     part = (solid if kind == "solid" else visuals)[int(k)]
     pos, quat = np.asarray(part.pos, float), np.asarray(part.quat, float)
