@@ -11,6 +11,16 @@ from typing import Annotated, TypeVar
 from pydantic import BaseModel, BeforeValidator, ConfigDict, Field
 
 
+class KeyedValueError(ValueError):
+    """A section validator's error about one key inside the section: `key` (relative to the section, e.g.
+    `vessels[1].name`) joins the error's key path, so the line points at the value to fix (a cross-field check
+    was reported at the section, e.g. the duplicate names at the file's top level)."""
+
+    def __init__(self, key: str, message: str):
+        super().__init__(message)
+        self.key = key
+
+
 class Section(BaseModel):
     """A scenario section. Unknown keys are errors; values are immutable once loaded."""
 

@@ -10,7 +10,9 @@ import yaml
 from pydantic import ValidationError
 
 from usvsim.config import safe_yaml
+from usvsim.config.base import KeyedValueError
 from usvsim.config.scenario import Scenario
+from usvsim.config.sensors import FRAME_PATTERN, TOPIC_PATTERN
 from usvsim.core.clock import latency_steps, period_ns, steps_per_period
 from usvsim.core.errors import ScenarioError
 
@@ -97,6 +99,9 @@ def _first_error(exc: ValidationError, source: str, data) -> ScenarioError:
                     and difflib.get_close_matches(str(e["loc"][-1]), wanted, n=1, cutoff=0.6)), err)  # fmt: skip
     loc = _readable_path(err["loc"], data)
     msg = err["msg"].removeprefix("Value error, ")  # our own validators' messages stand alone
+    keyed = err.get("ctx", {}).get("error")
+    if isinstance(keyed, KeyedValueError):  # a section's check about one key inside it: point at that key
+        loc = f"{loc}{'' if keyed.key.startswith('[') or not loc else '.'}{keyed.key}"
     if err["type"] == "extra_forbidden":
         from usvsim.config.schema import allowed_keys, did_you_mean
 
@@ -117,14 +122,27 @@ def _first_error(exc: ValidationError, source: str, data) -> ScenarioError:
         msg = "missing, and required here (docs/scenario-reference.md)"
     elif err["type"] in YAML_SHAPES:  # pydantic said "Input should be a valid tuple" of a YAML list
         msg = f"should be {YAML_SHAPES[err['type']]}, got {_yaml_kind(err['input'])}"
-    elif err["type"].endswith("_type") or err["type"] in ("literal_error", "finite_number"):
-        msg = f"{msg} (got {safe_yaml.excerpt(err['input'])})"
+    elif err["type"] == "string_pattern_mismatch":  # was "String should match pattern '^[A-Za-z]...'"
+        pattern = err.get("ctx", {}).get("pattern", "")
+        msg = f"{PATTERN_WORDS.get(pattern, msg)} (got {safe_yaml.excerpt(err['input'])})"
+    elif err["type"] in ("too_short", "too_long"):  # was "Tuple should have at least 2 items after validation, not 1"
+        ctx = err.get("ctx", {})
+        bound = f"at least {ctx.get('min_length')}" if err["type"] == "too_short" else f"at most {ctx.get('max_length')}"
+        msg = f"should have {bound} items, got {ctx.get('actual_length')}"
+    elif err["type"].endswith("_type") or err["type"] in ("literal_error", "finite_number") or err["type"] in BOUNDS:
+        msg = f"{msg} (got {safe_yaml.excerpt(err['input'])})"  # bounds: "Input should be >= 0.001" named no value
     more = len(exc.errors()) - 1
     if more:
         msg += f" (+{more} more error{'s' if more > 1 else ''})"
     return ScenarioError(source, loc, msg)
 
 
+BOUNDS = ("greater_than", "greater_than_equal", "less_than", "less_than_equal", "multiple_of")
+PATTERN_WORDS = {  # the name and topic patterns of config/*.py, in words
+    r"^[A-Za-z][A-Za-z0-9_]*$": "should start with a letter and hold only letters, digits and '_'",
+    TOPIC_PATTERN: "should be a ROS 2 topic name: '/'-separated parts of letters, digits and '_', none starting with a digit",
+    FRAME_PATTERN: "should be a frame name: '/'-separated parts of letters, digits and '_', none starting with a digit",
+}
 MAPPING = "a mapping (key: value lines, or {key: value, ...})"
 YAML_SHAPES = {"tuple_type": "a list ([a, b], or one '- ' line per item)", "list_type": "a list ([a, b], or one '- ' line per item)",
                "model_attributes_type": MAPPING, "model_type": MAPPING, "dict_type": MAPPING}  # fmt: skip
@@ -144,7 +162,7 @@ def _yaml_kind(value) -> str:
 def _readable_path(loc, data) -> str:
     """Key path like `vessels[0].thrusters[1].position`, skipping pydantic's union-tag segments."""
     parts, node, branch_named = [], data, False
-    for item in loc:
+    for depth, item in enumerate(loc):
         if isinstance(item, int):
             parts.append(f"[{item}]")
             node = node[item] if isinstance(node, (list, tuple)) and item < len(node) else None
@@ -152,6 +170,9 @@ def _readable_path(loc, data) -> str:
         elif isinstance(node, dict) and not branch_named and "type" in node and item == node.get("type"):
             branch_named = True  # the tagged-union branch name, right after the entry (before a key of the
             continue  # same name: an object of type mesh with a stray `mesh:` key was 'objects[0].mesh.file')
+        elif isinstance(node, dict) and not branch_named and item not in node and depth < len(loc) - 1:
+            branch_named = True  # a branch tag the entry does not spell out: a realization's `method`, `fft` when
+            continue  # left out (was 'environment.sea.realization.fft.res'); only the last item can be a missing key
         elif isinstance(node, dict) and item in node:
             parts.append(("." if parts else "") + item)
             node, branch_named = node[item], False

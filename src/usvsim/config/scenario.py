@@ -6,7 +6,7 @@ from typing import Literal
 
 from pydantic import Field, model_validator
 
-from usvsim.config.base import PositiveFloat, Section, TupleOf
+from usvsim.config.base import KeyedValueError, PositiveFloat, Section, TupleOf
 from usvsim.config.environment import Environment
 from usvsim.config.geo import Geo
 from usvsim.config.objects import WorldObject
@@ -81,14 +81,23 @@ class Scenario(Section):
 
     @model_validator(mode="after")
     def _unique_names(self):
-        names = [v.name for v in self.vessels] + [o.name for o in self.objects]
-        names += [s.name for s in self.traffic.ships]
-        dupes = sorted({n for n in names if names.count(n) > 1})
-        if dupes:
-            raise ValueError(f"names of vessels and objects must be unique; repeated: {', '.join(dupes)}")
+        seen: dict[str, str] = {}
+        keys = [(f"vessels[{i}].name", v.name) for i, v in enumerate(self.vessels)]
+        keys += [(f"objects[{i}].name", o.name) for i, o in enumerate(self.objects)]
+        keys += [(f"traffic.ships[{i}].name", s.name) for i, s in enumerate(self.traffic.ships)]
+        for key, name in keys:
+            if name in seen:
+                raise KeyedValueError(key, f"{name!r} is already the name of {seen[name]}; names of vessels, objects "
+                                      "and traffic ships must be unique (repeated: " + ", ".join(_repeated(keys)) + ")")
+            seen[name] = key.removesuffix(".name")
         own = {"/clock", "/tf", "/tf_static", "/usvsim/episode", "/reset"}  # ground_truth.py, commands.py
         own |= {f"/{v.name}/{t}" for v in self.vessels for t in ("ground_truth/odometry", "cmd_vel")}
         for key, topic in (("ais", self.traffic.ais.topic), ("awareness", self.traffic.awareness.topic)):
             if topic in own:
                 raise ValueError(f"traffic.{key}.topic {topic} is one of the simulation's own topics")
         return self
+
+
+def _repeated(keys: list[tuple[str, str]]) -> list[str]:
+    names = [name for _, name in keys]
+    return sorted({n for n in names if names.count(n) > 1})

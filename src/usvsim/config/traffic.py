@@ -15,7 +15,7 @@ from typing import Annotated, Literal
 
 from pydantic import Field, model_validator
 
-from usvsim.config.base import NonNegativeFloat, PositiveFloat, Section, TupleOf, Vec2
+from usvsim.config.base import KeyedValueError, NonNegativeFloat, PositiveFloat, Section, TupleOf, Vec2
 from usvsim.config.sensors import TOPIC_PATTERN
 
 Name = Annotated[str, Field(pattern=r"^[A-Za-z][A-Za-z0-9_]*$")]
@@ -127,10 +127,11 @@ class Traffic(Section):
 
     @model_validator(mode="after")
     def _unique(self):
-        for what, values in (("names", [s.name for s in self.ships]), ("MMSIs", [str(s.mmsi) for s in self.ships])):
-            dupes = sorted({v for v in values if values.count(v) > 1})
-            if dupes:
-                raise ValueError(f"ship {what} must be unique; repeated: {', '.join(dupes)}")
+        for key, values in (("name", [s.name for s in self.ships]), ("mmsi", [str(s.mmsi) for s in self.ships])):
+            repeat = next((i for i, v in enumerate(values) if v in values[:i]), None)
+            if repeat is not None:
+                raise KeyedValueError(f"ships[{repeat}].{key}", f"{values[repeat]} is already the {key} of "
+                                      f"ships[{values.index(values[repeat])}]; each ship needs its own {key}")
         if self.ais.topic == self.awareness.topic:
             raise ValueError(f"ais.topic and awareness.topic must differ (one topic carries one message type), "
                              f"both are {self.ais.topic}")  # fmt: skip

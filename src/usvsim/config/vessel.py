@@ -14,6 +14,7 @@ from usvsim.config.base import (
     AngleDeg,
     GeoPose,
     Inertia3,
+    KeyedValueError,
     MassKg,
     NonNegativeFloat,
     PoseDeg,
@@ -164,10 +165,12 @@ class Vessel(Section):
         if self.model == "custom" and self.hull_mesh is None:
             raise ValueError("model 'custom' needs 'hull_mesh' (a closed mesh file: OBJ, STL, PLY, glTF, DAE)")
         if self.model != "custom" and self.hull_mesh is not None:
-            raise ValueError(f"'hull_mesh' is only for model 'custom' (model is '{self.model}')")
+            raise KeyedValueError("hull_mesh", f"'hull_mesh' is only for model 'custom' (model is '{self.model}')")
         if self.model != "custom" and self.mesh_scale != 1.0:  # a library hull is built to its size (was ignored)
-            raise ValueError(f"'mesh_scale' is only for model 'custom' (model is '{self.model}')")
+            raise KeyedValueError("mesh_scale", f"'mesh_scale' is only for model 'custom' (model is '{self.model}')")
         for kind, names in (("thruster", [t.name for t in self.thrusters or ()]), ("sensor", [s.name for s in self.sensors])):
-            if len(set(names)) != len(names):
-                raise ValueError(f"{kind} names must be unique, got {names}")
+            repeat = next((i for i, name in enumerate(names) if name in names[:i]), None)
+            if repeat is not None:
+                raise KeyedValueError(f"{kind}s[{repeat}].name", f"{names[repeat]!r} is already the name of "
+                                      f"{kind}s[{names.index(names[repeat])}]; {kind} names must be unique")
         return self

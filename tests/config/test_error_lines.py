@@ -1,0 +1,66 @@
+"""A scenario mistake is one line that points at the value to fix and shows it (QA of writing scenarios)."""
+
+from __future__ import annotations
+
+import pytest
+
+from usvsim.config.loader import parse_scenario
+from usvsim.core.errors import ScenarioError
+
+SEA = {"type": "jonswap", "hs_m": 1.0, "tp_s": 5.0}
+
+
+def _ship(name: str, mmsi: int = 257000001) -> dict:
+    return {"name": name, "mmsi": mmsi, "motion": {"type": "constant", "position": [0, 0], "course_deg": 0, "speed_mps": 1}}
+
+
+def _error(data: dict) -> ScenarioError:
+    with pytest.raises(ScenarioError) as info:
+        parse_scenario({"version": 1, **data}, "s.yaml")
+    return info.value
+
+
+@pytest.mark.parametrize("realization, path", [
+    ({"res": 64}, "environment.sea.realization.res"),  # was environment.sea.realization.fft.res
+    ({"resolution": 100}, "environment.sea.realization.resolution"),
+    ({"method": "direct", "components": 0}, "environment.sea.realization.components"),  # was ...realization.direct.components
+])  # fmt: skip
+def test_a_realization_error_has_no_branch_name_in_its_path(realization, path):
+    assert _error({"environment": {"sea": {**SEA, "realization": realization}}}).key_path == path
+
+
+@pytest.mark.parametrize("data, path, words", [
+    ({"vessels": [{"name": "a", "model": "wamv", "mass": {"mass_kg": -5}}]}, "vessels[0].mass.mass_kg",
+     "greater than or equal to 0.001 (got -5)"),  # the bound alone named no value
+    ({"world": {"physics_rate_hz": 1e9}}, "world.physics_rate_hz", "(got 1000000000.0)"),
+    ({"vessels": [{"name": "my boat", "model": "wamv"}]}, "vessels[0].name",
+     "should start with a letter and hold only letters, digits and '_' (got 'my boat')"),  # was the regex
+    ({"vessels": [{"name": "a", "model": "wamv", "sensors": [{"type": "imu", "name": "i", "topic": "/bad topic"}]}]},
+     "vessels[0].sensors[0].topic", "should be a ROS 2 topic name"),
+    ({"traffic": {"ships": [{**_ship("s"), "motion": {"type": "route", "waypoints": [
+        {"position": [0, 0], "speed_mps": 1}]}}]}}, "traffic.ships[0].motion.waypoints",
+     "should have at least 2 items, got 1"),  # was "Tuple should have at least 2 items after validation, not 1"
+])  # fmt: skip
+def test_a_bad_value_is_shown_in_plain_words(data, path, words):
+    err = _error(data)
+    assert err.key_path == path
+    assert words in err.message
+    assert "pattern" not in err.message and "after validation" not in err.message
+
+
+@pytest.mark.parametrize("data, path, words", [
+    ({"vessels": [{"name": "a", "model": "wamv"}, {"name": "a", "model": "otter"}]}, "vessels[1].name",
+     "'a' is already the name of vessels[0]"),  # was at the top level: "names of vessels and objects must be unique"
+    ({"vessels": [{"name": "a", "model": "wamv"}], "objects": [{"type": "buoy", "name": "a", "position": [0, 0, 0]}]},
+     "objects[0].name", "already the name of vessels[0]"),
+    ({"vessels": [{"name": "a", "model": "wamv"}], "traffic": {"ships": [_ship("a")]}}, "traffic.ships[0].name",
+     "already the name of vessels[0]"),  # the message said "vessels and objects" of a traffic ship
+    ({"traffic": {"ships": [_ship("a"), _ship("b", 257000001)]}}, "traffic.ships[1].mmsi", "already the mmsi of ships[0]"),
+    ({"vessels": [{"name": "a", "model": "wamv", "sensors": [{"type": "imu", "name": "i"}, {"type": "gnss", "name": "i"}]}]},
+     "vessels[0].sensors[1].name", "already the name of sensors[0]"),
+    ({"vessels": [{"name": "a", "model": "wamv", "hull_mesh": "x.stl"}]}, "vessels[0].hull_mesh", "only for model 'custom'"),
+])  # fmt: skip
+def test_a_repeated_name_points_at_the_repeat(data, path, words):
+    err = _error(data)
+    assert err.key_path == path
+    assert words in err.message
