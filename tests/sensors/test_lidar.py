@@ -240,3 +240,26 @@ def test_body_frame_casting_matches_world_posed_geometry():
     one_thread = RayWorld(sim, 1, threads=1)  # one chunk: no chunk-level culling; same hits
     for got, want in zip(one_thread.cast(jitter_o, sphere_d, 120.0), lidar.world.cast(jitter_o, sphere_d, 120.0)):
         np.testing.assert_array_equal(got, want)
+
+
+def test_reflectivity_of_a_body_that_is_not_there_is_an_error(scenario_of):
+    """`reflectivity: {bouy_1: 0.9}` was ignored without a word (QA); a known body's value is used."""
+    from usvsim.core.errors import ScenarioError
+    from usvsim.simulation import Simulation
+    from usvsim.world.builder import geom_owners
+
+    def lidar(reflectivity):
+        return scenario_of({"vessels": [{"name": "wamv", "model": "wamv", "sensors": [
+            {"type": "lidar", "name": "lidar", "preset": "vlp16", "reflectivity": reflectivity}]}],
+            "objects": [{"type": "buoy", "name": "buoy_1", "position": [10, 0, 0]}]})  # fmt: skip
+
+    with pytest.raises(ScenarioError) as info:
+        Simulation(lidar({"buoy_1": 0.5, "bouy_1": 0.9}))
+    assert info.value.key_path == "vessels[0].sensors[0].reflectivity.bouy_1"
+    assert "no body named 'bouy_1'" in info.value.message and "buoy_1" in info.value.message
+    sim = Simulation(lidar({"buoy_1": 0.5, "world": 0.75}))
+    owners = geom_owners(sim.model)
+    refl = sim.sensors["wamv/lidar"].reflectivity
+    assert {float(refl[g]) for g, o in enumerate(owners) if o == "buoy_1"} == {0.5}
+    assert {float(refl[g]) for g, o in enumerate(owners) if o == "world"} == {0.75}
+    sim.close()

@@ -10,6 +10,7 @@ from __future__ import annotations
 from collections.abc import Mapping, Sequence
 from typing import TYPE_CHECKING, Any
 
+from usvsim.config.base import KeyedValueError
 from usvsim.core.errors import Names, ScenarioError
 from usvsim.messages import ros
 from usvsim.messages.envelope import EPISODE_TOPIC, Envelope
@@ -95,6 +96,8 @@ class SensorSuite:
             raise ScenarioError(source, f"{key}.name", f"sensor name {cfg.name!r} is used twice on {vessel!r}")
         try:
             sensor = REGISTRY[cfg.type](cfg, vessel, sim, self.shared)
+        except KeyedValueError as exc:  # a key inside the sensor's section
+            raise ScenarioError(source, f"{key}.{exc.key}", str(exc)) from None
         except ValueError as exc:  # rates that are not whole multiples of the physics step, bad patterns
             field = "rate_hz" if "Hz" in str(exc) else ""
             raise ScenarioError(source, f"{key}.{field}".rstrip("."), str(exc)) from None

@@ -28,6 +28,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from usvsim.config.base import KeyedValueError
 from usvsim.messages.envelope import Envelope
 from usvsim.sensors.base import Sensor
 from usvsim.sensors.lidar import kernels, patterns
@@ -52,7 +53,12 @@ def reflectivities(sim: World, overrides: dict[str, float]) -> np.ndarray:
     m = sim.model
     luminance = m.geom_rgba[:, :3] @ np.array([0.2126, 0.7152, 0.0722])
     refl = np.clip(luminance, 0.05, 1.0)
-    for g, owner in enumerate(geom_owners(m)):  # "world", floating bodies, traffic ships
+    owners = geom_owners(m)  # "world", floating bodies, traffic ships
+    unknown = next((name for name in overrides if name not in owners), None)
+    if unknown is not None:  # a misspelt body was ignored without a word
+        known = ", ".join(sorted(set(owners), key=lambda n: (n != "world", n)))
+        raise KeyedValueError(f"reflectivity.{unknown}", f"no body named {unknown!r}; the bodies: {known}")
+    for g, owner in enumerate(owners):
         refl[g] = overrides.get(owner, refl[g])
     return np.append(refl, [0.0, 0.0]).astype(np.float32)
 
