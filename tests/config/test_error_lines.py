@@ -64,3 +64,20 @@ def test_a_repeated_name_points_at_the_repeat(data, path, words):
     err = _error(data)
     assert err.key_path == path
     assert words in err.message
+
+
+def test_latlon_is_bounded_as_latitude_and_longitude(scenario_of):
+    """`latlon` took any number up to 1e5 in the schema (editors accepted [95, 10]); the loader refused it later
+    with the key path 'latlon' and the file name 'file: objects[0]' (QA)."""
+    from usvsim.config.schema import scenario_schema
+    from usvsim.simulation import Simulation
+
+    buoy = {"type": "buoy", "name": "b", "position": [0, 0, 0]}
+    err = _error({"objects": [{**buoy, "latlon": [95, 10]}]})
+    assert err.key_path == "objects[0].latlon[0]" and "less than or equal to 90 (got 95)" in err.message
+    assert _error({"objects": [{**buoy, "latlon": [59, -190]}]}).key_path == "objects[0].latlon[1]"
+    latlon = scenario_schema()["$defs"]["Buoy"]["properties"]["latlon"]["anyOf"][0]["prefixItems"]
+    assert [(i["minimum"], i["maximum"]) for i in latlon] == [(-90, 90), (-180, 180)]
+    with pytest.raises(ScenarioError) as info:  # checked when the world is built: the path names the key
+        Simulation(scenario_of({"objects": [{**buoy, "position": [5, 0, 0], "latlon": [59.42, 10.43]}]}))
+    assert info.value.key_path == "objects[0].latlon" and info.value.source == "test"

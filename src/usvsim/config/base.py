@@ -48,13 +48,15 @@ MassKg = Annotated[float, Field(ge=1e-3, le=1e9)]  # 1 g to a million tonnes
 Inertia = Annotated[float, Field(ge=1e-6, le=1e13)]  # kg m^2
 Inertia3 = Annotated[tuple[Inertia, Inertia, Inertia], BeforeValidator(_list_to_tuple)]
 Scale = Annotated[float, Field(ge=1e-3, le=1e3)]
+LatLonDeg = Annotated[tuple[Annotated[float, Field(ge=-90, le=90)], Annotated[float, Field(ge=-180, le=180)]],
+                      BeforeValidator(_list_to_tuple)]  # fmt: skip
 
 
 class LatLon(Section):
     """Optionally placed by geography: `latlon` [latitude, longitude] in degrees (WGS-84) replaces the
     position's x and y (the ENU point at the scenario's geodetic origin); z stays as given."""
 
-    latlon: Vec2 | None = Field(default=None, description="[latitude_deg, longitude_deg], WGS-84; replaces x, y")
+    latlon: LatLonDeg | None = Field(default=None, description="[latitude_deg, longitude_deg], WGS-84; replaces x, y")
 
 
 class GeoPose(LatLon):

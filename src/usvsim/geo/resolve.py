@@ -61,9 +61,9 @@ def resolve_geo(scenario: Scenario) -> Scenario:
     if not placed and not marks:
         return scenario
     frame, source = frame_of(scenario), source_of(scenario)
-    vessels = tuple(v.model_copy(update={"pose": _place(v.pose, frame, f"{source}: vessels[{i}].pose")})
+    vessels = tuple(v.model_copy(update={"pose": _place(v.pose, frame, source, f"vessels[{i}].pose")})
                     for i, v in enumerate(scenario.vessels))  # fmt: skip
-    objects = tuple(_place(o, frame, f"{source}: objects[{i}]") for i, o in enumerate(scenario.objects))
+    objects = tuple(_place(o, frame, source, f"objects[{i}]") for i, o in enumerate(scenario.objects))
     for k, spec in enumerate(marks):
         assert scenario.geo is not None  # marks come from it
         extent = scenario.geo.extent_m
@@ -89,24 +89,26 @@ def _placed(section) -> bool:
     return getattr(section, "latlon", None) is not None or getattr(section, "heading_deg", None) is not None
 
 
-def _place(section, frame: GeoFrame, where: str):
+def _place(section, frame: GeoFrame, where: str, path: str):
+    """`section` with its `latlon` / `heading_deg` turned into ENU; errors name `where` (the file) and the key under
+    `path` (the file and path were the error's source: 'objects[0]: latlon', key path 'latlon')."""
     if not _placed(section):
         return section
     update: dict[str, Any] = {"heading_deg": None, "latlon": None}
     if section.latlon is not None:
         if tuple(section.position[:2]) != (0.0, 0.0):
-            raise ScenarioError(where, "latlon", "give either latlon or the position's x, y, not both")
+            raise ScenarioError(where, f"{path}.latlon", "give either latlon or the position's x, y, not both")
         lat, lon = section.latlon
         if not (-90.0 <= lat <= 90.0 and -180.0 <= lon <= 180.0):
-            raise ScenarioError(where, "latlon", f"[{lat}, {lon}] is not a latitude and longitude in degrees")
+            raise ScenarioError(where, f"{path}.latlon", f"[{lat}, {lon}] is not a latitude and longitude in degrees")
         x, y, _ = frame.to_enu(lat, lon)[0]
         if max(abs(x), abs(y)) > MAX_COORDINATE_M:  # the limit every position has (docs/limits.md)
-            raise ScenarioError(where, "latlon", f"[{lat}, {lon}] is {max(abs(x), abs(y)) / 1000:.0f} km from the "
+            raise ScenarioError(where, f"{path}.latlon", f"[{lat}, {lon}] is {max(abs(x), abs(y)) / 1000:.0f} km from the "
                                 f"world origin; positions must be within {MAX_COORDINATE_M / 1000:.0f} km (world.origin)")  # fmt: skip
         update["position"] = (float(x), float(y), section.position[2])
     if getattr(section, "heading_deg", None) is not None:
         if "yaw_deg" in section.model_fields_set:
-            raise ScenarioError(where, "heading_deg", "give either heading_deg or yaw_deg, not both")
+            raise ScenarioError(where, f"{path}.heading_deg", "give either heading_deg or yaw_deg, not both")
         update["yaw_deg"] = 90.0 - section.heading_deg  # compass (CW from north) → ENU yaw (CCW from east)
     return section.model_copy(update=update)
 
