@@ -68,3 +68,38 @@ def test_yaml_blocks_in_docs_are_valid_scenarios():
                 parse_scenario(data, str(doc), ROOT / "examples")  # its meshes ship in examples/meshes
             elif "geo" not in data:  # docs/geo.md's files are checked by tests/geo/test_geo_docs.py
                 parse_scenario(data, str(doc), ROOT)
+
+
+def _reference_rows() -> dict[tuple[str, str], tuple[str, str, str]]:
+    """(section, key) → (type, unit, description) of docs/scenario-reference.md's tables."""
+    rows, section = {}, ""
+    for line in reference_markdown().splitlines():
+        if line.startswith("## "):
+            section = line[3:]
+        elif line.startswith("| `"):
+            cells = [c.strip() for c in re.split(r"(?<!\\)\|", line)[1:-1]]
+            rows[(section, cells[0].strip("`"))] = (cells[1], cells[2], cells[4])
+    return rows
+
+
+def test_reference_states_units_frames_and_optional_descriptions():
+    """QA of the reference: positions read "list of number | number | number" with no unit or frame, c_n had the
+    unit N (its suffix), the description of an optional key (PM's wind_speed_mps) was dropped, wind/current
+    `direction` had no unit nor said toward/from, Sun.azimuth_deg's compass convention was only a code comment."""
+    from usvsim.vessels.library import LIBRARY
+
+    rows = _reference_rows()
+    assert not [k for k, (kind, _, _) in rows.items() if "list of number \\| number" in kind]
+    assert rows[("Pose", "position")][:2] == ("[number, number, number]", "m") and "ENU" in rows[("Pose", "position")][2]
+    assert "FLU" in rows[("Mount", "position")][2] and "FLU" in rows[("Thruster", "position")][2]
+    for (section, key), (_, unit, text) in rows.items():  # every position says its frame
+        if key == "position":
+            assert unit == "m" and ("ENU" in text or "FLU" in text), (section, text)
+    assert rows[("WindLoad", "c_n")][1] == "" and rows[("ThrustMap", "max_forward_n")][1] == "N"
+    assert "19.5 m" in rows[("PiersonMoskowitzSea", "wind_speed_mps")][2]
+    unit, text = rows[("WindConfig", "direction")][1:]
+    assert unit == "rad" and "toward" in text and "counter-clockwise from east" in text
+    assert "clockwise from north" in rows[("Sun", "azimuth_deg")][2]
+    assert rows[("KernerHydrodynamics", "kinematic_viscosity_m2ps")][1] == "m²/s"
+    assert all(name in rows[("Vessel", "model")][2] for name in LIBRARY)
+    assert "relative to the scenario file" in rows[("MeshObstacle", "file")][2]

@@ -18,7 +18,7 @@ from typing import Annotated, Literal
 
 from pydantic import Field
 
-from usvsim.config.base import NonNegativeFloat, PositiveFloat, Section, Vec2
+from usvsim.config.base import AngleDeg, NonNegativeFloat, PositiveFloat, Section, Vec2
 
 
 class AxisGains(Section):
@@ -35,6 +35,8 @@ class AxisGains(Section):
 
 
 class VelocityGains(Section):
+    """Per-axis gains of the velocity controller (FLU: surge along x, sway along y, yaw about z)."""
+
     surge: AxisGains = AxisGains()
     sway: AxisGains = AxisGains()
     yaw: AxisGains = AxisGains()
@@ -61,8 +63,8 @@ class Hold(Section):
 class Target(Section):
     """A station-keeping target: world ENU position (m) and yaw (deg, CCW from east)."""
 
-    position: Vec2
-    yaw_deg: float = 0.0
+    position: Vec2 = Field(description="[x east, y north] in the world frame (ENU), m")
+    yaw_deg: AngleDeg = Field(default=0.0, description="heading of the vessel's +x, counter-clockwise from east")
 
 
 class VelocityController(Section):

@@ -19,8 +19,9 @@ Resolution = Literal[8, 16, 32, 64, 128, 256, 512, 1024, 2048]  # FFT tile size 
 
 
 class Directed(Section):
-    direction: float | None = None
-    direction_deg: float | None = None
+    direction: float | None = Field(default=None, description="toward which it travels (not where it comes from), "
+                                    "counter-clockwise from east, rad; default 0 (toward east)")
+    direction_deg: float | None = Field(default=None, description="the same in degrees (90 = toward north); give one")
 
     @model_validator(mode="after")
     def _one_direction(self):
@@ -110,10 +111,13 @@ PeakPeriod = Annotated[float, Field(gt=0, le=40, description="spectral peak peri
 
 
 class JonswapSea(SpectralSea):
+    """A JONSWAP wind sea from Hs and Tp."""
+
     type: Literal["jonswap"]
     hs_m: SigWaveHeight
     tp_s: PeakPeriod
-    gamma: Annotated[float, Field(ge=1, le=10)] | None = None  # None: DNV rule from Hs and Tp
+    gamma: Annotated[float, Field(ge=1, le=10)] | None = Field(default=None, description="peak enhancement γ; "
+                                                                "null: the DNV rule from Hs and Tp")
 
 
 class PiersonMoskowitzSea(SpectralSea):
@@ -241,6 +245,8 @@ class WindConfig(Directed):
 
 
 class ShearConfig(Section):
+    """How the current falls off with depth below the surface (`uniform`: not at all)."""
+
     profile: Literal["uniform", "linear", "exponential", "power"] = "uniform"
     depth_m: PositiveFloat = 10.0
 
@@ -256,9 +262,13 @@ class CurrentConfig(Directed):
 
 
 class Environment(Section):
-    sea: Sea = FlatSeaConfig()
+    """Sea, wind and current; every direction is the one toward which it travels, counter-clockwise from east."""
+
+    sea: Sea = Field(default=FlatSeaConfig(), description="waves; default flat")
     wind: WindConfig = WindConfig()
     current: CurrentConfig = CurrentConfig()
-    water_level_m: float = Field(default=0.0, ge=-1000, le=1000)
-    water_depth_m: Annotated[float, Field(gt=0, le=11_000)] | None = None  # None: deep water (FFT: always)
-    ramp_time_s: NonNegativeFloat = 2.0
+    water_level_m: float = Field(default=0.0, ge=-1000, le=1000, description="z of the still water in the world frame")
+    water_depth_m: Annotated[float, Field(gt=0, le=11_000)] | None = Field(
+        default=None, description="for finite-depth waves (direct realization only); null: deep water")
+    ramp_time_s: NonNegativeFloat = Field(default=2.0, description="time constant τ of the waves' start-up ramp "
+                                          "1 - exp(-t/τ) on every amplitude; 0: none")

@@ -21,7 +21,7 @@ FileName = Annotated[str, Field(min_length=1)]
 class Source(Section):
     """A geospatial file: `file` (relative to the scenario), optional `layer`, optional `crs` override."""
 
-    file: FileName
+    file: FileName = Field(description="relative to the scenario file's folder")
     layer: str | None = Field(default=None, description="layer of a multi-layer file (GeoPackage); default the first")
     crs: str | None = Field(default=None, description="CRS to assume when the file has none; an error if it has another")
 

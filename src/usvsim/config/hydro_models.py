@@ -81,13 +81,14 @@ class FossenHydrodynamics(Section):
 
     type: Literal["fossen"] = "fossen"
     parameters: Literal["otter", "wamv_vrx", "wamv_vrx_classic", "custom"] = "custom"
-    added_mass: Six = (0.0,) * 6
-    linear_damping: Six = (0.0,) * 6
-    quadratic_damping: Six = (0.0,) * 6
+    added_mass: Six = Field(default=(0.0,) * 6, description="[X_u̇, Y_v̇, Z_ẇ, K_ṗ, M_q̇, N_ṙ] magnitudes: kg "
+                            "(surge, sway, heave), kg m² (roll, pitch, yaw)")
+    linear_damping: Six = Field(default=(0.0,) * 6, description="same order: N s/m, N m s")
+    quadratic_damping: Six = Field(default=(0.0,) * 6, description="same order: N s²/m², N m s²")
     cross_flow_length_m: NonNegativeFloat = 0.0
     cross_flow_draft_m: NonNegativeFloat = 0.0
     cross_flow_beam_m: NonNegativeFloat = 0.0
-    reference_point: Vec3 | None = None
+    reference_point: Vec3 | None = Field(default=None, description="in base_link (FLU), m; null: the centre of mass")
     added_mass_coriolis: bool = True
     vrx_compatible: bool = False
     acceleration_filter_s: NonNegativeFloat = Field(default=0.0, description="low-pass on the lagged ν̇ (0 = none)")

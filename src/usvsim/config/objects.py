@@ -43,7 +43,7 @@ Color = Literal["red", "green", "yellow", "orange", "white", "black", "grey", "w
 class Mooring(Section):
     """A slack mooring line from the buoy's bottom to an anchor on the seabed straight below."""
 
-    water_depth_m: Size = 5.0
+    water_depth_m: Size = Field(default=5.0, description="depth of the anchor below the still water")
     scope: float = Field(default=1.2, ge=1.0, description="line length / water depth")
 
 
@@ -52,7 +52,7 @@ class Buoy(LatLon):
 
     type: Literal["buoy"] = "buoy"
     name: Name
-    position: Vec3
+    position: Vec3 = Field(description="[x east, y north, z up] of the sphere's centre in the world frame (ENU), m")
     radius_m: Annotated[float, Field(ge=0.05, le=50.0)] = 0.3
     mass_kg: MassKg = 20.0
     color: Color = "red"
@@ -64,9 +64,9 @@ class Box(GeoPose):
 
     type: Literal["dock", "wall", "box"]
     name: Name
-    position: Vec3
-    size: Size3
-    yaw_deg: AngleDeg = 0.0
+    position: Vec3 = Field(description="[x east, y north, z up] of the box's centre in the world frame (ENU), m")
+    size: Size3 = Field(description="[length along its x, width along its y, height], full sides, m")
+    yaw_deg: AngleDeg = Field(default=0.0, description="its x axis, counter-clockwise from east")
     color: Color = "concrete"
 
 
@@ -75,7 +75,7 @@ class Pier(GeoPose):
 
     type: Literal["pier"] = "pier"
     name: Name
-    position: Vec3
+    position: Vec3 = Field(description="[x east, y north, z up] of the deck's centre in the world frame (ENU), m")
     length_m: Size
     width_m: Size
     deck_thickness_m: Size = 0.3
@@ -104,7 +104,7 @@ class Berth(GeoPose):
 
     type: Literal["berth"] = "berth"
     name: Name
-    position: Vec3
+    position: Vec3 = Field(description="[x east, y north, z] of the slot's centre in the world frame (ENU), m")
     inner_length_m: Size = 7.0
     inner_width_m: Size = 4.0
     wall_thickness_m: Size = 0.6
@@ -119,10 +119,11 @@ class MeshObstacle(GeoPose):
 
     type: Literal["mesh"] = "mesh"
     name: Name
-    file: str
-    position: Vec3 = (0.0, 0.0, 0.0)
-    yaw_deg: AngleDeg = 0.0
-    scale: Scale = 1.0
+    file: str = Field(description="mesh file (OBJ, STL, PLY, glTF, DAE), m, z up, relative to the scenario file")
+    position: Vec3 = Field(default=(0.0, 0.0, 0.0), description="where the mesh's origin goes in the world frame "
+                           "(ENU), m")
+    yaw_deg: AngleDeg = Field(default=0.0, description="about z, counter-clockwise from east")
+    scale: Scale = Field(default=1.0, description="factor on the file's coordinates")
     color: Color = "grey"
 
 

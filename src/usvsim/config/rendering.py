@@ -24,11 +24,15 @@ SUN_FIELDS = ("azimuth_deg", "elevation_deg")
 class Sun(Section):
     """The sun's direction, either as angles or from a UTC time at the scenario's geodetic origin."""
 
-    azimuth_deg: Annotated[float, Field(ge=0, lt=360)] = 135.0  # compass: clockwise from north (90 = east)
-    elevation_deg: Annotated[float, Field(ge=-90, le=90)] = 45.0  # above the horizon; < 0: below (dusk/night)
-    utc: str | None = None  # ISO 8601 time, e.g. "2025-06-21T05:30:00Z": sets azimuth and elevation
-    intensity: NonNegativeFloat = 1.0  # multiplier on the daylight model (sun and sky together)
-    color: Rgb | None = None  # None: from the elevation (white at noon, orange near the horizon)
+    azimuth_deg: Annotated[float, Field(ge=0, lt=360)] = Field(default=135.0, description="where the sun stands, "
+                                                                "compass: clockwise from north (90 = east)")
+    elevation_deg: Annotated[float, Field(ge=-90, le=90)] = Field(default=45.0, description="above the horizon; < 0: "
+                                                                  "below (dusk/night)")
+    utc: str | None = Field(default=None, description='ISO 8601 time, e.g. "2025-06-21T05:30:00Z": sets azimuth and '
+                            "elevation")
+    intensity: NonNegativeFloat = Field(default=1.0, description="multiplier on the daylight model (sun and sky)")
+    color: Rgb | None = Field(default=None, description="linear RGB 0-1; null: from the elevation (white at noon, "
+                              "orange near the horizon)")
 
     @field_validator("utc")
     @classmethod
@@ -68,33 +72,39 @@ class Haze(Section):
 class WaterLook(Section):
     """Appearance of the sea surface (the surface itself comes from the ocean the physics uses)."""
 
-    color: Rgb = (0.012, 0.09, 0.12)  # colour of light scattered back from inside the water body
-    foam: NonNegativeFloat = 1.0  # whitecap and waterline foam amount (0: none)
-    glint: NonNegativeFloat = 1.0  # strength of the sun's specular reflection
-    short_waves: Annotated[float, Field(ge=0, le=4)] = 1.0  # slopes of the waves shorter than the physics resolves
-    # (the spectrum's tail, drawn as normals only; 0: none); rendering/detail.py
-    wake_s: Annotated[float, Field(ge=0, le=60)] = 30.0  # foam trails behind moving vessels: seconds of track (0: none)
-    clarity_m: PositiveFloat | None = (
-        2.0  # path in the water over which the seabed or a hull fades by e; None: opaque
-    )
+    color: Rgb = Field(default=(0.012, 0.09, 0.12), description="linear RGB 0-1 of light scattered back from "
+                       "inside the water body")
+    foam: NonNegativeFloat = Field(default=1.0, description="whitecap and waterline foam amount (0: none)")
+    glint: NonNegativeFloat = Field(default=1.0, description="strength of the sun's specular reflection")
+    short_waves: Annotated[float, Field(ge=0, le=4)] = Field(default=1.0, description="slopes of the waves shorter "
+                                                             "than the physics resolves (drawn as normals only; 0: none)")
+    # (the spectrum's tail); rendering/detail.py
+    wake_s: Annotated[float, Field(ge=0, le=60)] = Field(default=30.0, description="foam trails behind moving "
+                                                         "vessels: seconds of track (0: none)")
+    clarity_m: PositiveFloat | None = Field(default=2.0, description="path in the water over which the seabed or a "
+                                            "hull fades by e; null: opaque")
 
 
 class CameraLook(Section):
     """Effects of a real camera, applied to every camera's RGB image (never to depth or labels)."""
 
-    exposure_ev: Annotated[float, Field(ge=-10, le=10)] = 0.0  # +1 doubles the brightness
-    vignetting: Annotated[float, Field(ge=0, le=1)] = 0.25  # brightness lost at the image corners
-    blur_sigma_px: Annotated[float, Field(ge=0, le=20)] = 0.0  # Gaussian defocus blur
-    noise_stddev: Annotated[float, Field(ge=0, le=1)] = 0.0  # on top of each camera's own rgb_noise_stddev
-    droplets: Annotated[float, Field(ge=0, le=1)] = 0.0  # water drops on the lens (0: none, 1: ~60 drops)
-    motion_blur_ms: Annotated[float, Field(ge=0, le=200)] = 0.0  # exposure smearing the camera's motion (0: off)
+    exposure_ev: Annotated[float, Field(ge=-10, le=10)] = Field(default=0.0, description="+1 doubles the brightness")
+    vignetting: Annotated[float, Field(ge=0, le=1)] = Field(default=0.25, description="brightness lost at the corners")
+    blur_sigma_px: Annotated[float, Field(ge=0, le=20)] = Field(default=0.0, description="Gaussian defocus blur")
+    noise_stddev: Annotated[float, Field(ge=0, le=1)] = Field(default=0.0, description="on top of each camera's own "
+                                                              "rgb_noise_stddev")
+    droplets: Annotated[float, Field(ge=0, le=1)] = Field(default=0.0, description="water drops on the lens (0: none, "
+                                                          "1: ~60 drops)")
+    motion_blur_ms: Annotated[float, Field(ge=0, le=200)] = Field(default=0.0, description="exposure smearing the "
+                                                                  "camera's motion (0: off)")
 
 
 class Rain(Section):
     """Rain between the camera and the scene: streaks in camera images and extinction added to the fog
     (0.25·R^0.63 per km); `slant_deg` tilts the streaks (wind)."""
 
-    rate_mm_h: Annotated[float, Field(ge=0, le=200)] = 0.0  # 0: no rain; 2.5 light, 10 moderate, 50 heavy
+    rate_mm_h: Annotated[float, Field(ge=0, le=200)] = Field(default=0.0, description="0: no rain; 2.5 light, "
+                                                             "10 moderate, 50 heavy")
     slant_deg: Annotated[float, Field(ge=-60, le=60)] = 10.0
 
 
@@ -103,7 +113,8 @@ class Lights(Section):
     and yellow buoys): `auto` lights them from sunset to sunrise and in fog under 2 km visibility."""
 
     navigation: Literal["auto", "on", "off"] = "auto"
-    intensity: Annotated[float, Field(ge=0, le=100)] = 1.0  # multiplier on the lamps' brightness
+    intensity: Annotated[float, Field(ge=0, le=100)] = Field(default=1.0, description="multiplier on the lamps' "
+                                                             "brightness")
 
 
 class Rendering(Section):
@@ -120,8 +131,10 @@ class Rendering(Section):
     camera: CameraLook = CameraLook()
     lights: Lights = Lights()
     rain: Rain = Rain()
-    shadows: bool = False  # the sun's shadows of geoms on geoms (MuJoCo's shadow map) and on the water (boxes)
-    materials: bool = True  # gloss by material class: painted hull, metal, rubber, buoy plastic, wood, concrete
+    shadows: bool = Field(default=False, description="the sun's shadows of geoms on geoms (MuJoCo's shadow map) "
+                          "and on the water (boxes)")
+    materials: bool = Field(default=True, description="gloss by material class: painted hull, metal, rubber, buoy "
+                            "plastic, wood, concrete")
 
     def updated(self, changes: dict[str, Any]) -> Rendering:
         """A copy with nested `changes` merged in (e.g. {"sun": {"elevation_deg": 5}}), validated strictly."""

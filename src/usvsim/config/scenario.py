@@ -32,6 +32,8 @@ class DivergenceLimits(Section):
 
 
 class World(Section):
+    """The physics step and the constants of the world; its frame is ENU with its origin at `origin`."""
+
     physics_rate_hz: float = Field(default=100.0, ge=20, le=10_000, description="MuJoCo step rate; must divide 1e9 ns")
     gravity_mps2: float = Field(default=9.81, ge=0.1, le=100)
     water_density_kgpm3: float = Field(default=1025.0, ge=500, le=2000)
@@ -62,22 +64,25 @@ class Tf(Section):
 
 
 class Outputs(Section):
+    """What the simulation writes besides its sensors' messages."""
+
     recording: Recording = Recording()
     tf: Tf = Tf()
 
 
 class Scenario(Section):
-    version: Literal[1]
-    name: str = Field(default="scenario", max_length=200)
-    description: str = Field(default="", max_length=20_000)
-    world: World = World()
-    environment: Environment = Environment()
-    vessels: TupleOf[Vessel] = Field(default=(), max_length=256)
-    objects: TupleOf[WorldObject] = ()
+    version: Literal[1] = Field(description="the file format; 1")
+    name: str = Field(default="scenario", max_length=200, description="shown in reports and recordings")
+    description: str = Field(default="", max_length=20_000, description="its first line is `usvsim scenarios`' text")
+    world: World = Field(default=World(), description="physics step, gravity, densities, geodetic origin")
+    environment: Environment = Field(default=Environment(), description="sea, wind, current, water level")
+    vessels: TupleOf[Vessel] = Field(default=(), max_length=256, description="simulated vessels (topics and frames "
+                                     "under their names)")
+    objects: TupleOf[WorldObject] = Field(default=(), description="buoys, docks, walls, piers, berths, mesh obstacles")
     geo: Geo | None = Field(default=None, description="a real place from geospatial files (docs/geo.md)")
-    outputs: Outputs = Outputs()
-    rendering: Rendering = Rendering()
-    traffic: Traffic = Traffic()
+    outputs: Outputs = Field(default=Outputs(), description="recording and TF")
+    rendering: Rendering = Field(default=Rendering(), description="sky, sun, water look, fog, camera effects")
+    traffic: Traffic = Field(default=Traffic(), description="scripted ships, AIS, situational awareness")
 
     @model_validator(mode="after")
     def _unique_names(self):

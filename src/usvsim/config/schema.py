@@ -17,7 +17,8 @@ from usvsim.config.scenario import Scenario
 
 UNITS = {"_m": "m", "_mps": "m/s", "_s": "s", "_hz": "Hz", "_deg": "deg", "_rad": "rad", "_kg": "kg",
          "_n": "N", "_pa": "Pa", "_m2": "m²", "_m3": "m³", "_kgpm3": "kg/m³", "_mps2": "m/s²",
-         "_deg_s": "deg/s", "_rad_s": "rad/s", "_radps": "rad/s", "_1ps": "1/s", "_n_s": "N/s"}  # fmt: skip
+         "_deg_s": "deg/s", "_rad_s": "rad/s", "_radps": "rad/s", "_1ps": "1/s", "_n_s": "N/s", "_m2ps": "m²/s",
+         "_mm_h": "mm/h", "_db": "dB", "_px": "px", "_ms": "ms", "_ev": "EV"}  # fmt: skip
 
 
 @cache
@@ -105,7 +106,12 @@ def reference_markdown() -> str:
              "Generated from the scenario models by `usvsim schema --reference`; do not edit by hand (a test",
              "keeps it in sync). Units follow the key's suffix (`_m` metres, `_deg` degrees, `_hz` hertz, ...).",
              "Unknown keys are errors, with a suggestion for a likely misspelling. `usvsim schema` prints the",
-             "JSON Schema for editor completion.", ""]  # fmt: skip
+             "JSON Schema for editor completion.", "",
+             "Frames: world positions are ENU (x east, y north, z up) from `world.origin`; parts of a vessel (sensor",
+             "mounts, thrusters, centre of mass) are in its `base_link` (FLU: x forward, y left, z up). Angles: `yaw_deg`",
+             "is counter-clockwise from east (world) or from the bow (base_link); `heading_deg` and `course_deg` are",
+             "compass angles, clockwise from north; the `direction` of waves, wind and current is where they travel",
+             "toward. `[number, number, number]` is a list of exactly three.", ""]  # fmt: skip
     lines += _section("Scenario (top level)", schema, defs)
     for name in sorted(defs):
         if "properties" in defs[name]:
@@ -138,32 +144,44 @@ def _type(prop: dict, defs: dict) -> str:
     if options:
         return " \\| ".join(_type(o, defs) for o in options)
     kind = prop.get("type", "any")
+    if kind == "array" and "prefixItems" in prop:  # a fixed-length tuple (a position): was "list of number | number"
+        return "[" + ", ".join(_type(item, defs) for item in prop["prefixItems"]) + "]"
     if kind == "array":
-        items = prop.get("items") or {"anyOf": prop.get("prefixItems", [])}
-        return f"list of {_type(items, defs)}"
+        return f"list of {_type(prop.get('items', {}), defs)}"
     if kind == "object" and "additionalProperties" in prop and isinstance(prop["additionalProperties"], dict):
         return f"map of {_type(prop['additionalProperties'], defs)}"
     return kind
 
 
+BOUND_SYMBOLS = (("minimum", "≥"), ("exclusiveMinimum", ">"), ("maximum", "≤"), ("exclusiveMaximum", "<"))
+
+
 def _describe(prop: dict) -> str:
-    text = " ".join(prop.get("description", "").split())
-    bounds = [f"{sym} {prop[k]}" for k, sym in (("minimum", "≥"), ("exclusiveMinimum", ">"), ("maximum", "≤"),
-                                                 ("exclusiveMaximum", "<")) if k in prop]  # fmt: skip
-    for option in prop.get("anyOf", ()):
-        bounds += [f"{sym} {option[k]}" for k, sym in (("minimum", "≥"), ("exclusiveMinimum", ">"),
-                                                         ("maximum", "≤"), ("exclusiveMaximum", "<")) if k in option]  # fmt: skip
+    """The key's description and bounds; those of an optional value (`X | None`: inside its `anyOf`) and of a
+    tuple's items ("each ...") too (an optional key's description was left out)."""
+    options = [prop, *prop.get("anyOf", ())]
+    texts = [" ".join(o["description"].split()) for o in options if o.get("description")]
+    bounds = [f"{sym} {o[k]}" for o in options for k, sym in BOUND_SYMBOLS if k in o]
+    items = [i for o in options for i in o.get("prefixItems", ())]
+    item_bounds = [f"{sym} {items[0][k]}" for k, sym in BOUND_SYMBOLS if k in items[0]] if items else []
+    if item_bounds and all(i == items[0] for i in items):
+        bounds.append("each " + ", ".join(item_bounds))
     if "pattern" in prop:
         bounds.append(f"matches `{prop['pattern']}`")
-    return "; ".join(part for part in (text, ", ".join(bounds)) if part)
+    return "; ".join(part for part in ("; ".join(dict.fromkeys(texts)), ", ".join(bounds)) if part)
 
 
-NO_UNIT = {"spreading_s"}  # keys whose suffix is not a unit (cos-2s spreading's exponent s)
+NO_UNIT = {"spreading_s", "c_n"}  # keys whose suffix is not a unit (cos-2s spreading's exponent s, a coefficient)
+KEY_UNITS = {"direction": "rad", "direction_std": "rad", "phase": "rad", "angle": "rad", "rpm": "rev/min",
+             "position": "m", "size": "m", "com": "m", "reference_point": "m", "inertia": "kg m²",
+             "latlon": "deg"}  # keys without a unit suffix  # fmt: skip
 
 
 def _unit(key: str) -> str:
     if key in NO_UNIT:
         return ""
+    if key in KEY_UNITS:
+        return KEY_UNITS[key]
     for suffix in sorted(UNITS, key=len, reverse=True):
         if key.endswith(suffix):
             return UNITS[suffix]

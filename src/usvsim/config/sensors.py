@@ -15,7 +15,7 @@ from typing import Annotated, Literal
 import numpy as np
 from pydantic import Field, model_validator
 
-from usvsim.config.base import NonNegativeFloat, PoseDeg, PositiveFloat, Section, TupleOf, Vec2
+from usvsim.config.base import NonNegativeFloat, PoseDeg, PositiveFloat, Section, TupleOf, Vec2, Vec3
 
 Name = Annotated[str, Field(pattern=r"^[A-Za-z][A-Za-z0-9_]*$")]
 TOPIC_PATTERN = r"^/?[A-Za-z_][A-Za-z0-9_]*(/[A-Za-z_][A-Za-z0-9_]*)*$"  # ROS 2 topic name rules
@@ -28,6 +28,9 @@ Probability = Annotated[float, Field(ge=0.0, lt=1.0)]
 class Mount(PoseDeg):
     """Pose of the sensor frame in the vessel's `base_link` (FLU, m; degrees, REP 103 roll/pitch/yaw)."""
 
+    position: Vec3 = Field(default=(0.0, 0.0, 0.0), description="[x forward, y left, z up] in base_link (FLU; origin "
+                           "on the centreline at mid-length, at the keel), m")
+
 
 class SensorBase(Section):
     """Fields every sensor has. `topic` defaults to `/<vessel>/<name>`; `frame_id` to `<vessel>/<name>`."""
@@ -38,8 +41,11 @@ class SensorBase(Section):
         default=0.0, description="publish this long after sampling (stamp = sample time); a whole number of physics steps"
     )
     mount: Mount = Mount()
-    topic: Annotated[str, Field(pattern=TOPIC_PATTERN, max_length=256)] | None = None
-    frame_id: Annotated[str, Field(pattern=FRAME_PATTERN, max_length=256)] | None = None
+    topic: Annotated[str, Field(pattern=TOPIC_PATTERN, max_length=256)] | None = Field(
+        default=None, description="namespace of its topics, default /<vessel>/<name> (a LiDAR "
+        "publishes <topic>/points, a camera <topic>/image_raw...: docs/ros2.md)")
+    frame_id: Annotated[str, Field(pattern=FRAME_PATTERN, max_length=256)] | None = Field(
+        default=None, description="default <vessel>/<name>")
 
 
 # -- navigation ------------------------------------------------------------------------------------

@@ -32,6 +32,10 @@ from usvsim.config.sensors import Sensors
 class Pose(PoseDeg, GeoPose):
     """A world pose: position (m, ENU) and roll/pitch/yaw in degrees (REP 103, yaw CCW from east)."""
 
+    position: Vec3 = Field(default=(0.0, 0.0, 0.0), description="[x east, y north, z up] of base_link in the world "
+                           "frame (ENU), m; z 0 puts the keel at the still water, from where the hull settles to its draft")
+    yaw_deg: AngleDeg = Field(default=0.0, description="heading of +x, counter-clockwise from east (90 = north)")
+
 
 class MassProperties(Section):
     """Rigid-body mass properties. Omitted values come from the library model or the hull mesh."""
@@ -102,8 +106,8 @@ class ThrustMap(Section):
 class Azimuth(Section):
     """A steerable thruster: angle limits, first-order servo and its rate limit (REP 103: + is CCW from above)."""
 
-    min_deg: AngleDeg = -90.0
-    max_deg: AngleDeg = 90.0
+    min_deg: AngleDeg = Field(default=-90.0, description="clockwise limit (at most 0)")
+    max_deg: AngleDeg = Field(default=90.0, description="counter-clockwise limit (at least 0)")
     time_constant_s: PositiveFloat = 0.3
     max_rate_deg_s: PositiveFloat = 90.0
 
@@ -121,9 +125,9 @@ class Thruster(Section):
     position: Vec3 = Field(description="force application point in base_link (FLU), m")
     mount_yaw_deg: AngleDeg = Field(default=0.0, description="thrust direction at zero azimuth, CCW from +x (90 = tunnel)")
     thrust: ThrustMap = ThrustMap()
-    time_constant_s: PositiveFloat = 0.2
-    max_rate_n_s: PositiveFloat | None = None
-    azimuth: Azimuth | None = None
+    time_constant_s: PositiveFloat = Field(default=0.2, description="first-order lag of the thrust to the command")
+    max_rate_n_s: PositiveFloat | None = Field(default=None, description="thrust slew limit; null: none")
+    azimuth: Azimuth | None = Field(default=None, description="null: a fixed thruster")
     propeller_diameter_m: PositiveFloat | None = Field(
         default=0.2,
         description="propeller disc (vertical, centred at `position`), m: the thrust scales with its area under the "
@@ -137,17 +141,19 @@ class WaterSampling(Section):
     triangles (the seed's method, done right: current, bounds-checked)."""
 
     mode: Literal["direct", "patch"] = "direct"
-    resolution: Annotated[int, Field(ge=2, le=256)] = 10  # a grid of 1 x 1 cannot interpolate
-    margin_m: NonNegativeFloat = 1.0
+    resolution: Annotated[int, Field(ge=2, le=256, description="n of the n x n patch grid")] = 10
+    margin_m: NonNegativeFloat = Field(default=1.0, description="patch beyond the hull footprint on each side")
 
 
 class Vessel(Section):
     """A vessel: a library model (`wamv`, `otter`, `otter_pvs`) or `custom` with a hull mesh file."""
 
     name: str = Field(pattern=r"^[A-Za-z][A-Za-z0-9_]*$")
-    model: str
-    hull_mesh: str | None = Field(default=None, description="physics hull mesh file for model 'custom'")
-    visual_mesh: str | None = None
+    model: str = Field(description="wamv, otter, otter_pvs (library vessels) or custom (hull_mesh)")
+    hull_mesh: str | None = Field(default=None, description="physics hull mesh file for model 'custom' (OBJ, STL, PLY, "
+                                  "glTF, DAE; closed; base_link frame FLU, m), relative to the scenario file")
+    visual_mesh: str | None = Field(default=None, description="mesh drawn instead of the hull (model 'custom'), same "
+                                    "frame, relative to the scenario file")
     mesh_scale: Scale = Field(default=1.0, description="scale of the hull and visual mesh files (model 'custom' only)")
     pose: Pose = Pose()
     mass: MassProperties = MassProperties()
