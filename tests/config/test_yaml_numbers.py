@@ -50,3 +50,18 @@ def test_a_validator_message_has_no_pydantic_prefix():
     with pytest.raises(ScenarioError) as info:
         parse_scenario(parse(text, "t.yaml"), "t.yaml", None)
     assert "unique" in str(info.value) and "Value error" not in str(info.value)
+
+
+def test_yes_no_on_off_are_text_as_in_yaml_1_2():
+    """`navigation: off` (a documented value) arrived as False and was refused as "should be 'auto', 'on' or 'off'
+    (got False)"; `name: no` became False (QA). Booleans are true/false only, as YAML 1.2 and the YAML language
+    server read them; a yes for a boolean says what to write."""
+    from usvsim.core.errors import ScenarioError
+
+    text = "version: 1\nname: no\nrendering: {lights: {navigation: off}, shadows: true, materials: False}\n"
+    scenario = parse_scenario(parse(text, "t.yaml"), "t.yaml", None)
+    assert scenario.name == "no" and scenario.rendering.lights.navigation == "off"
+    assert scenario.rendering.shadows is True and scenario.rendering.materials is False
+    with pytest.raises(ScenarioError) as info:
+        parse_scenario(parse("version: 1\nrendering: {shadows: yes}\n", "t.yaml"), "t.yaml", None)
+    assert info.value.key_path == "rendering.shadows" and "should be true or false (got the text 'yes')" in str(info.value)

@@ -129,6 +129,8 @@ def _first_error(exc: ValidationError, source: str, data) -> ScenarioError:
         ctx = err.get("ctx", {})
         bound = f"at least {ctx.get('min_length')}" if err["type"] == "too_short" else f"at most {ctx.get('max_length')}"
         msg = f"should have {bound} items, got {ctx.get('actual_length')}"
+    elif err["type"] == "bool_type" and isinstance(err["input"], str):  # yes/no/on/off: text in YAML 1.2
+        msg = f"should be true or false (got the text {safe_yaml.excerpt(err['input'])})"
     elif err["type"].endswith("_type") or err["type"] in ("literal_error", "finite_number") or err["type"] in BOUNDS:
         msg = f"{msg} (got {safe_yaml.excerpt(err['input'])})"  # bounds: "Input should be >= 0.001" named no value
     more = len(exc.errors()) - 1

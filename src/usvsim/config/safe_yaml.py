@@ -55,6 +55,14 @@ _Loader.add_implicit_resolver(
     list("-+0123456789"),
 )
 
+# Booleans as YAML 1.2 (and the YAML language server checking a scenario against `usvsim schema`) read them: only
+# true and false. PyYAML's YAML 1.1 also took yes/no/on/off, so `navigation: off` (a documented value) arrived as
+# False and was refused as "should be 'auto', 'on' or 'off' (got False)", and `name: no` became False.
+for _first in "yYnNoO":
+    _Loader.yaml_implicit_resolvers[_first] = [
+        (tag, regexp) for tag, regexp in _Loader.yaml_implicit_resolvers.get(_first, []) if tag != "tag:yaml.org,2002:bool"
+    ]
+
 
 def excerpt(value, limit: int = EXCERPT_CHARS) -> str:
     """repr() of a value cut to `limit` characters (a user's input is never echoed at length)."""
