@@ -81,3 +81,22 @@ def test_latlon_is_bounded_as_latitude_and_longitude(scenario_of):
     with pytest.raises(ScenarioError) as info:  # checked when the world is built: the path names the key
         Simulation(scenario_of({"objects": [{**buoy, "position": [5, 0, 0], "latlon": [59.42, 10.43]}]}))
     assert info.value.key_path == "objects[0].latlon" and info.value.source == "test"
+
+
+def test_a_centre_of_mass_outside_the_hull_is_warned_about(scenario_of, box_stl):
+    """`mass.com: [50, 0, 0]` on a 2 m hull validated and ran without a word (QA); inside the hull it is quiet."""
+    from usvsim.simulation import Simulation
+    from usvsim.world.checks import setup_warnings
+
+    def warnings(com):
+        boat = {"name": "boat", "model": "custom", "hull_mesh": str(box_stl), "mass": {"mass_kg": 300.0, "com": com}}
+        sim = Simulation(scenario_of({"vessels": [boat]}))
+        try:
+            return [w for w in setup_warnings(sim.world) if "centre of mass" in w]
+        finally:
+            sim.close()
+
+    (line,) = warnings([50.0, 0.0, 0.3])
+    assert line.startswith("vessels[0].mass.com: 'boat' has its centre of mass at [50, 0, 0.3] m (base_link, FLU)")
+    assert "outside its hull (x -1..1, y -0.5..0.5, z 0..1 m)" in line
+    assert warnings([0.2, 0.0, 0.3]) == [] and warnings([0.0, 0.0, 1.2]) != []

@@ -3,6 +3,7 @@
 - a floating body heavier than the water its closed hull (or, with voxel buoyancy, its voxels) can displace (it
   sinks whatever happens);
 - a floating body whose hull is entirely above or below the still water level by more than 1 m;
+- a vessel whose centre of mass lies outside its hull's bounding box (a `mass.com` typo: it floats tilted or capsizes);
 - a sea steeper than real seas get (they break): 2π Hs / (g Tp²) above DNV-RP-C205's limit (1/15 up to Tp = 8 s, 1/25
   from 15 s, linear between), or a regular component with H / λ above the breaking limit 1/7;
 - a water depth that the sea does not use (FFT seas are deep-water);
@@ -50,7 +51,7 @@ def setup_warnings(world) -> list[str]:
     """Warnings for a `World`'s initial state (bodies, hulls, water level, contacts)."""
     env = world.scenario.environment
     start = _start_data(world)
-    return [*_displacement(world), *_far_from_water(world), *_sea(env), *_tiles(env, world.ocean.waves),
+    return [*_displacement(world), *_com_outside(world), *_far_from_water(world), *_sea(env), *_tiles(env, world.ocean.waves),
             *_overlaps(world, start), *_sensors_inside(world, start), *_route_stops(world.scenario), *land_warnings(world),
             *_undamped(world.scenario)]  # fmt: skip
 
@@ -158,6 +159,22 @@ def _displacement(sim) -> list[str]:
         if body.model.mass_kg > capacity:
             out.append(f"'{body.name}' ({body.model.mass_kg:.6g} kg) is heavier than the water {what} can "
                        f"displace ({capacity:.6g} kg): it will sink{hint}")  # fmt: skip
+    return out
+
+
+def _com_outside(sim) -> list[str]:
+    """Vessels whose centre of mass (base_link) is outside their hull's bounding box: `mass.com: [50, 0, 0.3]` on a
+    4 m hull validated without a word (QA)."""
+    out = []
+    for i, vessel in enumerate(sim.scenario.vessels):
+        body = sim.bodies.get(vessel.name)
+        if body is None:
+            continue
+        low, high, com = body.model.hull.vertices.min(0), body.model.hull.vertices.max(0), body.model.com
+        if np.any(com < low - 1e-6) or np.any(com > high + 1e-6):
+            box = ", ".join(f"{a} {lo:.3g}..{hi:.3g}" for a, lo, hi in zip("xyz", low, high))
+            out.append(f"vessels[{i}].mass.com: '{vessel.name}' has its centre of mass at [{', '.join(f'{c:.3g}' for c in com)}] "
+                       f"m (base_link, FLU), outside its hull ({box} m): it will float tilted or capsize")  # fmt: skip
     return out
 
 
