@@ -100,3 +100,14 @@ def test_a_centre_of_mass_outside_the_hull_is_warned_about(scenario_of, box_stl)
     assert line.startswith("vessels[0].mass.com: 'boat' has its centre of mass at [50, 0, 0.3] m (base_link, FLU)")
     assert "outside its hull (x -1..1, y -0.5..0.5, z 0..1 m)" in line
     assert warnings([0.2, 0.0, 0.3]) == [] and warnings([0.0, 0.0, 1.2]) != []
+
+
+@pytest.mark.parametrize("data, path", [
+    ({"vessels": [{"name": "world", "model": "otter"}]}, "vessels[0].name"),  # was a MuJoCo traceback
+    ({"objects": [{"type": "buoy", "name": "world", "position": [0, 0, 0]}]}, "objects[0].name"),  # the same
+    ({"objects": [{"type": "dock", "name": "world", "position": [9, 0, 0], "size": [1, 1, 1]}]}, "objects[0].name"),
+    ({"traffic": {"ships": [_ship("world")]}}, "traffic.ships[0].name"),
+])  # fmt: skip
+def test_the_name_world_is_reserved(data, path):
+    err = _error(data)
+    assert err.key_path == path and "'world' is reserved" in err.message

@@ -14,6 +14,8 @@ from usvsim.config.rendering import Rendering
 from usvsim.config.traffic import Traffic
 from usvsim.config.vessel import Vessel
 
+RESERVED_NAMES = {"world"}  # TF's world frame, MuJoCo's body 0, the static objects in LiDAR `reflectivity`
+
 
 class GeodeticOrigin(Section):
     """WGS-84 position of the world frame's origin (ENU)."""
@@ -91,6 +93,9 @@ class Scenario(Section):
         keys += [(f"objects[{i}].name", o.name) for i, o in enumerate(self.objects)]
         keys += [(f"traffic.ships[{i}].name", s.name) for i, s in enumerate(self.traffic.ships)]
         for key, name in keys:
+            if name in RESERVED_NAMES:  # a vessel 'world' crashed the MuJoCo build ("repeated name 'world' in body")
+                raise KeyedValueError(key, f"{name!r} is reserved (the world frame and MuJoCo's world body); choose "
+                                      "another name")  # fmt: skip
             if name in seen:
                 raise KeyedValueError(key, f"{name!r} is already the name of {seen[name]}; names of vessels, objects "
                                       "and traffic ships must be unique (repeated: " + ", ".join(_repeated(keys)) + ")")
