@@ -368,3 +368,15 @@ def test_vessels_buoys_ships_and_route_legs_on_land_are_warnings_naming_them_and
         result = runner.invoke(app, args)
         assert result.exit_code == 0, result.output
         assert sum("usvsim: warning:" in line and "land" in line for line in result.output.splitlines()) == 4, result.output
+
+
+def test_an_object_named_like_a_mark_is_a_scenario_error(place):
+    """A buoy named mark0_0 beside geo.marks ended validate in a MuJoCo traceback ("repeated name 'mark0_0' in
+    body", QA); the line names the user's key."""
+    from usvsim.core.errors import ScenarioError
+
+    data = scenario(place, vessels=[{"name": "wamv", "model": "wamv"}]).model_dump()
+    data["objects"] = [{"type": "buoy", "name": "mark0_1", "position": [5.0, 5.0, 0.0]}]
+    with pytest.raises(ScenarioError) as info:
+        Simulation(parse_scenario(data, "test.yaml"))
+    assert info.value.key_path == "objects[0].name" and "geo.marks[0]" in info.value.message

@@ -71,9 +71,21 @@ def resolve_geo(scenario: Scenario) -> Scenario:
         for i, (point, props) in enumerate(zip(feats.geometries, feats.properties)):
             color = props.get(spec.color_property) if spec.color_property else None
             name = f"mark{k}_{i}"
+            _check_free(scenario, name, f"geo.marks[{k}]")
             objects += (Buoy(name=name, position=(point.x, point.y, 0.0), radius_m=spec.radius_m,
                              color=color if color in COLORS else spec.color, mooring=spec.mooring),)  # fmt: skip
     return _updated(scenario, vessels=vessels, objects=objects)
+
+
+def _check_free(scenario: Scenario, name: str, marks: str) -> None:
+    """A mark's name taken by a vessel, object or ship: MuJoCo refused the second body with a traceback (QA)."""
+    named = [(f"vessels[{i}]", v.name) for i, v in enumerate(scenario.vessels)]
+    named += [(f"objects[{i}]", o.name) for i, o in enumerate(scenario.objects)]
+    named += [(f"traffic.ships[{i}]", s.name) for i, s in enumerate(scenario.traffic.ships)]
+    key = next((key for key, taken in named if taken == name), None)
+    if key is not None:
+        raise ScenarioError(source_of(scenario), f"{key}.name", f"{name!r} is also the name of a buoy of {marks} (marks "
+                            "are named mark<k>_<i>: the k-th marks file, its i-th point); choose another name")  # fmt: skip
 
 
 def _updated(scenario: Scenario, **update) -> Scenario:
