@@ -103,3 +103,11 @@ def test_reference_states_units_frames_and_optional_descriptions():
     assert rows[("KernerHydrodynamics", "kinematic_viscosity_m2ps")][1] == "m²/s"
     assert all(name in rows[("Vessel", "model")][2] for name in LIBRARY)
     assert "relative to the scenario file" in rows[("MeshObstacle", "file")][2]
+    assert "estimated linear drag" in rows[("Vessel", "hydrodynamics")][2]  # what a custom hull gets by default
+
+
+def test_every_reference_section_says_what_it_is():
+    """World, Environment, Outputs, Traffic, Ship, Waypoint, JonswapSea, ... had a bare table (QA)."""
+    text = reference_markdown()
+    bare = [s.split("\n", 1)[0] for s in text.split("\n## ")[2:] if s.split("\n")[2].startswith("|")]
+    assert bare == []

@@ -100,6 +100,8 @@ class SpectralSea(Directed):
 
 
 class FlatSeaConfig(Section):
+    """A flat, still sea (no waves; wind and current still act)."""
+
     type: Literal["flat"] = "flat"
 
 

@@ -28,6 +28,8 @@ ShipType = Literal["pleasure", "sailing", "fishing", "tug", "pilot", "passenger"
 
 
 class Waypoint(Section):
+    """A point of a route and the speed of the leg that starts there."""
+
     position: Vec2 = Field(description="world ENU (x east, y north), m")
     speed_mps: NonNegativeFloat = Field(description="speed on the leg that starts here, m/s; 0: the ship stops here for good "
                                         "(heading as it arrived, or along this leg at the route's start)")
@@ -71,6 +73,9 @@ class ShipAis(Section):
 
 
 class Ship(Section):
+    """A traffic ship: a kinematic body on a scripted track (seen by sensors, solid to vessels, not pushed by them),
+    or, with `vessel`, the track a scenario vessel's velocity controller follows."""
+
     name: Name
     motion: Motion
     mmsi: int = Field(ge=100_000_000, le=999_999_999, description="9-digit Maritime Mobile Service Identity")
@@ -121,6 +126,8 @@ class Awareness(Section):
 
 
 class Traffic(Section):
+    """Other ships, their AIS, and the own ship's situational awareness (docs/traffic.md)."""
+
     ships: TupleOf[Ship] = Field(default=(), max_length=1000)
     ais: Ais = Ais()
     awareness: Awareness = Awareness()

@@ -38,7 +38,8 @@ class Pose(PoseDeg, GeoPose):
 
 
 class MassProperties(Section):
-    """Rigid-body mass properties. Omitted values come from the library model or the hull mesh."""
+    """Rigid-body mass properties. Omitted values come from the library model, or for model `custom` (which needs
+    `mass_kg`) from the hull mesh as a uniform solid of that mass."""
 
     mass_kg: MassKg | None = None
     com: Vec3 | None = Field(default=None, description="centre of mass in base_link (FLU), m")
@@ -159,8 +160,10 @@ class Vessel(Section):
     mass: MassProperties = MassProperties()
     buoyancy: Buoyancy = TriangleBuoyancy()
     water_sampling: WaterSampling = WaterSampling()
-    hydrodynamics: Hydrodynamics | None = None
-    thrusters: TupleOf[Thruster] | None = None
+    hydrodynamics: Hydrodynamics | None = Field(default=None, description="null: the library model's; model custom: "
+                                                "an estimated linear drag (surge time constant 5 s, sway and yaw 1 s, "
+                                                "heave, roll, pitch 30 % of critical; vessels/custom.py)")
+    thrusters: TupleOf[Thruster] | None = Field(default=None, description="null: the library model's; [] none")
     wind_load: WindLoad | None = Field(default=None, description="wind force on the hull above water (library default)")
     sensors: Sensors = Field(default=(), description="LiDAR, cameras, IMU, GNSS, odometry, ground truth")
     controller: Controller | None = Field(default=None, description="velocity control / station keeping (cmd_vel)")
