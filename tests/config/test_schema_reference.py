@@ -48,6 +48,13 @@ def test_schema_command_prints_a_schema_that_shipped_scenarios_satisfy():
     ({"traffic": {"ships": [{"name": "s", "mmsi": 257000001, "motion": {"type": "constant", "positon": [1, 2],
       "course_deg": 0, "speed_mps": 1}}]}}, "traffic.ships[0].motion.positon: unknown key (did you mean 'position'?)"),
     ({"vessels": [{"nmae": "a", "model": "wamv"}]}, "vessels[0].nmae: unknown key (did you mean 'name'?)"),
+    # a key one level too high says where it goes (QA: this said "did you mean 'max_rate_n_s'?", and a top-level
+    # `sensors` listed the top-level keys)
+    ({"vessels": [{"name": "a", "model": "wamv", "thrusters": [{"name": "t", "position": [0, 0, 0], "max_forward_n": 9}]}]},
+     "vessels[0].thrusters[0].max_forward_n: unknown key (it belongs under 'thrust': thrust.max_forward_n)"),
+    ({"sensors": []}, "sensors: unknown key (it belongs under 'vessels': vessels[].sensors)"),
+    ({"vessels": [{"name": "a", "model": "wamv", "position": [1, 2, 0]}]}, "(it belongs under 'pose': pose.position)"),
+    ({"world": {"latitude_deg": 10}}, "world.latitude_deg: unknown key (it belongs under 'origin': origin.latitude_deg)"),
 ])  # fmt: skip
 def test_unknown_keys_get_a_suggestion(data, message):
     with pytest.raises(ScenarioError) as err:

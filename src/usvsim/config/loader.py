@@ -103,9 +103,9 @@ def _first_error(exc: ValidationError, source: str, data) -> ScenarioError:
     if isinstance(keyed, KeyedValueError):  # a section's check about one key inside it: point at that key
         loc = f"{loc}{'' if keyed.key.startswith('[') or not loc else '.'}{keyed.key}"
     if err["type"] == "extra_forbidden":
-        from usvsim.config.schema import allowed_keys, did_you_mean
+        from usvsim.config.schema import allowed_keys, belongs_under, did_you_mean
 
-        msg = "unknown key" + did_you_mean(str(err["loc"][-1]), allowed_keys(err["loc"], data))
+        msg = "unknown key" + (belongs_under(err["loc"], data) or did_you_mean(str(err["loc"][-1]), allowed_keys(err["loc"], data)))
     elif err["type"] == "union_tag_not_found":  # was "Unable to extract tag using discriminator 'type'"
         from usvsim.config.schema import union_tags
 

@@ -39,6 +39,41 @@ def allowed_keys(loc: tuple, data: Any) -> list[str]:
     return list(node.get("properties", {}))
 
 
+GENERIC_KEYS = {"type", "name", "method", "enabled"}
+
+
+def belongs_under(loc: tuple, data: Any) -> str:
+    """' (it belongs under 'thrust': thrust.max_forward_n)' when the unknown key at pydantic error location `loc` is a key
+    of a section one or two levels below the one it was written in ('' when it is none's): a key one level too
+    high read "did you mean 'max_rate_n_s'?" for a thruster's max_forward_n, and only "allowed: ..." for a top-level
+    `sensors` (QA)."""
+    node, defs = _node_at(loc[:-1], data)
+    key, found = str(loc[-1]), []
+    if key in GENERIC_KEYS:  # in every other section: `type: wamv` on a vessel is not buoyancy.type
+        return ""
+    for name, child in node.get("properties", {}).items():
+        for path, section in _sections(child, defs, name):
+            if key in section.get("properties", {}):
+                found.append(f"{path}.{key}")
+            for name2, child2 in section.get("properties", {}).items():
+                found += [f"{path}.{p2}.{key}" for p2, s2 in _sections(child2, defs, name2) if key in s2.get("properties", {})]
+    if not found:
+        return ""
+    found = sorted(dict.fromkeys(found), key=lambda p: (p.count("."), p))
+    return f" (it belongs under '{found[0].split('.')[0].removesuffix('[]')}': {found[0]})"
+
+
+def _sections(prop: dict, defs: dict, name: str) -> list[tuple[str, dict]]:
+    """The object schemas a property can hold (through refs, unions and lists), with the path that reaches them."""
+    prop = _resolve(prop, defs)
+    if prop.get("type") == "array" and isinstance(prop.get("items"), dict):
+        return _sections(prop["items"], defs, f"{name}[]")
+    out = [(name, prop)] if "properties" in prop else []
+    for option in prop.get("anyOf", []) + prop.get("oneOf", []):
+        out += [(p, s) for p, s in _sections(option, defs, name) if (p, s) not in out]
+    return out
+
+
 def union_tags(loc: tuple, data: Any) -> tuple[str, list[str]]:
     """The tag key (`type`, ...) and the accepted tags of the tagged union at pydantic error location `loc`."""
     node, defs = _node_at(loc, data, resolve_last=True)
