@@ -23,7 +23,10 @@ def test_builtin_harbor_loads_with_description():
     [
         ({"vessels": [{"name": "a", "model": "wamv", "posee": {}}]}, "vessels[0].posee", "unknown key"),
         ({"world": {"physics_rate_hz": "fast"}}, "world.physics_rate_hz", "valid number"),
-        ({"vessels": [{"name": "a", "model": "wamv", "pose": {"position": [0, 0]}}]}, "vessels[0].pose.position[2]", "required"),
+        ({"vessels": [{"name": "a", "model": "wamv", "pose": {"position": [0, 0]}}]}, "vessels[0].pose.position",
+         "should have 3 items, got 2"),  # was "position[2]: missing, and required here"
+        ({"vessels": [{"name": "a", "model": "wamv", "pose": {"position": [0, 0, 0, 1]}}]}, "vessels[0].pose.position",
+         "should have 3 items, got 4"),
         ({"objects": [{"type": "volcano", "name": "v"}]}, "objects[0]", "volcano"),
         ({"objects": [{"type": "buoy", "name": "b", "position": [0, 0, 0], "colour": "red"}]},
          "objects[0].colour", "unknown key"),

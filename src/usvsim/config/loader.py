@@ -91,7 +91,7 @@ def first_error_text(exc: ValidationError, data, keys: list[str]) -> str:
 
 
 def _first_error(exc: ValidationError, source: str, data) -> ScenarioError:
-    err = exc.errors()[0]
+    err, counted = exc.errors()[0], len(exc.errors())
     if err["type"] == "missing":  # a required key missing beside an unknown key close to it: its misspelling, so
         # the line names the unknown key with its "did you mean" (it said "position: missing (+1 more error)")
         parent, wanted = tuple(err["loc"][:-1]), [str(err["loc"][-1])]
@@ -118,6 +118,14 @@ def _first_error(exc: ValidationError, source: str, data) -> ScenarioError:
         ctx = err.get("ctx", {})
         key = next((k for k, v in err["input"].items() if v == ctx.get("tag")), "type")
         msg = f"unknown {key} {safe_yaml.excerpt(ctx.get('tag'))}; expected one of {ctx.get('expected_tags')}"
+    elif err["type"] == "missing" and err["loc"] and isinstance(err["loc"][-1], int):  # a list of fixed length too short
+        given = _value_at(data, err["loc"][:-1])  # was "position[2]: missing, and required here"
+        size = f", got {len(given)}" if isinstance(given, list) else ""
+        loc = _readable_path(err["loc"][:-1], data)
+        missing = [i for e in exc.errors() if e["type"] == "missing" and e["loc"][:-1] == err["loc"][:-1]
+                   and isinstance(i := e["loc"][-1], int)]  # fmt: skip
+        msg = f"should have {max(missing) + 1} items{size}"  # pydantic reports each missing item of the tuple
+        counted -= len(missing) - 1
     elif err["type"] == "missing":  # pydantic: "Field required"
         msg = "missing, and required here (docs/scenario-reference.md)"
     elif err["type"] in YAML_SHAPES:  # pydantic said "Input should be a valid tuple" of a YAML list
@@ -128,15 +136,36 @@ def _first_error(exc: ValidationError, source: str, data) -> ScenarioError:
     elif err["type"] in ("too_short", "too_long"):  # was "Tuple should have at least 2 items after validation, not 1"
         ctx = err.get("ctx", {})
         bound = f"at least {ctx.get('min_length')}" if err["type"] == "too_short" else f"at most {ctx.get('max_length')}"
+        bound = str(_fixed_length((*err["loc"], 0), data) or bound)  # a position: "should have 3 items, got 4"
         msg = f"should have {bound} items, got {ctx.get('actual_length')}"
     elif err["type"] == "bool_type" and isinstance(err["input"], str):  # yes/no/on/off: text in YAML 1.2
         msg = f"should be true or false (got the text {safe_yaml.excerpt(err['input'])})"
     elif err["type"].endswith("_type") or err["type"] in ("literal_error", "finite_number") or err["type"] in BOUNDS:
         msg = f"{msg} (got {safe_yaml.excerpt(err['input'])})"  # bounds: "Input should be >= 0.001" named no value
-    more = len(exc.errors()) - 1
+    more = counted - 1
     if more:
         msg += f" (+{more} more error{'s' if more > 1 else ''})"
     return ScenarioError(source, loc, msg)
+
+
+def _value_at(data, loc):
+    """The value at pydantic location `loc` in the YAML data (None where the path leaves it; union tags skipped)."""
+    for item in loc:
+        if isinstance(item, int) and isinstance(data, list) and item < len(data):
+            data = data[item]
+        elif isinstance(data, dict) and item in data:
+            data = data[item]
+        elif not isinstance(data, dict) or isinstance(item, int):
+            return None
+    return data
+
+
+def _fixed_length(loc, data) -> int | None:
+    """How many items the fixed-length list holding pydantic location `loc` takes (a position: 3)."""
+    from usvsim.config.schema import list_node_at
+
+    items = list_node_at(loc[:-1], data).get("prefixItems")
+    return len(items) if items else None
 
 
 BOUNDS = ("greater_than", "greater_than_equal", "less_than", "less_than_equal", "multiple_of")

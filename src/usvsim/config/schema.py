@@ -74,6 +74,15 @@ def _sections(prop: dict, defs: dict, name: str) -> list[tuple[str, dict]]:
     return out
 
 
+def list_node_at(loc: tuple, data: Any) -> dict:
+    """The array schema at pydantic error location `loc` (the list branch of an optional list); {} if none."""
+    node, defs = _node_at(loc, data, resolve_last=True)
+    for option in [node, *(_resolve(o, defs) for o in node.get("anyOf", []))]:
+        if option.get("type") == "array":
+            return option
+    return {}
+
+
 def union_tags(loc: tuple, data: Any) -> tuple[str, list[str]]:
     """The tag key (`type`, ...) and the accepted tags of the tagged union at pydantic error location `loc`."""
     node, defs = _node_at(loc, data, resolve_last=True)
