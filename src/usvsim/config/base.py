@@ -69,7 +69,8 @@ class PoseDeg(Section):
     """Position (m) and roll/pitch/yaw (degrees, REP 103) of a frame in a parent frame the subclass names."""
 
     position: Vec3 = Field(default=(0.0, 0.0, 0.0), description="[x, y, z] in the parent frame, m")
-    roll_deg: AngleDeg = Field(default=0.0, description="about x (REP 103: right-handed, then pitch, then yaw)")
+    roll_deg: AngleDeg = Field(default=0.0, description="about the parent's x, applied first; then pitch about its y, "
+                                    "then yaw about its z (fixed axes, REP 103)")
     pitch_deg: AngleDeg = Field(default=0.0, description="about y; positive tips +x down (right-handed about y)")
     yaw_deg: AngleDeg = Field(default=0.0, description="about z, counter-clockwise seen from above")
 
