@@ -88,11 +88,12 @@ def test_a_centre_of_mass_outside_the_hull_is_warned_about(scenario_of, box_stl)
     from usvsim.simulation import Simulation
     from usvsim.world.checks import setup_warnings
 
-    def warnings(com):
-        boat = {"name": "boat", "model": "custom", "hull_mesh": str(box_stl), "mass": {"mass_kg": 300.0, "com": com}}
+    def warnings(com, thruster_x=-1.2):
+        boat = {"name": "boat", "model": "custom", "hull_mesh": str(box_stl), "mass": {"mass_kg": 300.0, "com": com},
+                "thrusters": [{"name": "main", "position": [thruster_x, 0.0, 0.1]}]}
         sim = Simulation(scenario_of({"vessels": [boat]}))
         try:
-            return [w for w in setup_warnings(sim.world) if "centre of mass" in w]
+            return [w for w in setup_warnings(sim.world) if "outside its hull" in w]
         finally:
             sim.close()
 
@@ -100,6 +101,8 @@ def test_a_centre_of_mass_outside_the_hull_is_warned_about(scenario_of, box_stl)
     assert line.startswith("vessels[0].mass.com: 'boat' has its centre of mass at [50, 0, 0.3] m (base_link, FLU)")
     assert "outside its hull (x -1..1, y -0.5..0.5, z 0..1 m)" in line
     assert warnings([0.2, 0.0, 0.3]) == [] and warnings([0.0, 0.0, 1.2]) != []
+    (line,) = warnings([0.2, 0.0, 0.3], thruster_x=50.0)  # a thruster 49 m beyond the transom: not an outboard motor
+    assert line.startswith("vessels[0].thrusters[0].position: 'boat' thruster 'main' at [50, 0, 0.1] m")
 
 
 @pytest.mark.parametrize("data, path", [

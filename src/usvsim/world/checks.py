@@ -3,7 +3,8 @@
 - a floating body heavier than the water its closed hull (or, with voxel buoyancy, its voxels) can displace (it
   sinks whatever happens);
 - a floating body whose hull is entirely above or below the still water level by more than 1 m;
-- a vessel whose centre of mass lies outside its hull's bounding box (a `mass.com` typo: it floats tilted or capsizes);
+- a vessel whose centre of mass lies outside its hull's bounding box (a `mass.com` typo: it floats tilted or capsizes),
+  or a thruster more than 1 m outside it (outboard motors stick out less: the WAM-V's by 0.45 m);
 - a sea steeper than real seas get (they break): 2π Hs / (g Tp²) above DNV-RP-C205's limit (1/15 up to Tp = 8 s, 1/25
   from 15 s, linear between), or a regular component with H / λ above the breaking limit 1/7;
 - a water depth that the sea does not use (FFT seas are deep-water);
@@ -36,6 +37,7 @@ from usvsim.traffic.kernels import TrackTable
 from usvsim.traffic.motion import make_track
 from usvsim.world.builder import kinematic_geoms
 
+THRUSTER_REACH_M = 1.0  # how far outside the hull's bounding box a thruster may sit before a warning
 CLEARANCE_M = 1.0  # how far above or below the water a whole hull may start before a warning
 OVERLAP_M = 0.01  # contact penetration at t = 0 that counts as an overlap
 G = 9.81  # m/s², for wavelengths from periods (deep water)
@@ -163,19 +165,30 @@ def _displacement(sim) -> list[str]:
 
 
 def _com_outside(sim) -> list[str]:
-    """Vessels whose centre of mass (base_link) is outside their hull's bounding box: `mass.com: [50, 0, 0.3]` on a
-    4 m hull validated without a word (QA)."""
+    """Vessels whose centre of mass (base_link) is outside their hull's bounding box, or with a thruster more than
+    THRUSTER_REACH_M outside it: `mass.com: [50, 0, 0.3]` or a thruster at x = 50 m on a 4 m hull validated without a
+    word (QA)."""
     out = []
     for i, vessel in enumerate(sim.scenario.vessels):
         body = sim.bodies.get(vessel.name)
         if body is None:
             continue
         low, high, com = body.model.hull.vertices.min(0), body.model.hull.vertices.max(0), body.model.com
+        box = box_of(low, high)
         if np.any(com < low - 1e-6) or np.any(com > high + 1e-6):
-            box = ", ".join(f"{a} {lo:.3g}..{hi:.3g}" for a, lo, hi in zip("xyz", low, high))
             out.append(f"vessels[{i}].mass.com: '{vessel.name}' has its centre of mass at [{', '.join(f'{c:.3g}' for c in com)}] "
                        f"m (base_link, FLU), outside its hull ({box} m): it will float tilted or capsize")  # fmt: skip
+        for k, thruster in enumerate(vessel.thrusters or ()):
+            p = np.asarray(thruster.position)
+            if np.any(p < low - THRUSTER_REACH_M) or np.any(p > high + THRUSTER_REACH_M):
+                out.append(f"vessels[{i}].thrusters[{k}].position: '{vessel.name}' thruster '{thruster.name}' at "
+                           f"[{', '.join(f'{c:.3g}' for c in p)}] m (base_link, FLU) is more than {THRUSTER_REACH_M:g} m "
+                           f"outside its hull ({box} m): its moments will be far from the real ones")  # fmt: skip
     return out
+
+
+def box_of(low, high) -> str:
+    return ", ".join(f"{a} {lo:.3g}..{hi:.3g}" for a, lo, hi in zip("xyz", low, high))
 
 
 def _steepness_limit(tp_s: float) -> float:
