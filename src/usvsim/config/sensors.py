@@ -42,8 +42,8 @@ class SensorBase(Section):
     )
     mount: Mount = Mount()
     topic: Annotated[str, Field(pattern=TOPIC_PATTERN, max_length=256)] | None = Field(
-        default=None, description="namespace of its topics, default /<vessel>/<name> (a LiDAR "
-        "publishes <topic>/points, a camera <topic>/image_raw...: docs/ros2.md)")
+        default=None, description="default /<vessel>/<name>; the sensor publishes on it or under it "
+        "(a LiDAR on <topic>/points, a camera on <topic>/image_raw, odometry on <topic>: docs/ros2.md)")
     frame_id: Annotated[str, Field(pattern=FRAME_PATTERN, max_length=256)] | None = Field(
         default=None, description="default <vessel>/<name>")
 
