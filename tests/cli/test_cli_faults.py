@@ -104,6 +104,23 @@ def test_a_bad_recording_path_in_the_scenario_names_its_key(tmp_path, monkeypatc
     assert (tmp_path / "taken.mcap").read_bytes() == b"precious"
 
 
+def test_the_scenario_recording_path_is_written_and_record_overrides_it(tmp_path, monkeypatch):
+    """`outputs.recording.path` was checked and then never written: `usvsim run` recorded nothing (QA)."""
+    from mcap.reader import make_reader
+
+    monkeypatch.chdir(tmp_path)
+    scenario = tmp_path / "rec.yaml"
+    scenario.write_text("version: 1\noutputs: {recording: {path: from_scenario.mcap}}\nvessels: [{name: a, model: otter}]\n")
+    result = invoke("run", str(scenario), "--duration", "0.1")
+    assert result.exit_code == 0, result.output
+    with (tmp_path / "from_scenario.mcap").open("rb") as f:
+        topics = {channel.topic for channel in make_reader(f).get_summary().channels.values()}
+    assert {"/clock", "/a/ground_truth/odometry"} <= topics
+    result = invoke("run", str(scenario), "--duration", "0.1", "--record", "given.mcap")
+    assert result.exit_code == 0 and (tmp_path / "given.mcap").is_file()  # --record wins, the scenario's file stays
+    assert (tmp_path / "from_scenario.mcap").stat().st_size > 0
+
+
 def test_a_viewer_that_cannot_open_leaves_no_recording_behind(tmp_path, monkeypatch):
     """Without a display, `run --view --record x.mcap` failed and left an empty x.mcap: the next try said 'exists;
     pass --force'."""

@@ -197,6 +197,7 @@ def _open_run(stack: ExitStack, scenario: str, seed: int, record: Path | None, f
                 raise ScenarioError(source_of(sim.scenario), "outputs.recording.path", str(exc)) from None
         elif path:
             check_output(path, force)
+        if path:  # the scenario's path too: it was checked and then not written (QA)
             recorder = McapRecorder(path)
             stack.callback(recorder.close)
             sim.subscribe(recorder.write)
