@@ -114,3 +114,15 @@ def test_a_centre_of_mass_outside_the_hull_is_warned_about(scenario_of, box_stl)
 def test_the_name_world_is_reserved(data, path):
     err = _error(data)
     assert err.key_path == path and "'world' is reserved" in err.message
+
+
+def test_a_misspelt_builtin_name_gets_a_suggestion_and_a_short_list():
+    """`usvsim run harbour` listed 27 names, imazu_01 to imazu_22 one by one, and no suggestion (QA)."""
+    from usvsim.config.loader import load_scenario
+
+    with pytest.raises(ScenarioError) as info:
+        load_scenario("harbour")
+    text = str(info.value)
+    assert "did you mean 'harbor'?" in text and "imazu_01 .. imazu_22" in text and "imazu_05" not in text
+    with pytest.raises(ScenarioError, match=r"\(built-ins: buoy_field, harbor"):
+        load_scenario("xyz")

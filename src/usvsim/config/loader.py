@@ -39,9 +39,13 @@ def resolve(name_or_path: str | Path) -> tuple[str, Path | None]:
         return safe_yaml.read_text(path, str(path)), path.parent.resolve()
     entry = resources.files(BUILTIN_PACKAGE) / f"{name_or_path}.yaml"
     if len(str(name_or_path)) > 100 or not entry.is_file():
-        known = ", ".join(builtin_scenarios())
+        names = list(builtin_scenarios())
+        close = difflib.get_close_matches(str(name_or_path), names, n=1, cutoff=0.6)
+        hint = f"did you mean {close[0]!r}? " if close else ""
+        imazu = [n for n in names if n.startswith("imazu_")]  # 22 numbered cases: one range, not 22 names
+        known = [n for n in names if n not in imazu] + ([f"{imazu[0]} .. {imazu[-1]}"] if imazu else [])
         name = safe_yaml.excerpt(str(name_or_path))
-        raise ScenarioError(name, "", f"not a file and not a built-in scenario (built-ins: {known})")
+        raise ScenarioError(name, "", f"not a file and not a built-in scenario ({hint}built-ins: {', '.join(known)})")
     return entry.read_text(), Path(str(resources.files(BUILTIN_PACKAGE)))  # built-ins' files sit beside them
 
 
