@@ -64,3 +64,15 @@ def test_a_spawned_process_renders_after_its_parent_did(rig):
     assert _run_child(multiprocessing.get_context("spawn"), _spawned_child, (sim.model,)) == ("made", "")
     assert np.isfinite(suite.sensors["wamv/camera"].latest["rgb"]).all()
     suite.close()
+
+
+def test_the_viewer_window_refuses_a_process_forked_after_rendering(monkeypatch):
+    """The GLFW viewer window checks as cameras do: in a process whose GL state came from a parent by fork() (here:
+    the recorded GL process is another pid) it raises the same one-line error before touching GLFW."""
+    from usvsim.core.errors import UsvsimError
+    from usvsim.sensors.camera import render
+    from usvsim.viewer.app import ViewerWindow
+
+    monkeypatch.setattr(render, "_gl_pid", os.getpid() + 1)
+    with pytest.raises(UsvsimError, match="forked after its parent rendered"):
+        ViewerWindow(None, None)  # type: ignore[arg-type]  # refused before the driver or view are used

@@ -59,8 +59,12 @@ class ViewerWindow:
     def __init__(
         self, driver: ManualDriver, view: View, width: int = 1280, height: int = 720, title: str = "usvsim"
     ):
+        from usvsim.sensors.camera.render import check_gl_fork, note_gl_context
+
+        check_gl_fork()  # a window in a child forked after its parent rendered hangs in GL: one clear error instead
         if not glfw.init():
             raise RuntimeError(NO_DISPLAY)
+        note_gl_context()  # and a child forked after this window refuses cameras and windows the same way
         glfw.default_window_hints()  # camera sensors' hidden windows (mujoco.glfw) leave VISIBLE 0 behind: the
         glfw.window_hint(glfw.SAMPLES, 0)  # viewer's window was invisible; multisampling costs 2x on llvmpipe
         self.window = glfw.create_window(width, height, title, None, None)
