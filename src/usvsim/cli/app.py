@@ -124,12 +124,13 @@ def run(
                 prepare_file(target)
             except UsvsimError as exc:
                 fail(exc)
-    if view and sys.platform.startswith("linux") and not (os.environ.get("DISPLAY") or os.environ.get("WAYLAND_DISPLAY")):
-        from usvsim.viewer import NO_DISPLAY
+    if view:
+        from usvsim.viewer.display import NO_DISPLAY, display_missing
 
-        fail(UsvsimError(f"cannot open the viewer window: {NO_DISPLAY}"))  # at once, not after building the world
-    if view:  # camera sensors then render in hidden GLFW windows beside the viewer's (an EGL context beside
-        os.environ["MUJOCO_GL"] = "glfw"  # a GLX window fails with X BadAccess in glXMakeCurrent)
+        if display_missing():
+            fail(UsvsimError(f"cannot open the viewer window: {NO_DISPLAY}"))  # at once, not after building the world
+        # camera sensors then render in hidden GLFW windows beside the viewer's (an EGL context beside a GLX window
+        os.environ["MUJOCO_GL"] = "glfw"  # fails with X BadAccess in glXMakeCurrent)
     from usvsim.cli.stopping import StopSignals
 
     # closes bridges, then the recorder, then the simulation, on every path; a stop during the set-up (kernels

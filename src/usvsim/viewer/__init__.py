@@ -12,10 +12,9 @@ frames without a window (`MUJOCO_GL=egl`).
 from __future__ import annotations
 
 from usvsim.viewer.camera import CameraPose, FollowCamera, mujoco_ray
+from usvsim.viewer.display import NO_DISPLAY
 from usvsim.viewer.driver import ManualDriver
 from usvsim.viewer.hud import hud_lines
-
-NO_DISPLAY = "GLFW could not initialise: no display? (set DISPLAY, or run under Xvfb)"
 
 
 def run_viewer(sim, **kwargs) -> dict:

@@ -18,9 +18,9 @@ import mujoco
 
 from usvsim.control.manual import DriveAxes, gamepad_axes
 from usvsim.core.errors import UsvsimError
-from usvsim.viewer import NO_DISPLAY
 from usvsim.viewer.camera import FollowCamera
 from usvsim.viewer.capture import Capture, check_outputs
+from usvsim.viewer.display import NO_DISPLAY
 from usvsim.viewer.driver import ManualDriver, ScriptEvent
 from usvsim.viewer.frame import FrameRenderer
 from usvsim.viewer.offscreen import save_png
