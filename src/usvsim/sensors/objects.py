@@ -27,6 +27,7 @@ import numpy as np
 
 from usvsim.config.loader import base_dir, source_of
 from usvsim.config.objects import Buoy
+from usvsim.core.transforms import matrix_from_quat, quat_multiply
 from usvsim.world.builder import VISUAL_GROUP, base_offset, kinematic_geoms
 from usvsim.world.obstacles import static_parts
 
@@ -100,15 +101,9 @@ def _box_of(model: mujoco.MjModel, geoms: np.ndarray, origin: np.ndarray, rot: n
     return 0.5 * (low + high), high - low
 
 
-def _quat_mat(quat) -> np.ndarray:
-    rot = np.zeros(9)
-    mujoco.mju_quat2Mat(rot, np.asarray(quat, float))
-    return rot.reshape(3, 3)
-
-
 def _geom_pose(model: mujoco.MjModel, geom: int) -> tuple[np.ndarray, np.ndarray]:
     """A world-body geom's position and rotation as the model holds them (moved geoms: where they were put)."""
-    return model.geom_pos[geom].copy(), _quat_mat(model.geom_quat[geom])
+    return model.geom_pos[geom].copy(), matrix_from_quat(model.geom_quat[geom])
 
 
 def _yaw(deg: float) -> np.ndarray:
@@ -146,11 +141,10 @@ def _kinematic_ship(sim: World, ship, geoms: np.ndarray) -> TrackedObject:
     part = (solid if kind == "solid" else visuals)[int(k)]
     pos, quat = np.asarray(part.pos, float), np.asarray(part.quat, float)
     if int(m.geom_type[anchor]) == _G.mjGEOM_MESH:
-        mesh, moved = m.geom_dataid[anchor], np.zeros(4)
-        pos = pos + _quat_mat(quat) @ m.mesh_pos[mesh]
-        mujoco.mju_mulQuat(moved, quat, m.mesh_quat[mesh])
-        quat = moved
-    rot_in_geom = _quat_mat(quat).T  # ship axes → geom axes
+        mesh = m.geom_dataid[anchor]
+        pos = pos + matrix_from_quat(quat) @ m.mesh_pos[mesh]
+        quat = quat_multiply(quat, m.mesh_quat[mesh])
+    rot_in_geom = matrix_from_quat(quat).T  # ship axes → geom axes
     origin_in_geom = -rot_in_geom @ pos
     geom_pos, geom_rot = _geom_pose(m, anchor)
     center, size = _box_of(m, geoms, geom_pos + geom_rot @ origin_in_geom, geom_rot @ rot_in_geom)
