@@ -35,9 +35,14 @@ MOORED_KN = 0.1
 HEADING_NA = 511
 
 
+def is_moored(sog_kn: float, moored: bool | None) -> bool:
+    """`moored` as given; None: moored when slower than MOORED_KN (a traffic ship stopped)."""
+    return sog_kn < MOORED_KN if moored is None else moored
+
+
 def class_a_interval(sog_kn: float, turning: bool, moored: bool | None = None) -> float:
-    """Seconds between Class A position reports (table above); `moored` None: moored when slower than MOORED_KN."""
-    if sog_kn < MOORED_KN if moored is None else moored:
+    """Seconds between Class A position reports (table above); `moored`: see `is_moored`."""
+    if is_moored(sog_kn, moored):
         return 180.0 if sog_kn <= 3.0 else 10.0
     if sog_kn <= 14.0:
         return 10.0 / 3.0 if turning else 10.0
@@ -67,7 +72,7 @@ class Report:
     @property
     def status(self) -> int:
         """Class A navigational status: 5 moored, 0 under way using engine."""
-        return 5 if (self.sog_kn < MOORED_KN if self.moored is None else self.moored) else 0
+        return 5 if is_moored(self.sog_kn, self.moored) else 0
 
 
 def _clip_cog(cog_deg: float) -> float:
