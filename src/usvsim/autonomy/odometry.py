@@ -19,6 +19,7 @@ from __future__ import annotations
 import numpy as np
 
 from usvsim.core.errors import UsvsimError
+from usvsim.core.transforms import cross3
 
 
 def kiss_icp_available() -> bool:
@@ -51,7 +52,7 @@ def lidar_twist(twist_base: np.ndarray, base_from_lidar: np.ndarray) -> np.ndarr
     """The twist of the LiDAR frame (in it) from base_link's: ω_L = R ω, v_L = R (v + ω × r) with R = R_lb."""
     r_lb, mount = base_from_lidar[:3, :3].T, base_from_lidar[:3, 3]
     v, w = np.asarray(twist_base[:3], float), np.asarray(twist_base[3:], float)
-    return np.concatenate([r_lb @ (v + np.cross(w, mount)), r_lb @ w])
+    return np.concatenate([r_lb @ (v + cross3(w, mount)), r_lb @ w])
 
 
 def deskew(xyz: np.ndarray, times_s: np.ndarray, twist_lidar: np.ndarray) -> np.ndarray:
@@ -66,7 +67,7 @@ def deskew(xyz: np.ndarray, times_s: np.ndarray, twist_lidar: np.ndarray) -> np.
     k = w / rate
     theta = -dt * rate
     c, s = np.cos(theta), np.sin(theta)
-    return out + (c - 1.0) * xyz + s * np.cross(k, xyz) + (1.0 - c) * (xyz @ k)[:, None] * k
+    return out + (c - 1.0) * xyz + s * cross3(k, xyz) + (1.0 - c) * (xyz @ k)[:, None] * k
 
 
 class KissIcpOdometry:

@@ -37,6 +37,11 @@ def matrix_from_quat(q: np.ndarray) -> np.ndarray:
     """Rotation matrix (body → world) of a quaternion (w, x, y, z); works on (..., 4) arrays."""
     q = np.asarray(q, dtype=float)
     q = q / np.linalg.norm(q, axis=-1, keepdims=True)
+    if q.shape == (4,):  # one quaternion (the sensors' per-sample case): the same numbers as floats, ~10x faster
+        w, x, y, z = q.tolist()
+        return np.array([[1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],
+                         [2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)],
+                         [2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)]])  # fmt: skip
     w, x, y, z = q[..., 0], q[..., 1], q[..., 2], q[..., 3]
     m = np.empty(q.shape[:-1] + (3, 3))
     m[..., 0, 0] = 1 - 2 * (y * y + z * z)
@@ -66,6 +71,16 @@ def quat_multiply(a: np.ndarray, b: np.ndarray) -> np.ndarray:
 
 def quat_conjugate(q: np.ndarray) -> np.ndarray:
     return np.array([q[0], -q[1], -q[2], -q[3]])
+
+
+def cross3(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """a × b of 3-vectors (3,) or of rows (..., 3) (broadcast): np.cross's numbers bit for bit (the same products
+    and differences) without its axis handling, which costs ~10-20 µs a call on the per-step paths."""
+    if np.ndim(a) == 1 and np.ndim(b) == 1:
+        return np.array((a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]))
+    a, b = np.asarray(a), np.asarray(b)
+    a0, a1, a2, b0, b1, b2 = a[..., 0], a[..., 1], a[..., 2], b[..., 0], b[..., 1], b[..., 2]
+    return np.stack((a1 * b2 - a2 * b1, a2 * b0 - a0 * b2, a0 * b1 - a1 * b0), axis=-1)
 
 
 def wrap_angle(a):

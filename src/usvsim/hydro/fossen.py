@@ -22,6 +22,8 @@ from dataclasses import dataclass, replace
 import numpy as np
 from numba import njit
 
+from usvsim.core.transforms import cross3
+
 T6 = np.diag([1.0, -1.0, -1.0, 1.0, -1.0, -1.0])
 # Hoerner's 2-D cross-flow drag coefficient vs B/(2T) (digitized curve, as used by Fossen's MSS)
 HOERNER_B2T = np.array([0.0109, 0.1766, 0.3530, 0.4519, 0.4728, 0.4929, 0.4933, 0.5585, 0.6464, 0.8336,
@@ -233,7 +235,7 @@ class FossenForces:
     def compute(self, nu_com: np.ndarray, dt: float) -> np.ndarray:
         """Wrench (nb,6) body frame FLU about the CoM from ν relative to the water at the CoM (nb,6)."""
         nu_ref = self._nu_ref
-        nu_ref[:, :3] = nu_com[:, :3] + np.cross(nu_com[:, 3:], self.ref)
+        nu_ref[:, :3] = nu_com[:, :3] + cross3(nu_com[:, 3:], self.ref)
         nu_ref[:, 3:] = nu_com[:, 3:]
         tracked = nu_ref if self.at_com is None else nu_com  # where ν̇ is needed
         if self._ready:

@@ -18,6 +18,8 @@ import math
 
 import numpy as np
 
+from usvsim.core.transforms import cross3
+
 SAMPLE_S, KEEP_S = 0.25, 60.0
 TURBULENT_S, KELVIN_S = 20.0, 6.0
 KELVIN_TAN = math.tan(math.radians(19.47))
@@ -66,7 +68,7 @@ class WakeTracks:
             rot, origin = st.rot[i], st.pos[i]
             fwd = rot[:, :, 0]
             omega = np.einsum("nij,nj->ni", rot, st.omega_body[i])
-            vel = st.vcom_world[i] - np.cross(omega, st.com_world[i] - origin)  # World.origin_velocity
+            vel = st.vcom_world[i] - cross3(omega, st.com_world[i] - origin)  # World.origin_velocity
             row[:n, 0:2] = origin[:, :2] + self._stern[:, None] * fwd[:, :2]
             row[:n, 2] = np.arctan2(fwd[:, 1], fwd[:, 0])
             row[:n, 3] = np.hypot(vel[:, 0], vel[:, 1])

@@ -134,4 +134,6 @@ def gaussian(rng: np.random.Generator, stddev: float, shape=3) -> np.ndarray:
 
 def diagonal_covariance(variances) -> np.ndarray:
     """3x3 row-major covariance (9,) with the given diagonal."""
-    return np.diag(np.asarray(variances, dtype=float) * np.ones(3)).reshape(-1)
+    out = np.zeros(9)
+    out[::4] = variances  # a number or three (per axis)
+    return out

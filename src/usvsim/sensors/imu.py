@@ -20,7 +20,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from usvsim.core.transforms import quat_from_rpy, quat_multiply
+from usvsim.core.transforms import cross3, quat_from_rpy, quat_multiply
 from usvsim.messages.envelope import Envelope
 from usvsim.sensors.base import Sensor, diagonal_covariance
 from usvsim.sensors.messages import imu_msg
@@ -54,7 +54,7 @@ class Imu(Sensor):
     def _mount_velocity(self, sim: World) -> np.ndarray:
         rot = sim.state.rot[self.body]
         omega_world = rot @ sim.state.omega_body[self.body]
-        return sim.origin_velocity(self.body) + np.cross(omega_world, rot @ self.mount_pos)
+        return sim.origin_velocity(self.body) + cross3(omega_world, rot @ self.mount_pos)
 
     def observe(self, sim: World) -> None:
         v = self._mount_velocity(sim)

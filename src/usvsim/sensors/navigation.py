@@ -16,7 +16,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 import pymap3d
 
-from usvsim.core.transforms import matrix_from_quat, quat_conjugate, quat_from_rpy, quat_multiply
+from usvsim.core.transforms import cross3, matrix_from_quat, quat_conjugate, quat_from_rpy, quat_multiply
 from usvsim.messages import ros
 from usvsim.messages.envelope import Envelope
 from usvsim.sensors.base import Sensor, gaussian
@@ -34,7 +34,7 @@ _FIX_STATUS = {"no_fix": -1, "fix": 0, "sbas_fix": 1, "gbas_fix": 2}
 def mount_velocity_world(sensor: Sensor, sim: World) -> np.ndarray:
     """World (ENU) velocity of the sensor's mount point, m/s."""
     rot = sim.state.rot[sensor.body]
-    return sim.origin_velocity(sensor.body) + np.cross(rot @ sim.state.omega_body[sensor.body], rot @ sensor.mount_pos)
+    return sim.origin_velocity(sensor.body) + cross3(rot @ sim.state.omega_body[sensor.body], rot @ sensor.mount_pos)
 
 
 def _cov6(linear_var: float, angular_var: float) -> np.ndarray:

@@ -34,7 +34,7 @@ from usvsim.core.errors import (
 )
 from usvsim.core.overlap import Overlap
 from usvsim.core.rng import RngStreams
-from usvsim.core.transforms import matrix_from_quat, quat_from_rpy
+from usvsim.core.transforms import cross3, matrix_from_quat, quat_from_rpy
 from usvsim.geo.parts import GeoParts, geo_parts, set_clip_planes
 from usvsim.geo.resolve import load_place, resolve_geo, with_local_depth
 from usvsim.hydro.flat import use_flat
@@ -267,7 +267,7 @@ class World:
         rot = matrix_from_quat(quat)
         com = rot @ self._com_body[index]  # the free joint's origin is the CoM (world/builder.py)
         data.qpos[a : a + 3], data.qpos[a + 3 : a + 7] = pos + com, quat
-        data.qvel[d : d + 3] = rot @ nu[:3] + np.cross(rot @ nu[3:], com)  # world-frame CoM velocity
+        data.qvel[d : d + 3] = rot @ nu[:3] + cross3(rot @ nu[3:], com)  # world-frame CoM velocity
         data.qvel[d + 3 : d + 6] = nu[3:]  # and body-frame angular velocity
 
     def _check_moorings(self, placed: dict[int, tuple[np.ndarray, np.ndarray]]) -> None:
@@ -451,14 +451,14 @@ class World:
         """World-frame velocity of body i's frame (base_link) origin (m/s)."""
         s = self.state
         omega_world = s.rot[i] @ s.omega_body[i]
-        return s.vcom_world[i] - np.cross(omega_world, s.com_world[i] - s.pos[i])
+        return s.vcom_world[i] - cross3(omega_world, s.com_world[i] - s.pos[i])
 
     def point_velocity(self, i, point: np.ndarray) -> np.ndarray:
         """World-frame velocity (m/s) of `point` (ENU m) moving with body i: v_com + ω × (point - com). `i` an index
         and `point` (3,), or indices (n,) and points (n, 3)."""
         s = self.state
         omega_world = (s.rot[i] @ s.omega_body[i][..., None])[..., 0]
-        return s.vcom_world[i] + np.cross(omega_world, point - s.com_world[i])
+        return s.vcom_world[i] + cross3(omega_world, point - s.com_world[i])
 
     def depth_at(self, x_m, y_m) -> np.ndarray:
         """Water depth (m, positive down from still water) at ENU points: the place's seabed (geo/; minus the
