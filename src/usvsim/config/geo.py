@@ -8,14 +8,16 @@ Heights are metres above the still-water level (z up); depths are metres below i
 
 from __future__ import annotations
 
+import math
 from typing import Annotated, Literal
 
-from pydantic import Field
+from pydantic import Field, model_validator
 
 from usvsim.config.base import NonNegativeFloat, PositiveFloat, Section, TupleOf
 from usvsim.config.objects import Color, Mooring
 
 FileName = Annotated[str, Field(min_length=1)]
+MAX_TERRAIN_CELLS = 4000  # cells per side of the terrain grid: 4001² vertices build in ~10 s and ~1.1 GB
 
 
 class Source(Section):
@@ -79,3 +81,13 @@ class Geo(Section):
     structures: TupleOf[Structures] = ()
     marks: TupleOf[Marks] = ()
     terrain_cell_m: PositiveFloat = Field(default=2.0, ge=0.25, description="cell of the seabed/land collision grid")
+
+    @model_validator(mode="after")
+    def _grid_size(self):
+        """A fine cell over a wide extent asked for 160001² vertices and died with a MemoryError (QA)."""
+        cells = math.ceil(2.0 * self.extent_m / self.terrain_cell_m - 1e-9)  # as terrain.vertex_grid
+        if cells > MAX_TERRAIN_CELLS:
+            raise ValueError(f"the terrain grid would be {cells + 1} vertices a side (2·extent_m/terrain_cell_m, "
+                             f"at most {MAX_TERRAIN_CELLS + 1}); raise terrain_cell_m to at least "
+                             f"{2.0 * self.extent_m / MAX_TERRAIN_CELLS:g} or lower extent_m")
+        return self

@@ -1,0 +1,31 @@
+"""Real places fed wrong or unusual input (QA): one clear error instead of a crash or a silently wrong place."""
+
+from __future__ import annotations
+
+import pytest
+from place import ORIGIN, geo_section, write_place
+
+from usvsim.config.loader import parse_scenario
+from usvsim.core.errors import UsvsimError
+
+
+@pytest.fixture(scope="module")
+def place(tmp_path_factory):
+    return write_place(tmp_path_factory.mktemp("place"))
+
+
+@pytest.fixture(autouse=True)
+def _own_cache(tmp_path, monkeypatch):
+    monkeypatch.setenv("USVSIM_CACHE", str(tmp_path / "cache"))
+
+
+def scenario_data(place, **geo):
+    return {"version": 1, "world": {"origin": {"latitude_deg": ORIGIN[0], "longitude_deg": ORIGIN[1]}},
+            "vessels": [{"name": "wamv", "model": "wamv"}], "geo": geo_section(place, **geo)}
+
+
+def test_a_terrain_grid_too_fine_for_its_extent_is_refused_before_allocating_it(place):
+    """terrain_cell_m 0.25 over ±20 km asked numpy for 160001² floats: a MemoryError traceback (191 GiB)."""
+    with pytest.raises(UsvsimError, match=r"geo: the terrain grid would be 160001 vertices a side .* at least 10 "):
+        parse_scenario(scenario_data(place, extent_m=20000.0, terrain_cell_m=0.25), "test.yaml")
+    parse_scenario(scenario_data(place, extent_m=4000.0, terrain_cell_m=2.0), "test.yaml")  # 4001 a side: the limit
