@@ -7,6 +7,7 @@ from place import ORIGIN, geo_section, write_place
 
 from usvsim.config.loader import parse_scenario
 from usvsim.core.errors import UsvsimError
+from usvsim.simulation import Simulation
 
 
 @pytest.fixture(scope="module")
@@ -29,3 +30,15 @@ def test_a_terrain_grid_too_fine_for_its_extent_is_refused_before_allocating_it(
     with pytest.raises(UsvsimError, match=r"geo: the terrain grid would be 160001 vertices a side .* at least 10 "):
         parse_scenario(scenario_data(place, extent_m=20000.0, terrain_cell_m=0.25), "test.yaml")
     parse_scenario(scenario_data(place, extent_m=4000.0, terrain_cell_m=2.0), "test.yaml")  # 4001 a side: the limit
+
+
+@pytest.mark.parametrize("key", ["land", "bathymetry"])
+def test_a_crs_pyproj_does_not_know_is_one_line_naming_the_file(place, key):
+    """`crs: EPSG:99999` on a file that has its own CRS ended in pyproj's CRSError traceback (exit status 1)."""
+    geo = geo_section(place)
+    geo[key] = {**geo[key], "crs": "EPSG:99999"}
+    with pytest.raises(UsvsimError) as err:
+        Simulation(parse_scenario({**scenario_data(place), "geo": geo}, "test.yaml"))
+    message = str(err.value)
+    assert "\n" not in message and message.startswith(str(place["land" if key == "land" else "depth"]))
+    assert "crs: EPSG:99999 is not a coordinate reference system pyproj knows" in message

@@ -30,6 +30,23 @@ def require(module: str):
         raise GeoError(f"geo: {module} is missing; install the extra: pip install 'usvsim[geo]'") from None
 
 
+def parse_crs(value, source: str):
+    """A pyproj CRS from a file's CRS or a scenario's `crs:` string, or a GeoError naming `source`."""
+    from pyproj import CRS
+    from pyproj.exceptions import CRSError
+
+    try:
+        return CRS.from_user_input(value)
+    except CRSError as exc:
+        reason = str(exc).split(": (", 1)[0]  # PROJ's own wording follows in parentheses
+        raise GeoError(f"{source}: {value!s} is not a coordinate reference system pyproj knows ({reason})") from None
+
+
+def same_crs(file_crs, given, source: str) -> bool:
+    """Whether the scenario's `crs:` names the file's own CRS (axis order aside)."""
+    return parse_crs(file_crs, source).equals(parse_crs(given, f"{source}: crs"), ignore_axis_order=True)
+
+
 @lru_cache(maxsize=16)
 def _pipeline(lat_deg: float, lon_deg: float, alt_m: float):
     Transformer = require("pyproj").Transformer
@@ -67,13 +84,9 @@ class GeoFrame:
 
     def from_crs(self, crs, source: str):
         """A function (x, y) → ENU (x, y) for coordinates in `crs` (horizontal; at the origin's height)."""
-        from pyproj import CRS, Transformer
-        from pyproj.exceptions import CRSError
+        from pyproj import Transformer
 
-        try:
-            crs = CRS.from_user_input(crs)
-        except CRSError as exc:
-            raise GeoError(f"{source}: not a coordinate reference system pyproj knows ({exc})") from None
+        crs = parse_crs(crs, source)
         to_geo = Transformer.from_crs(crs, "EPSG:4326", always_xy=True)
 
         def convert(x: np.ndarray, y: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

@@ -18,7 +18,7 @@ from typing import Any
 import numpy as np
 from numba import njit
 
-from usvsim.geo.frame import GeoError, GeoFrame, require
+from usvsim.geo.frame import GeoError, GeoFrame, parse_crs, require, same_crs
 
 LATTICE = 32
 
@@ -88,11 +88,12 @@ def read_raster(path: Path, band: int, crs: str | None, frame: GeoFrame, extent_
         raise
     except Exception as exc:  # rasterio raises its own errors for every unreadable file
         raise GeoError(f"{path}: not a raster rasterio can read ({str(exc).splitlines()[0][:120]})") from None
-    if file_crs and crs and not _same(file_crs, crs):
+    if file_crs and crs and not same_crs(file_crs, crs, str(path)):
         raise GeoError(f"{path}: the raster's CRS is {file_crs} but the scenario says crs: {crs}; drop one")
     if not (file_crs or crs):
         raise GeoError(f"{path}: the raster has no CRS; give one with `crs:` (e.g. EPSG:4326)")
-    to_crs = Transformer.from_crs("EPSG:4326", file_crs or crs, always_xy=True)
+    raster_crs = parse_crs(file_crs, str(path)) if file_crs else parse_crs(crs, f"{path}: crs")
+    to_crs = Transformer.from_crs("EPSG:4326", raster_crs, always_xy=True)
     inverse = ~transform
 
     def enu_to_pixel(x, y):
@@ -103,16 +104,10 @@ def read_raster(path: Path, band: int, crs: str | None, frame: GeoFrame, extent_
 
     h, w = data.shape
     cx, cy = transform @ (np.array([0.0, w, 0.0, w]), np.array([0.0, 0.0, h, h]))
-    lon, lat = Transformer.from_crs(file_crs or crs, "EPSG:4326", always_xy=True).transform(cx, cy)
+    lon, lat = Transformer.from_crs(raster_crs, "EPSG:4326", always_xy=True).transform(cx, cy)
     corners = frame.to_enu(lat, lon)
     lo, hi = corners[:, :2].min(axis=0), corners[:, :2].max(axis=0)
     if not (np.all(np.isfinite(corners)) and np.all(lo < extent_m) and np.all(hi > -extent_m)):
         raise GeoError(f"{path}: the raster does not cover the scene ({extent_m:g} m around the origin); "
                        "wrong CRS, origin or file?")  # fmt: skip
     return Raster(data, enu_to_pixel, str(path))
-
-
-def _same(a, b) -> bool:
-    from pyproj import CRS
-
-    return CRS.from_user_input(a).equals(CRS.from_user_input(b), ignore_axis_order=True)

@@ -13,7 +13,7 @@ from pathlib import Path
 import numpy as np
 import shapely
 
-from usvsim.geo.frame import GeoError, GeoFrame, require
+from usvsim.geo.frame import GeoError, GeoFrame, require, same_crs
 
 
 @dataclass(frozen=True)
@@ -39,12 +39,12 @@ def read_features(path: Path, layer: str | None, crs: str | None, frame: GeoFram
         raise GeoError(f"{path}: not a vector file pyogrio can read ({reason[:200]})") from None
     names = list(meta[1]) if meta[1] is not None else []
     file_crs = meta[0]
-    if file_crs and crs and not _same_crs(file_crs, crs):
+    if file_crs and crs and not same_crs(file_crs, crs, str(path)):
         raise GeoError(f"{path}: the file's CRS is {file_crs} but the scenario says crs: {crs}; drop one")
     if not (file_crs or crs):
         raise GeoError(f"{path}: the file has no CRS; give one with `crs:` (e.g. EPSG:4326)")
     geoms = shapely.from_wkb(wkb)
-    convert = frame.from_crs(file_crs or crs, str(path))
+    convert = frame.from_crs(file_crs, str(path)) if file_crs else frame.from_crs(crs, f"{path}: crs")
     geoms = shapely.transform(geoms, lambda xy: np.column_stack(convert(xy[:, 0], xy[:, 1])))
     _check_valid(geoms, path)
     extent = shapely.box(-extent_m, -extent_m, extent_m, extent_m)
@@ -71,12 +71,6 @@ def read_features(path: Path, layer: str | None, crs: str | None, frame: GeoFram
 def _read_raw(pyogrio, path: Path, layer: str | None):
     meta, fids, wkb, fields = pyogrio.raw.read(path, layer=layer)
     return (meta["crs"], meta["fields"]), fids, wkb, fields
-
-
-def _same_crs(a: str, b: str) -> bool:
-    from pyproj import CRS
-
-    return CRS.from_user_input(a).equals(CRS.from_user_input(b), ignore_axis_order=True)
 
 
 def _check_valid(geoms: np.ndarray, path: Path) -> None:
