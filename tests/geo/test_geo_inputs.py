@@ -42,3 +42,18 @@ def test_a_crs_pyproj_does_not_know_is_one_line_naming_the_file(place, key):
     message = str(err.value)
     assert "\n" not in message and message.startswith(str(place["land" if key == "land" else "depth"]))
     assert "crs: EPSG:99999 is not a coordinate reference system pyproj knows" in message
+
+
+def test_bathymetry_read_with_the_wrong_sign_is_an_error_not_a_sea_0_m_deep(place):
+    """The test place's raster holds elevations (-10 m ± slope, a -0.05 m shoal); read as depths every seabed
+    vertex came out above still water, was clamped to min_depth_m 0 and the whole sea was 0 m deep, silently."""
+    geo = geo_section(place)
+    geo["bathymetry"] = {**geo["bathymetry"], "values": "depth"}
+    with pytest.raises(UsvsimError) as err:
+        Simulation(parse_scenario({**scenario_data(place), "geo": geo}, "test.yaml"))
+    message = str(err.value)
+    assert message.startswith(str(place["depth"])) and "\n" not in message
+    assert "read as values: depth" in message and message.endswith("set values: elevation")
+    sim = Simulation(parse_scenario(scenario_data(place), "test.yaml"))  # as elevations: ~10 m deep at the origin
+    assert sim.world.depth_at([0.0], [0.0])[0] == pytest.approx(10.0, abs=0.2)  # 1 cm/m slope, UTM vs ENU
+    sim.close()

@@ -22,7 +22,7 @@ import shapely
 
 from usvsim.config.geo import Geo
 from usvsim.geo import extrude
-from usvsim.geo.frame import GeoFrame
+from usvsim.geo.frame import GeoError, GeoFrame
 from usvsim.geo.raster import Raster, read_raster
 from usvsim.geo.soundings import Soundings, is_raster, read_soundings
 from usvsim.geo.terrain import Terrain, land_mask, vertex_grid
@@ -95,15 +95,18 @@ def _build(geo: Geo, frame: GeoFrame, base_dir: Path) -> GeoScene:
     extent = geo.extent_m
     xs = ys = vertex_grid(extent, geo.terrain_cell_m)
     seabed = np.full((len(ys), len(xs)), -geo.default_depth_m)
+    values = None
     if geo.bathymetry is not None:
         values = _bathymetry(geo, frame, base_dir).sample_grid(xs, ys)
         values = values if geo.bathymetry.values == "elevation" else -values
         seabed = np.where(np.isnan(values), seabed, values)
     seabed = np.minimum(seabed, -geo.min_depth_m)
     bottom = float(seabed.min()) - BOTTOM_MARGIN_M
-    z, land, polygons = seabed, [], []
+    z, land, polygons, on_land = seabed, [], [], np.zeros(seabed.shape, bool)
     if geo.land is not None:
-        z, land, polygons = _land(geo, frame, base_dir, xs, ys, seabed, bottom)
+        z, land, polygons, on_land = _land(geo, frame, base_dir, xs, ys, seabed, bottom)
+    if values is not None:
+        _check_water(geo, base_dir, values, on_land)
     structures = _structures(geo, frame, base_dir, bottom)
     return GeoScene(Terrain(xs, ys, z), land, polygons, structures)
 
@@ -140,7 +143,22 @@ def _land(geo: Geo, frame: GeoFrame, base_dir: Path, xs, ys, seabed, bottom):
     z = np.where(mask, land_z, seabed)
     prisms = [extrude.to_mesh(extrude.prism(p, bottom, spec.height_m, heights, spec.top_resolution_m))
               for p in polygons]  # fmt: skip
-    return z, prisms, polygons
+    return z, prisms, polygons, mask
+
+
+def _check_water(geo: Geo, base_dir: Path, elevation: np.ndarray, on_land: np.ndarray) -> None:
+    """The bathymetry puts some of the scene's water (off the land polygons) below still water, or it was read
+    with the wrong sign: a depth raster under the default `values: elevation` made all the sea 0 m deep, silently."""
+    b = geo.bathymetry
+    assert b is not None, "called for a Geo with bathymetry"
+    water = elevation[~on_land & ~np.isnan(elevation)]
+    if len(water) == 0 or (water < 0.0).any():
+        return
+    shown = water if b.values == "elevation" else -water
+    other = "depth" if b.values == "elevation" else "elevation"
+    raise GeoError(f"{base_dir / b.file}: no value puts the seabed below still water anywhere in the scene's water "
+                   f"(read as values: {b.values}, they range from {shown.min():g} to {shown.max():g} there); "
+                   f"are they {other}s? then set values: {other}")
 
 
 def _structures(geo: Geo, frame: GeoFrame, base_dir: Path, bottom: float):
