@@ -83,10 +83,44 @@ def test_gnss_without_noise_converts_back_to_enu_within_1mm(rig):
     o = sim.scenario.world.origin
     enu = pymap3d.geodetic2enu(fix.latitude, fix.longitude, fix.altitude, o.latitude_deg, o.longitude_deg, o.altitude_m)
     truth, _ = suite["wamv/gps"].pose_world(sim)
-    assert np.linalg.norm(np.array(enu) - truth) < 1e-3
+    assert np.linalg.norm(np.array(enu[:2]) - truth[:2]) < 1e-3
+    assert fix.altitude == pytest.approx(o.altitude_m + truth[2], abs=1e-9)  # the sea is level (test below)
     assert fix.status.status == 0 and fix.position_covariance_type == 0
     vel = col.by_topic["/wamv/gps/vel"][-1][1].msg
     assert vel.header.frame_id == "world"
+
+
+def _latlon_of_enu(enu, lat0_deg, lon0_deg, h0_m):
+    """WGS-84 latitude, longitude (deg) of an ENU point, by hand (the independent reference): geocentric
+    coordinates of the origin plus the ENU offset, then the fixed-point iteration for latitude."""
+    a, f = 6378137.0, 1 / 298.257223563
+    e2, lat0, lon0 = f * (2 - f), np.radians(lat0_deg), np.radians(lon0_deg)
+    n0 = a / np.sqrt(1 - e2 * np.sin(lat0) ** 2)
+    origin = np.array([(n0 + h0_m) * np.cos(lat0) * np.cos(lon0), (n0 + h0_m) * np.cos(lat0) * np.sin(lon0),
+                       (n0 * (1 - e2) + h0_m) * np.sin(lat0)])  # fmt: skip
+    rows = np.array([[-np.sin(lon0), np.cos(lon0), 0.0],
+                     [-np.sin(lat0) * np.cos(lon0), -np.sin(lat0) * np.sin(lon0), np.cos(lat0)],
+                     [np.cos(lat0) * np.cos(lon0), np.cos(lat0) * np.sin(lon0), np.sin(lat0)]])  # fmt: skip
+    x, y, z = origin + rows.T @ np.asarray(enu, float)
+    p, lat = np.hypot(x, y), np.arctan2(z, np.hypot(x, y) * (1 - e2))
+    for _ in range(10):
+        n = a / np.sqrt(1 - e2 * np.sin(lat) ** 2)
+        lat = np.arctan2(z + e2 * n * np.sin(lat), p)
+    return np.degrees(lat), np.degrees(np.arctan2(y, x))
+
+
+def test_gnss_far_from_the_origin_reads_the_level_sea_and_its_point_on_the_tangent_plane(rig):
+    """Afloat 20 km east of the origin the fix read 31 m higher than at the origin: the tangent plane's height
+    above the ellipsoid, d²/2R, though the world's water is level as the sea is. Lat/lon: the tangent-plane
+    point, against a conversion written out by hand."""
+    sim, suite, col = rig({"type": "gnss", "name": "gps", "rate_hz": 10}, vessel_pose={"position": [20000.0, 0.0, 0.0]})
+    col.run(1.0)
+    fix = col.by_topic["/wamv/gps/fix"][-1][1].msg
+    o = sim.scenario.world.origin
+    truth, _ = suite["wamv/gps"].pose_world(sim)
+    assert fix.altitude == pytest.approx(o.altitude_m + truth[2], abs=1e-9) and abs(truth[2]) < 1.0
+    lat, lon = _latlon_of_enu(truth, o.latitude_deg, o.longitude_deg, o.altitude_m)
+    assert fix.latitude == pytest.approx(lat, abs=1e-9) and fix.longitude == pytest.approx(lon, abs=1e-9)  # 0.1 mm
 
 
 def test_gnss_noise_statistics(rig):

@@ -4,7 +4,7 @@
   the same frame `GroundTruth` publishes as `world → <vessel>/odom`), twist in base_link, Gaussian noise
   with its covariance filled in (6x6 over x, y, z, rotX, rotY, rotZ).
 - `Gnss`: sensor_msgs/NavSatFix of the antenna (mount point) from ENU through the scenario's geodetic
-  origin (pymap3d, WGS-84), with a Gauss–Markov position error (white when the correlation time is 0); optional ENU velocity (TwistWithCovarianceStamped, frame `world`) on the sibling topic `.../vel`.
+  origin (pymap3d, WGS-84; altitude = the origin's + world z, the sea being level), with a Gauss–Markov position error (white when the correlation time is 0); optional ENU velocity (TwistWithCovarianceStamped, frame `world`) on the sibling topic `.../vel`.
 - `GroundTruthPose`: exact nav_msgs/Odometry of the sensor frame in `world`, twist in the sensor frame.
 """
 
@@ -86,10 +86,13 @@ class Gnss(Sensor):
         self.error = None if self.sigma.any() else np.zeros(3)
 
     def lla(self, pos_enu: np.ndarray) -> tuple[float, float, float]:
-        """WGS-84 latitude, longitude (deg) and ellipsoidal altitude (m) of an ENU point."""
+        """WGS-84 latitude, longitude (deg) of an ENU point (exact, through the tangent plane at the origin) and
+        its ellipsoidal altitude (m): the origin's plus the world z. The world's still water is level, as the sea
+        is; the tangent plane itself rises d²/2R above the ellipsoid (31 m at 20 km), which made a boat afloat
+        far from the origin read that high (QA)."""
         (e, n, u), (lat0, lon0, alt0) = pos_enu, self.origin
-        lat, lon, alt = pymap3d.enu2geodetic(e, n, u, lat0, lon0, alt0)
-        return float(lat), float(lon), float(alt)
+        lat, lon, _ = pymap3d.enu2geodetic(e, n, u, lat0, lon0, alt0)
+        return float(lat), float(lon), float(alt0 + u)
 
     def position_error(self) -> np.ndarray:
         """Advance the ENU error (m) one fix: x ← φx + σ√(1-φ²)·n, φ = exp(-T/τ) (exact discretisation of a
