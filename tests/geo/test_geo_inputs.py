@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import numpy as np
 import pytest
 from place import ORIGIN, geo_section, write_place
 
@@ -56,4 +57,41 @@ def test_bathymetry_read_with_the_wrong_sign_is_an_error_not_a_sea_0_m_deep(plac
     assert "read as values: depth" in message and message.endswith("set values: elevation")
     sim = Simulation(parse_scenario(scenario_data(place), "test.yaml"))  # as elevations: ~10 m deep at the origin
     assert sim.world.depth_at([0.0], [0.0])[0] == pytest.approx(10.0, abs=0.2)  # 1 cm/m slope, UTM vs ENU
+    sim.close()
+
+
+def test_a_place_across_the_antimeridian_reads_rasters_and_polygons_past_180_degrees(tmp_path):
+    """A GEBCO-like raster cut at 179.97..180.03° E (GDAL keeps longitudes past 180) was NaN east of 180°, so the
+    seabed there was the default depth; land in the 0..360° convention was refused as outside its CRS."""
+    import json
+
+    import pymap3d
+    import rasterio
+    from rasterio.transform import from_origin
+
+    origin = (-16.8, 179.995)
+    cols, rows, cell = 60, 40, 0.001  # degrees
+    lon = 179.97 + cell * (np.arange(cols) + 0.5)
+    elevation = np.tile(-10.0 - 200.0 * (lon - 179.97), (rows, 1))  # linear in longitude: bilinear is exact
+    with rasterio.open(tmp_path / "gebco.tif", "w", driver="GTiff", height=rows, width=cols, count=1, dtype="float64",
+                       crs="EPSG:4326", transform=from_origin(179.97, -16.78, cell, cell)) as ds:
+        ds.write(elevation, 1)
+    ring = [[180.005, -16.802], [180.01, -16.802], [180.01, -16.798], [180.005, -16.798], [180.005, -16.802]]
+    (tmp_path / "land.geojson").write_text(json.dumps({"type": "FeatureCollection", "features": [
+        {"type": "Feature", "properties": {}, "geometry": {"type": "Polygon", "coordinates": [ring]}}]}))
+    data = {"version": 1, "world": {"origin": {"latitude_deg": origin[0], "longitude_deg": origin[1]}},
+            "vessels": [{"name": "wamv", "model": "wamv", "pose": {"position": [-500.0, 0.0, 0.0]}}],
+            "geo": {"extent_m": 2000.0, "terrain_cell_m": 5.0, "land": {"file": str(tmp_path / "land.geojson")},
+                    "bathymetry": {"file": str(tmp_path / "gebco.tif")}}}  # fmt: skip
+    sim = Simulation(parse_scenario(data, "test.yaml"))
+    x, y = np.array([-800.0, 0.0, 520.0, 600.0, 900.0]), np.full(5, -500.0)  # 180° E is at x ≈ 533 m
+    lat, lon, _ = pymap3d.enu2geodetic(x, y, 0.0, *origin, 0.0)
+    expected = 10.0 + 200.0 * (np.where(lon < 0, lon + 360.0, lon) - 179.97)
+    assert np.allclose(sim.world.depth_at(x, y), expected, atol=1e-6)
+    t = sim.place.terrain  # the solid seabed too (it samples through a lattice of exact transforms)
+    row = int(np.argmin(np.abs(t.ys + 500.0)))
+    columns = [int(np.argmin(np.abs(t.xs - v))) for v in x]
+    assert np.allclose(-t.z[row, columns], 10.0 + 200.0 * (np.where(lon < 0, lon + 360.0, lon) - 179.97), atol=0.05)
+    land_x, land_y, _ = pymap3d.geodetic2enu(-16.8, -179.9925, 0.0, *origin, 0.0)  # the land square's centre
+    assert sim.world.depth_at([land_x], [land_y])[0] < 0.0
     sim.close()

@@ -91,7 +91,7 @@ class GeoFrame:
 
         def convert(x: np.ndarray, y: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
             lon, lat = to_geo.transform(np.asarray(x, float), np.asarray(y, float))
-            if not (np.all(np.abs(lon) <= 180.0) and np.all(np.abs(lat) <= 90.0)):
+            if not (np.all(np.abs(lon) <= 360.0) and np.all(np.abs(lat) <= 90.0)):  # 0..360 data is fine
                 raise GeoError(f"{source}: coordinates outside the area of its CRS ({crs.name}); is the CRS right?")
             enu = self.to_enu(lat, lon)
             return enu[:, 0], enu[:, 1]

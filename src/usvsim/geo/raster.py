@@ -95,14 +95,19 @@ def read_raster(path: Path, band: int, crs: str | None, frame: GeoFrame, extent_
     raster_crs = parse_crs(file_crs, str(path)) if file_crs else parse_crs(crs, f"{path}: crs")
     to_crs = Transformer.from_crs("EPSG:4326", raster_crs, always_xy=True)
     inverse = ~transform
+    h, w = data.shape
+    # a raster across ±180° (GEBCO cut at 179.9..180.1, data in 0..360) holds longitudes past 180: PROJ's
+    # -179.99 must read its column at 180.01, or the east half was NaN and the seabed the default depth (QA)
+    mid_lon = (transform * (w / 2, h / 2))[0] if raster_crs.is_geographic else None
 
     def enu_to_pixel(x, y):
         geo = frame.to_geodetic(x, y, frame.origin[2])
         px, py = to_crs.transform(geo[:, 1], geo[:, 0])
+        if mid_lon is not None:
+            px = (np.asarray(px) - mid_lon + 180.0) % 360.0 - 180.0 + mid_lon
         col, row = inverse @ (np.asarray(px), np.asarray(py))
         return np.asarray(col) - 0.5, np.asarray(row) - 0.5  # pixel centres at integers
 
-    h, w = data.shape
     cx, cy = transform @ (np.array([0.0, w, 0.0, w]), np.array([0.0, 0.0, h, h]))
     lon, lat = Transformer.from_crs(raster_crs, "EPSG:4326", always_xy=True).transform(cx, cy)
     corners = frame.to_enu(lat, lon)
