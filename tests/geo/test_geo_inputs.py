@@ -95,3 +95,11 @@ def test_a_place_across_the_antimeridian_reads_rasters_and_polygons_past_180_deg
     land_x, land_y, _ = pymap3d.geodetic2enu(-16.8, -179.9925, 0.0, *origin, 0.0)  # the land square's centre
     assert sim.world.depth_at([land_x], [land_y])[0] < 0.0
     sim.close()
+
+
+def test_the_map_title_gives_hemispheres_by_letter():
+    """The plan view's title read 'origin -16.80000° N, -179.99500° E' for a place in the South Pacific."""
+    from usvsim.geo.plan import latlon_text
+
+    assert latlon_text(-16.8, -179.995) == "16.80000° S, 179.99500° W"
+    assert latlon_text(59.41, 10.51) == "59.41000° N, 10.51000° E"

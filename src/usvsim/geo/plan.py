@@ -43,7 +43,7 @@ def draw_plan(sim, path, size_in: float = 9.0, dpi: int = 110, marks=()) -> None
         ax.plot([x], [y], "o", color="#d62728", ms=4)
         ax.text(x, y, f"  {name}", color="#d62728", fontsize=8, va="bottom")
     o = scenario.world.origin
-    ax.set_title(f"{scenario.name}: origin {o.latitude_deg:.5f}° N, {o.longitude_deg:.5f}° E (x east, y north, m)",
+    ax.set_title(f"{scenario.name}: origin {latlon_text(o.latitude_deg, o.longitude_deg)} (x east, y north, m)",
                  fontsize=9)  # fmt: skip
     ax.set_aspect("equal")
     ax.set_xlabel("x (m, east)")
@@ -51,6 +51,11 @@ def draw_plan(sim, path, size_in: float = 9.0, dpi: int = 110, marks=()) -> None
     fig.tight_layout()
     fig.savefig(path)
     plt.close(fig)
+
+
+def latlon_text(lat_deg: float, lon_deg: float) -> str:
+    """'16.80000° S, 179.99500° W': hemispheres by letter (the title said '-16.80000° N' south of the equator)."""
+    return f"{abs(lat_deg):.5f}° {'S' if lat_deg < 0 else 'N'}, {abs(lon_deg):.5f}° {'W' if lon_deg < 0 else 'E'}"
 
 
 def _draw_place(ax, place) -> None:
