@@ -103,3 +103,29 @@ def test_the_map_title_gives_hemispheres_by_letter():
 
     assert latlon_text(-16.8, -179.995) == "16.80000° S, 179.99500° W"
     assert latlon_text(59.41, 10.51) == "59.41000° N, 10.51000° E"
+
+
+def test_soundings_from_a_csv_file_with_lon_lat_columns(place, tmp_path):
+    """A CSV of soundings (the commonest form) crashed with "TypeError: 'NoneType' object is not iterable":
+    GDAL reads no points from a CSV unless told its coordinate columns."""
+    import pymap3d
+
+    from usvsim.geo.frame import GeoFrame
+
+    rng = np.random.default_rng(0)
+    x, y = rng.uniform(-380, 380, 60), rng.uniform(-380, 80, 60)
+    lat, lon, _ = GeoFrame(*ORIGIN).to_geodetic(x, y).T
+    depth = 5.0 + 0.01 * (x + 400.0)
+    rows = ["Longitude,Latitude,depth"] + [f"{a:.9f},{b:.9f},{d:.4f}" for a, b, d in zip(lon, lat, depth)]
+    (tmp_path / "soundings.csv").write_text("\n".join(rows) + "\n")
+    geo = geo_section(place)
+    geo["bathymetry"] = {"file": str(tmp_path / "soundings.csv"), "crs": "EPSG:4326", "values": "depth"}
+    sim = Simulation(parse_scenario({**scenario_data(place), "geo": geo}, "test.yaml"))
+    k = int(np.argmin(np.hypot(x, y)))
+    px, py, _ = pymap3d.geodetic2enu(lat[k], lon[k], 0.0, *ORIGIN)
+    assert sim.world.depth_at([px], [py])[0] == pytest.approx(depth[k], abs=1e-3)  # exact at a sounding
+    sim.close()
+    (tmp_path / "bad.csv").write_text("a,b,depth\n1,2,3\n")
+    geo["bathymetry"]["file"] = str(tmp_path / "bad.csv")
+    with pytest.raises(UsvsimError, match=r"bad.csv: has no geometry \(a CSV needs coordinate columns"):
+        Simulation(parse_scenario({**scenario_data(place), "geo": geo}, "test.yaml"))

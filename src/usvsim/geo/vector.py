@@ -68,8 +68,15 @@ def read_features(path: Path, layer: str | None, crs: str | None, frame: GeoFram
     return Features(keep_geoms, keep_props)
 
 
+CSV_COLUMNS = {"X_POSSIBLE_NAMES": "lon,longitude,x,easting", "Y_POSSIBLE_NAMES": "lat,latitude,y,northing"}
+
+
 def _read_raw(pyogrio, path: Path, layer: str | None):
-    meta, fids, wkb, fields = pyogrio.raw.read(path, layer=layer)
+    options = CSV_COLUMNS if path.suffix.lower() == ".csv" else {}  # GDAL's CSV driver: points from these columns
+    meta, fids, wkb, fields = pyogrio.raw.read(path, layer=layer, **options)
+    if wkb is None:  # a CSV without such columns, a table without geometry: it crashed in the loop below (QA)
+        raise GeoError(f"{path}: has no geometry (a CSV needs coordinate columns named lon/lat, longitude/latitude, "
+                       "x/y or easting/northing)")
     return (meta["crs"], meta["fields"]), fids, wkb, fields
 
 
