@@ -4,10 +4,12 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+import shapely
 from place import ORIGIN, geo_section, write_place
 
 from usvsim.config.loader import parse_scenario
 from usvsim.core.errors import UsvsimError
+from usvsim.geo.frame import GeoFrame
 from usvsim.simulation import Simulation
 
 
@@ -110,8 +112,6 @@ def test_soundings_from_a_csv_file_with_lon_lat_columns(place, tmp_path):
     GDAL reads no points from a CSV unless told its coordinate columns."""
     import pymap3d
 
-    from usvsim.geo.frame import GeoFrame
-
     rng = np.random.default_rng(0)
     x, y = rng.uniform(-380, 380, 60), rng.uniform(-380, 80, 60)
     lat, lon, _ = GeoFrame(*ORIGIN).to_geodetic(x, y).T
@@ -128,4 +128,21 @@ def test_soundings_from_a_csv_file_with_lon_lat_columns(place, tmp_path):
     (tmp_path / "bad.csv").write_text("a,b,depth\n1,2,3\n")
     geo["bathymetry"]["file"] = str(tmp_path / "bad.csv")
     with pytest.raises(UsvsimError, match=r"bad.csv: has no geometry \(a CSV needs coordinate columns"):
+        Simulation(parse_scenario({**scenario_data(place), "geo": geo}, "test.yaml"))
+
+
+def test_a_misspelt_layer_names_the_layers_the_file_has(place, tmp_path):
+    """It said the GeoPackage was "not a vector file pyogrio can read (Layer 'lnd' could not be opened)"."""
+    import pyogrio
+
+    from usvsim.geo.vector import read_features
+
+    feats = read_features(place["land"], None, None, GeoFrame(*ORIGIN), 400.0, ("Polygon",))
+    wkb = np.array([shapely.to_wkb(g) for g in feats.geometries], dtype=object)
+    for name in ("land", "quays"):
+        pyogrio.raw.write(tmp_path / "place.gpkg", wkb, field_data=[], fields=[], geometry_type="Polygon", driver="GPKG",
+                          layer=name, crs="EPSG:4326", append=name != "land")  # fmt: skip
+    geo = geo_section(place)
+    geo["land"] = {"file": str(tmp_path / "place.gpkg"), "layer": "lnd"}
+    with pytest.raises(UsvsimError, match=r"place.gpkg: has no layer 'lnd' \(its layers: land, quays\)$"):
         Simulation(parse_scenario({**scenario_data(place), "geo": geo}, "test.yaml"))

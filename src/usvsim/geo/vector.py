@@ -73,6 +73,10 @@ CSV_COLUMNS = {"X_POSSIBLE_NAMES": "lon,longitude,x,easting", "Y_POSSIBLE_NAMES"
 
 def _read_raw(pyogrio, path: Path, layer: str | None):
     options = CSV_COLUMNS if path.suffix.lower() == ".csv" else {}  # GDAL's CSV driver: points from these columns
+    if layer is not None:  # a misspelt layer read "not a vector file pyogrio can read (Layer 'x' could not be opened)"
+        layers = [str(name) for name, _ in pyogrio.list_layers(path)]
+        if layer not in layers:
+            raise GeoError(f"{path}: has no layer {layer!r} (its layers: {', '.join(layers[:20]) or 'none'})")
     meta, fids, wkb, fields = pyogrio.raw.read(path, layer=layer, **options)
     if wkb is None:  # a CSV without such columns, a table without geometry: it crashed in the loop below (QA)
         raise GeoError(f"{path}: has no geometry (a CSV needs coordinate columns named lon/lat, longitude/latitude, "
