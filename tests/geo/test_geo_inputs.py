@@ -146,3 +146,14 @@ def test_a_misspelt_layer_names_the_layers_the_file_has(place, tmp_path):
     geo["land"] = {"file": str(tmp_path / "place.gpkg"), "layer": "lnd"}
     with pytest.raises(UsvsimError, match=r"place.gpkg: has no layer 'lnd' \(its layers: land, quays\)$"):
         Simulation(parse_scenario({**scenario_data(place), "geo": geo}, "test.yaml"))
+
+
+def test_nan_coordinates_are_named_as_such(place, tmp_path):
+    """A NaN in a polygon was reported as "coordinates outside the area of its CRS; is the CRS right?", after a
+    RuntimeWarning from shapely."""
+    ring = '[[10.43, 59.42], [NaN, 59.43], [10.44, 59.43], [10.43, 59.42]]'
+    (tmp_path / "nan.geojson").write_text('{"type": "FeatureCollection", "features": [{"type": "Feature", "properties": {},'
+                                          f' "geometry": {{"type": "Polygon", "coordinates": [{ring}]}}}}]}}')
+    geo = {**geo_section(place), "land": {"file": str(tmp_path / "nan.geojson")}}
+    with pytest.raises(UsvsimError, match=r"nan.geojson: feature 0 has coordinates that are not finite numbers"):
+        Simulation(parse_scenario({**scenario_data(place), "geo": geo}, "test.yaml"))

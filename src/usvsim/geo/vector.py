@@ -43,7 +43,12 @@ def read_features(path: Path, layer: str | None, crs: str | None, frame: GeoFram
         raise GeoError(f"{path}: the file's CRS is {file_crs} but the scenario says crs: {crs}; drop one")
     if not (file_crs or crs):
         raise GeoError(f"{path}: the file has no CRS; give one with `crs:` (e.g. EPSG:4326)")
-    geoms = shapely.from_wkb(wkb)
+    with np.errstate(invalid="ignore"):  # NaN coordinates: shapely warned "invalid value encountered in from_wkb"
+        geoms = shapely.from_wkb(wkb)
+    coords, owner = shapely.get_coordinates(geoms, return_index=True)
+    bad = owner[~np.isfinite(coords).all(axis=1)]
+    if len(bad):  # they read as "coordinates outside the area of its CRS; is the CRS right?" (QA)
+        raise GeoError(f"{path}: feature {bad[0]} has coordinates that are not finite numbers (NaN or inf)")
     convert = frame.from_crs(file_crs, str(path)) if file_crs else frame.from_crs(crs, f"{path}: crs")
     geoms = shapely.transform(geoms, lambda xy: np.column_stack(convert(xy[:, 0], xy[:, 1])))
     _check_valid(geoms, path)
