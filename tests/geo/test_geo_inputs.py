@@ -157,3 +157,19 @@ def test_nan_coordinates_are_named_as_such(place, tmp_path):
     geo = {**geo_section(place), "land": {"file": str(tmp_path / "nan.geojson")}}
     with pytest.raises(UsvsimError, match=r"nan.geojson: feature 0 has coordinates that are not finite numbers"):
         Simulation(parse_scenario({**scenario_data(place), "geo": geo}, "test.yaml"))
+
+
+def test_the_outer_half_of_an_edge_pixel_has_the_edge_pixels_value(place):
+    """Samples between the outermost pixel centres and the raster's edge were NaN, so the default depth applied
+    in a band half a pixel wide all along the edge (225 m for GEBCO; at the North Pole for a lat/lon raster)."""
+    import rasterio
+
+    with rasterio.open(place["depth"]) as ds:
+        values, transform = ds.read(1), ds.transform
+    sim = Simulation(parse_scenario(scenario_data(place), "test.yaml"))
+    convert = GeoFrame(*ORIGIN).from_crs("EPSG:25832", "test")
+    for col, expected in ((-0.3 + 0.5, -values[100, 0]), (-0.7 + 0.5, 20.0)):  # inside the edge pixel; off the raster
+        e, n = transform @ (np.array([col]), np.array([100.5]))
+        x, y = convert(e, n)
+        assert sim.place.depth_at(x, y)[0] == pytest.approx(expected, abs=1e-4)
+    sim.close()

@@ -2,7 +2,9 @@
 
 A sample at a pixel centre returns that pixel's value exactly; between centres it is the bilinear blend of
 the four surrounding pixels (pixels are areas, their values sit at their centres, as GDAL's bilinear
-resampling assumes). Outside the raster or on no-data pixels the value is NaN; callers pick a default.
+resampling assumes); in the outer half of an edge pixel it is the edge's value (the pixel covers it: that
+band was NaN, the default depth, 225 m wide along a GEBCO raster's edge and over the pole). Outside the
+raster or on no-data pixels the value is NaN; callers pick a default.
 ENU → raster pixel goes through the exact CRS transform; for dense grids the pixel coordinates are
 computed exactly on a lattice every `LATTICE` points and interpolated between (the map is smooth: the
 error is far below a millimetre over a 10 km scene).
@@ -59,9 +61,10 @@ def _bilinear(values, col, row):
     out = np.empty(len(col))
     for i in range(len(col)):
         c, r = col[i], row[i]
-        if not (c >= 0.0 and r >= 0.0 and c <= w - 1 and r <= h - 1):
+        if not (c >= -0.5 and r >= -0.5 and c <= w - 0.5 and r <= h - 0.5):  # off the raster's outer edge
             out[i] = np.nan
             continue
+        c, r = min(max(c, 0.0), w - 1.0), min(max(r, 0.0), h - 1.0)  # the outer half pixel: the edge pixels' value
         c0, r0 = min(int(c), w - 2) if w > 1 else 0, min(int(r), h - 2) if h > 1 else 0
         fc, fr = c - c0, r - r0
         c1, r1 = min(c0 + 1, w - 1), min(r0 + 1, h - 1)
