@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 import shapely
-from place import ORIGIN, geo_section, write_place
+from place import COAST_Y, ORIGIN, geo_section, write_place
 
 from usvsim.config.loader import parse_scenario
 from usvsim.core.errors import UsvsimError
@@ -172,4 +172,16 @@ def test_the_outer_half_of_an_edge_pixel_has_the_edge_pixels_value(place):
         e, n = transform @ (np.array([col]), np.array([100.5]))
         x, y = convert(e, n)
         assert sim.place.depth_at(x, y)[0] == pytest.approx(expected, abs=1e-4)
+    sim.close()
+
+
+def test_depth_is_negative_everywhere_on_land_even_next_to_the_coast(place):
+    """Within half a terrain cell inside the coastline depth_at read -0.0 (the nearest terrain vertex held the
+    seabed, clamped at 0), so `depth < 0` called that strip of land water. The place's land is 4 m high; with
+    3.2 m cells the vertices nearest the coast (y = 100 m) are at 99.2 m (water) and 102.4 m."""
+    sim = Simulation(parse_scenario(scenario_data(place, terrain_cell_m=3.2), "test.yaml"))
+    x = np.linspace(-300.0, 300.0, 61)
+    for y in (COAST_Y + 0.3, COAST_Y + 0.9, COAST_Y + 50.0):
+        assert np.all(sim.world.depth_at(x, np.full_like(x, y)) == -4.0)
+    assert np.all(sim.world.depth_at(x, np.full_like(x, COAST_Y - 0.3)) > 0.0)  # the water side
     sim.close()

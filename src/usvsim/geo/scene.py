@@ -31,6 +31,7 @@ from usvsim.vessels.parts import Mesh
 
 CACHE_VERSION = 3  # bump whenever the build gives another scene for the same files (3: antimeridian, raster edges)
 BOTTOM_MARGIN_M = 1.0  # prisms reach this far below the deepest seabed
+DEM_FLOOR_M = 0.1  # land under a DEM stands at least this high
 
 
 @dataclass
@@ -63,8 +64,8 @@ class GeoScene:
         return [(f"land_{i}", "land") for i in range(len(self.land))] + [(s[0], "structure") for s in self.structures]
 
     def depth_at(self, x_m, y_m) -> np.ndarray:
-        """Water depth (m, positive down from still water) at ENU points; on land minus the land height (the nearest
-        terrain vertex's, so 0 within about half a terrain cell of the coast, where that vertex is off the land).
+        """Water depth (m, positive down from still water) at ENU points; on land minus the land height (`height_m`,
+        or under a DEM the nearest terrain vertex's, at least the DEM's floor of 0.1 m): always negative on land.
 
         Under water: the bathymetry's value (a raster: bilinear within a cell, exact at pixel centres; soundings:
         linear between them, exact at each; at least `min_depth_m`), or the default depth where it has none."""
@@ -85,10 +86,13 @@ class GeoScene:
         return depth
 
     def _land_height(self, x: np.ndarray, y: np.ndarray) -> np.ndarray:
-        t = self.terrain  # the nearest terrain vertex's height, at least 0 (a vertex off the coast holds the seabed)
+        land = self.settings.land if self.settings else None
+        if land is not None and land.dem is None:
+            return np.full(x.shape, land.height_m)
+        t = self.terrain  # the nearest terrain vertex's height; a vertex off the coast holds the seabed: it read
         cx = np.clip(np.interp(x, t.xs, np.arange(len(t.xs))), 0, len(t.xs) - 1)
         cy = np.clip(np.interp(y, t.ys, np.arange(len(t.ys))), 0, len(t.ys) - 1)
-        return np.maximum(t.z[np.round(cy).astype(int), np.round(cx).astype(int)], 0.0)
+        return np.maximum(t.z[np.round(cy).astype(int), np.round(cx).astype(int)], DEM_FLOOR_M)  # -0.0 m deep (QA)
 
 
 def _build(geo: Geo, frame: GeoFrame, base_dir: Path) -> GeoScene:
@@ -129,7 +133,7 @@ def _land(geo: Geo, frame: GeoFrame, base_dir: Path, xs, ys, seabed, bottom):
         dem = read_raster(base_dir / spec.dem.file, spec.dem.band, spec.dem.crs, frame, geo.extent_m)
 
         def land_height(values):
-            return np.nan_to_num(np.maximum(values, 0.1), nan=spec.height_m)
+            return np.nan_to_num(np.maximum(values, DEM_FLOOR_M), nan=spec.height_m)
 
         def dem_heights(x, y):
             return land_height(dem.sample(x, y))
