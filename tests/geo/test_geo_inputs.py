@@ -185,3 +185,24 @@ def test_depth_is_negative_everywhere_on_land_even_next_to_the_coast(place):
         assert np.all(sim.world.depth_at(x, np.full_like(x, y)) == -4.0)
     assert np.all(sim.world.depth_at(x, np.full_like(x, COAST_Y - 0.3)) > 0.0)  # the water side
     sim.close()
+
+
+def test_rasters_are_sampled_where_vector_data_lands_for_an_origin_above_sea_level(place):
+    """With world.origin.altitude_m = h the raster was sampled h above the tangent plane, not at height h, so its
+    lookups sat h·d/R farther out than the land polygons and `latlon` placements (0.58 m at 10 km for a lake at
+    372 m). Pixel centres, placed by pymap3d at the origin's height, must read their pixels' values."""
+    import pymap3d
+    import rasterio
+    from pyproj import Transformer
+
+    data = scenario_data(place)
+    data["world"]["origin"]["altitude_m"] = 5000.0  # exaggerated so that 300 m out the shift (0.24 m) shows
+    sim = Simulation(parse_scenario(data, "test.yaml"))
+    with rasterio.open(place["depth"]) as ds:
+        values, transform = ds.read(1), ds.transform
+    rows, cols = np.array([20, 40, 100, 259]), np.array([20, 250, 60, 259])  # corners ~ 300-550 m out
+    e, n = transform @ (cols + 0.5, rows + 0.5)
+    lon, lat = Transformer.from_crs("EPSG:25832", "EPSG:4326", always_xy=True).transform(e, n)
+    x, y, _ = pymap3d.geodetic2enu(lat, lon, np.full_like(lat, 5000.0), ORIGIN[0], ORIGIN[1], 5000.0)
+    assert sim.place.depth_at(x, y) == pytest.approx(-values[rows, cols], abs=2e-5)  # the raster: 1 cm/m
+    sim.close()

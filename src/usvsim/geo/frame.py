@@ -82,6 +82,17 @@ class GeoFrame:
         lat, lon, alt = self._to_enu.transform(x, y, z, direction=TransformDirection.INVERSE)
         return np.column_stack([lat, lon, alt])
 
+    def level_to_geodetic(self, x_m, y_m) -> np.ndarray:
+        """(n, 3) latitude, longitude (deg) and height (m) of the points at ENU (x, y) that lie at the origin's
+        ellipsoidal height: the inverse of `to_enu` for 2D data (files, `latlon`), which sits there. The tangent
+        plane's point (z = 0) stands d²/2R higher, and its z = altitude_m above it (what rasters were sampled
+        at) shifted lookups outward by altitude·d/R: 0.58 m at 10 km from an origin at 372 m (QA)."""
+        x = np.atleast_1d(np.asarray(x_m, float))
+        y = np.broadcast_to(np.asarray(y_m, float), x.shape).astype(float)
+        z = -(x * x + y * y) / (2.0 * 6371008.8)  # the level surface's drop, within a few cm (mean Earth radius)
+        z = z - (self.to_geodetic(x, y, z)[:, 2] - self.origin[2])  # one Newton step on the height: sub-mm
+        return self.to_geodetic(x, y, z)
+
     def from_crs(self, crs, source: str):
         """A function (x, y) → ENU (x, y) for coordinates in `crs` (horizontal; at the origin's height)."""
         from pyproj import Transformer

@@ -104,7 +104,7 @@ def read_raster(path: Path, band: int, crs: str | None, frame: GeoFrame, extent_
     mid_lon = (transform * (w / 2, h / 2))[0] if raster_crs.is_geographic else None
 
     def enu_to_pixel(x, y):
-        geo = frame.to_geodetic(x, y, frame.origin[2])
+        geo = frame.level_to_geodetic(x, y)
         px, py = to_crs.transform(geo[:, 1], geo[:, 0])
         if mid_lon is not None:
             px = (np.asarray(px) - mid_lon + 180.0) % 360.0 - 180.0 + mid_lon

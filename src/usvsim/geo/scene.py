@@ -29,7 +29,7 @@ from usvsim.geo.terrain import Terrain, land_mask, vertex_grid
 from usvsim.geo.vector import read_features
 from usvsim.vessels.parts import Mesh
 
-CACHE_VERSION = 3  # bump whenever the build gives another scene for the same files (3: antimeridian, raster edges)
+CACHE_VERSION = 3  # bump whenever the build gives another scene for the same files (3: antimeridian, raster edges, altitude)
 BOTTOM_MARGIN_M = 1.0  # prisms reach this far below the deepest seabed
 DEM_FLOOR_M = 0.1  # land under a DEM stands at least this high
 
