@@ -206,3 +206,17 @@ def test_rasters_are_sampled_where_vector_data_lands_for_an_origin_above_sea_lev
     x, y, _ = pymap3d.geodetic2enu(lat, lon, np.full_like(lat, 5000.0), ORIGIN[0], ORIGIN[1], 5000.0)
     assert sim.place.depth_at(x, y) == pytest.approx(-values[rows, cols], abs=2e-5)  # the raster: 1 cm/m
     sim.close()
+
+
+def test_a_raster_with_only_no_data_in_the_scene_is_an_error(place, tmp_path):
+    """A raster whose pixels are all no-data (a wrong band, a wrong nodata value) gave the default depth
+    everywhere, silently."""
+    import rasterio
+
+    with rasterio.open(place["depth"]) as ds:
+        profile, values = ds.profile, ds.read(1)
+    with rasterio.open(tmp_path / "empty.tif", "w", **profile) as ds:
+        ds.write(np.full_like(values, profile["nodata"]), 1)
+    geo = {**geo_section(place), "bathymetry": {"file": str(tmp_path / "empty.tif")}}
+    with pytest.raises(UsvsimError, match=r"empty.tif: no value within the scene \(400 m around the origin\)"):
+        Simulation(parse_scenario({**scenario_data(place), "geo": geo}, "test.yaml"))

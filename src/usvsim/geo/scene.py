@@ -155,6 +155,9 @@ def _check_water(geo: Geo, base_dir: Path, elevation: np.ndarray, on_land: np.nd
     with the wrong sign: a depth raster under the default `values: elevation` made all the sea 0 m deep, silently."""
     b = geo.bathymetry
     assert b is not None, "called for a Geo with bathymetry"
+    if np.isnan(elevation).all():  # an all no-data raster: the default depth everywhere, silently (QA)
+        raise GeoError(f"{base_dir / b.file}: no value within the scene ({geo.extent_m:g} m around the origin): every "
+                       "pixel there is no-data (or no sounding's triangle covers it); wrong file, band or nodata value?")
     water = elevation[~on_land & ~np.isnan(elevation)]
     if len(water) == 0 or (water < 0.0).any():
         return
