@@ -220,3 +220,25 @@ def test_a_raster_with_only_no_data_in_the_scene_is_an_error(place, tmp_path):
     geo = {**geo_section(place), "bathymetry": {"file": str(tmp_path / "empty.tif")}}
     with pytest.raises(UsvsimError, match=r"empty.tif: no value within the scene \(400 m around the origin\)"):
         Simulation(parse_scenario({**scenario_data(place), "geo": geo}, "test.yaml"))
+
+
+def test_ais_reports_and_replayed_tracks_agree_with_latlon_placements_for_an_origin_above_sea_level(tmp_path):
+    """With world.origin.altitude_m = h, AIS reports and AIS replay tracks took the origin at height 0 while geo
+    data, `latlon` placements and GNSS take it at h: 10 km out they disagreed by h·d/R (0.58 m for a lake at
+    372 m; 4.7 m at 3000 m, used here)."""
+    from usvsim.config.scenario import GeodeticOrigin
+    from usvsim.traffic import ais
+    from usvsim.traffic.motion import read_ais_csv
+
+    origin = GeodeticOrigin(latitude_deg=46.45, longitude_deg=6.6, altitude_m=3000.0)
+    frame = GeoFrame(origin.latitude_deg, origin.longitude_deg, origin.altitude_m)
+    x, y = 8000.0, 6000.0
+    lat, lon = ais.enu_to_latlon(x, y, origin.latitude_deg, origin.longitude_deg, origin.altitude_m)
+    back = frame.to_enu(lat, lon)[0]  # the way a latlon placement of that report would land
+    assert np.hypot(back[0] - x, back[1] - y) < 0.02  # the tangent plane's point vs the level one: ~1 cm
+    start = frame.level_to_geodetic(x, y)[0]
+    end = frame.level_to_geodetic(x + 100.0, y)[0]
+    (tmp_path / "track.csv").write_text(f"time,lat,lon,sog,cog,heading\n0,{start[0]:.10f},{start[1]:.10f},1.944,90,90\n"
+                                        f"100,{end[0]:.10f},{end[1]:.10f},1.944,90,90\n")
+    track = read_ais_csv(tmp_path / "track.csv", origin)
+    assert track.p0[0] == pytest.approx((x, y), abs=1e-3)

@@ -43,7 +43,8 @@ def register_task_inputs(sim, task, landmark_type: str = "pose", vessel: str = "
             kind = msg.header.frame_id
             if not kind or not (math.isfinite(lat) and math.isfinite(lon) and abs(lat) <= 90 and abs(lon) <= 180):
                 return None
-            e, n, _ = pymap3d.geodetic2enu(lat, lon, 0.0, origin.latitude_deg, origin.longitude_deg, origin.altitude_m)
+            alt = origin.altitude_m  # the report's point at the origin's height, as every 2D position (geo/frame.py)
+            e, n, _ = pymap3d.geodetic2enu(lat, lon, alt, origin.latitude_deg, origin.longitude_deg, alt)
             return kind, float(e), float(n)
 
         sim.commands.register(LANDMARK_TOPIC, LANDMARK_TYPES[landmark_type], parse, lambda r: task.scorer.report(*r))

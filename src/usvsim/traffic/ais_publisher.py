@@ -135,7 +135,7 @@ class AisPublisher:
             noise = self.rng.normal(0.0, self.cfg.position_noise_m, 2)
             x, y = x + float(noise[0]), y + float(noise[1])
         o = self.origin
-        lat, lon = ais.enu_to_latlon(x, y, o.latitude_deg, o.longitude_deg)
+        lat, lon = ais.enu_to_latlon(x, y, o.latitude_deg, o.longitude_deg, o.altitude_m)
         cog = math.degrees(math.atan2(vx, vy)) % 360.0
         report = ais.Report(t.mmsi, lat, lon, sog_kn, cog, ais.heading_deg(yaw), int(now) % 60, moored)
         return interval, [ais.position_sentence(report, t.ais_class)]

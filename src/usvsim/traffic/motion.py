@@ -181,7 +181,8 @@ def read_ais_csv(path: Path, origin, source: str = "", key: str = "") -> Track:
         raise ScenarioError(source, key, f"{path}: needs at least two rows with increasing time")
     if np.any(np.diff(t) <= 0):
         raise ScenarioError(source, key, f"{path}: time must increase from row to row (row {_first(np.diff(t) <= 0, lines[1:])})")
-    e, n, _ = pymap3d.geodetic2enu(lat, lon, 0.0, origin.latitude_deg, origin.longitude_deg, 0.0)
+    alt = origin.altitude_m  # 2D positions sit at the origin's height, as geo data and latlon placements do
+    e, n, _ = pymap3d.geodetic2enu(lat, lon, alt, origin.latitude_deg, origin.longitude_deg, alt)
     far = np.maximum(np.abs(e), np.abs(n)) > MAX_COORDINATE_M
     if np.any(far):
         raise ScenarioError(source, key, f"{path}: row {_first(far, lines)} is more than {MAX_COORDINATE_M / 1000:.0f} km "
