@@ -242,3 +242,15 @@ def test_ais_reports_and_replayed_tracks_agree_with_latlon_placements_for_an_ori
                                         f"100,{end[0]:.10f},{end[1]:.10f},1.944,90,90\n")
     track = read_ais_csv(tmp_path / "track.csv", origin)
     assert track.p0[0] == pytest.approx((x, y), abs=1e-3)
+
+
+def test_the_cache_key_follows_the_geo_code(place, monkeypatch):
+    """The key was the section, the origin and the files' bytes: after a fix to the build an old entry was still
+    read (a wrong-sign bathymetry kept validating from ~/.cache) unless someone remembered CACHE_VERSION."""
+    from usvsim.geo import scene
+
+    geo = parse_scenario(scenario_data(place), "test.yaml").geo
+    frame = GeoFrame(*ORIGIN)
+    before = scene._cache_key(geo, frame, place["land"].parent)
+    monkeypatch.setattr(scene, "_code_digest", lambda: "another version of usvsim/geo")
+    assert scene._cache_key(geo, frame, place["land"].parent) != before

@@ -15,6 +15,7 @@ import hashlib
 import json
 import os
 from dataclasses import dataclass, field
+from functools import lru_cache
 from pathlib import Path
 
 import numpy as np
@@ -195,8 +196,18 @@ def _cache_dir() -> Path:
     return Path(os.environ.get("USVSIM_CACHE", Path.home() / ".cache" / "usvsim")) / "geo"
 
 
+@lru_cache(maxsize=1)
+def _code_digest() -> str:
+    """The geo package's source: a fix to the build invalidates old entries even when nobody bumps
+    CACHE_VERSION (a stale entry kept a wrong seabed and hid a new error, QA)."""
+    h = hashlib.sha256()
+    for module in sorted(Path(__file__).parent.glob("*.py")):
+        h.update(module.read_bytes())
+    return h.hexdigest()
+
+
 def _cache_key(geo: Geo, frame: GeoFrame, base_dir: Path) -> str:
-    h = hashlib.sha256(json.dumps([CACHE_VERSION, geo.model_dump(mode="json"), frame.origin]).encode())
+    h = hashlib.sha256(json.dumps([CACHE_VERSION, _code_digest(), geo.model_dump(mode="json"), frame.origin]).encode())
     for spec in [geo.land, geo.land.dem if geo.land else None, geo.bathymetry, *geo.structures]:
         if spec is not None and (base_dir / spec.file).is_file():
             h.update((base_dir / spec.file).read_bytes())
