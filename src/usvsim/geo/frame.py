@@ -72,7 +72,7 @@ class GeoFrame:
         x, y, z = self._to_enu.transform(lat, lon, alt.astype(float))
         return np.column_stack([x, y, z])
 
-    def to_geodetic(self, x_m, y_m, z_m=0.0) -> np.ndarray:
+    def to_geodetic(self, x_m, y_m, z_m: float | np.ndarray = 0.0) -> np.ndarray:
         """(n, 3) latitude, longitude (deg) and ellipsoidal height (m) of ENU points."""
         x = np.atleast_1d(np.asarray(x_m, float))
         y = np.broadcast_to(np.asarray(y_m, float), x.shape).astype(float)
