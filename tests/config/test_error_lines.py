@@ -31,8 +31,8 @@ def test_a_realization_error_has_no_branch_name_in_its_path(realization, path):
 
 @pytest.mark.parametrize("data, path, words", [
     ({"vessels": [{"name": "a", "model": "wamv", "mass": {"mass_kg": -5}}]}, "vessels[0].mass.mass_kg",
-     "greater than or equal to 0.001 (got -5)"),  # the bound alone named no value
-    ({"world": {"physics_rate_hz": 1e9}}, "world.physics_rate_hz", "(got 1000000000.0)"),
+     "greater than or equal to 0.001 (got -5; allowed: ≥ 0.001, ≤ 1000000000)"),  # the bound alone named no value
+    ({"world": {"physics_rate_hz": 1e9}}, "world.physics_rate_hz", "(got 1000000000.0; allowed: ≥ 20, ≤ 10000)"),
     ({"vessels": [{"name": "my boat", "model": "wamv"}]}, "vessels[0].name",
      "should start with a letter and hold only letters, digits and '_' (got 'my boat')"),  # was the regex
     ({"vessels": [{"name": "a", "model": "wamv", "sensors": [{"type": "imu", "name": "i", "topic": "/bad topic"}]}]},
@@ -74,7 +74,7 @@ def test_latlon_is_bounded_as_latitude_and_longitude(scenario_of):
 
     buoy = {"type": "buoy", "name": "b", "position": [0, 0, 0]}
     err = _error({"objects": [{**buoy, "latlon": [95, 10]}]})
-    assert err.key_path == "objects[0].latlon[0]" and "less than or equal to 90 (got 95)" in err.message
+    assert err.key_path == "objects[0].latlon[0]" and "less than or equal to 90 (got 95; allowed: ≥ -90, ≤ 90)" in err.message
     assert _error({"objects": [{**buoy, "latlon": [59, -190]}]}).key_path == "objects[0].latlon[1]"
     latlon = scenario_schema()["$defs"]["Buoy"]["properties"]["latlon"]["anyOf"][0]["prefixItems"]
     assert [(i["minimum"], i["maximum"]) for i in latlon] == [(-90, 90), (-180, 180)]
@@ -126,3 +126,45 @@ def test_a_misspelt_builtin_name_gets_a_suggestion_and_a_short_list():
     assert "did you mean 'harbor'?" in text and "imazu_01 .. imazu_22" in text and "imazu_05" not in text
     with pytest.raises(ScenarioError, match=r"\(built-ins: buoy_field, harbor"):
         load_scenario("xyz")
+
+
+def _radar(**keys) -> dict:
+    return {"vessels": [{"name": "a", "model": "wamv", "sensors": [{"type": "radar", "name": "r", **keys}]}]}
+
+
+def _moving(speed_mps: float, **keys) -> dict:
+    motion = {"type": "constant", "position": [0, 400], "course_deg": 0, "speed_mps": speed_mps}
+    return {"traffic": {"ships": [{**_ship("s"), "motion": motion, **keys}]}}
+
+
+@pytest.mark.parametrize("data, line", [
+    (_moving(1e6), "traffic.ships[0].motion.speed_mps: Input should be less than or equal to 100 "
+     "(got 1000000.0; allowed: ≥ 0, ≤ 100)"),
+    ({"traffic": {"ships": [{**_ship("s"), "motion": {"type": "route", "waypoints": [
+        {"position": [0, 0], "speed_mps": 2}, {"position": [0, 100], "speed_mps": 1e6}]}}]}},
+     "traffic.ships[0].motion.waypoints[1].speed_mps: Input should be less than or equal to 100 "
+     "(got 1000000.0; allowed: ≥ 0, ≤ 100)"),  # and no "(+1 more error)": pydantic's echo, a list too short
+    (_moving(5, length_m=1e6), "traffic.ships[0].length_m: Input should be less than or equal to 500 "
+     "(got 1000000.0; allowed: > 0, ≤ 500)"),
+    (_moving(5, draft_m=100), "traffic.ships[0].draft_m: Input should be less than or equal to 30 "
+     "(got 100; allowed: ≥ 0, ≤ 30)"),
+    (_radar(range_max_m=1e7), "vessels[0].sensors[0].range_max_m: Input should be less than or equal to 177792 "
+     "(got 10000000.0; allowed: > 0, ≤ 177792)"),
+    (_radar(spokes=8192, range_bins=8192), "vessels[0].sensors[0].range_bins: spokes x range_bins must be at most "
+     "8,388,608 cells a turn (8192 x 1024; real radars send up to 8192 spokes of 1024 samples), got 8192 x 8192 = "
+     "67,108,864"),
+    (_radar(range_min_m=2000, range_max_m=1000), "vessels[0].sensors[0].range_min_m: 2000 m must be less than "
+     "range_max_m (1000 m): the radar would show nothing"),
+    (_radar(range_max_m=20), "vessels[0].sensors[0].arpa.range_min_m: 30 m must be less than range_max_m (20 m): "
+     "ARPA would plot nothing"),
+])  # fmt: skip
+def test_traffic_speeds_ship_sizes_and_radar_turns_beyond_real_ones_are_refused(data, line):
+    """A 1e6 m/s ferry, a 1000 km ship, a radar of 10,000 km range or 67 M cells a turn were accepted (QA)."""
+    assert str(_error(data)) == f"s.yaml: {line}"
+
+
+def test_real_ships_and_radars_pass_the_bounds():
+    """The bounds never refuse a real vessel or radar: a 58 kn fast ferry, the longest and the widest ships built,
+    a 96 NM radar range, a Furuno DRS-NXT turn of 8192 spokes x 1024 samples."""
+    parse_scenario({"version": 1, **_radar(range_max_m=96 * 1852.0, spokes=8192, range_bins=1024), **_moving(
+        58 * 1852 / 3600, length_m=458.45, beam_m=124.0, draft_m=24.6, height_m=72.0)})  # fmt: skip

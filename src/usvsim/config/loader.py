@@ -90,12 +90,16 @@ def first_error_text(exc: ValidationError, data, keys: list[str]) -> str:
 
         more = len(exc.errors()) - 1
         return f"{first['loc'][0]}: unknown key" + did_you_mean(str(first["loc"][0]), keys) + (f" (+{more} more)" if more else "")
-    err = _first_error(exc, "", data)
+    err = _first_error(exc, "", data, whole_scenario=False)
     return f"{err.key_path}: {err.message}" if err.key_path else err.message
 
 
-def _first_error(exc: ValidationError, source: str, data) -> ScenarioError:
+def _first_error(exc: ValidationError, source: str, data, whole_scenario: bool = True) -> ScenarioError:
+    """The first of pydantic's errors as one line; `whole_scenario`: `data` is a scenario file's (not a section's),
+    so its schema gives a bound error's allowed range."""
     err, counted = exc.errors()[0], len(exc.errors())
+    counted -= sum(1 for e in exc.errors() if e["type"] == "too_short" and any(  # pydantic's echo of a bad item: a
+        len(o["loc"]) > len(e["loc"]) and o["loc"][: len(e["loc"])] == e["loc"] for o in exc.errors()))  # shorter list
     if err["type"] == "missing":  # a required key missing beside an unknown key close to it: its misspelling, so
         # the line names the unknown key with its "did you mean" (it said "position: missing (+1 more error)")
         parent, wanted = tuple(err["loc"][:-1]), [str(err["loc"][-1])]
@@ -144,8 +148,13 @@ def _first_error(exc: ValidationError, source: str, data) -> ScenarioError:
         msg = f"should have {bound} items, got {ctx.get('actual_length')}"
     elif err["type"] == "bool_type" and isinstance(err["input"], str):  # yes/no/on/off: text in YAML 1.2
         msg = f"should be true or false (got the text {safe_yaml.excerpt(err['input'])})"
-    elif err["type"].endswith("_type") or err["type"] in ("literal_error", "finite_number") or err["type"] in BOUNDS:
-        msg = f"{msg} (got {safe_yaml.excerpt(err['input'])})"  # bounds: "Input should be >= 0.001" named no value
+    elif err["type"] in BOUNDS:  # "Input should be >= 0.001" named neither the value nor the other end of the range
+        from usvsim.config.schema import bounds_at
+
+        allowed = bounds_at(err["loc"], data) if whole_scenario else ""
+        msg = f"{msg} (got {safe_yaml.excerpt(err['input'])}{f'; allowed: {allowed}' if allowed else ''})"
+    elif err["type"].endswith("_type") or err["type"] in ("literal_error", "finite_number"):
+        msg = f"{msg} (got {safe_yaml.excerpt(err['input'])})"
     more = counted - 1
     if more:
         msg += f" (+{more} more error{'s' if more > 1 else ''})"

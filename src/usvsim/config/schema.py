@@ -110,6 +110,21 @@ def _node_at(loc: tuple, data: Any, resolve_last: bool = False) -> tuple[dict, d
     return node, defs
 
 
+def bounds_at(loc: tuple, data: Any) -> str:
+    """The allowed range of the number at pydantic error location `loc`, e.g. '≥ 0, ≤ 100' ('' if the schema gives
+    none there): a bound error named only the bound it broke."""
+    node, defs = _node_at(loc, data, resolve_last=True)
+    if loc and isinstance(loc[-1], int) and loc[-1] < len(items := list_node_at(loc[:-1], data).get("prefixItems", ())):
+        node = _resolve(items[loc[-1]], defs)  # an item of a fixed-length list (a position's x)
+    options = [node, *(_resolve(o, defs) for o in node.get("anyOf", ()))]
+    return ", ".join(f"{sym} {_number(o[k])}" for o in options for k, sym in BOUND_SYMBOLS if k in o)
+
+
+def _number(value: float) -> str:
+    """100 for 100.0, 0.001 as is."""
+    return str(int(value)) if float(value).is_integer() and abs(value) < 1e16 else repr(value)
+
+
 def did_you_mean(key: str, allowed: list[str]) -> str:
     """' (did you mean 'x'?)' for a close match, else ' (allowed: a, b, ...)'; '' when nothing is allowed."""
     close = difflib.get_close_matches(key, allowed, n=1, cutoff=0.6)

@@ -15,7 +15,16 @@ from typing import Annotated, Literal
 import numpy as np
 from pydantic import Field, model_validator
 
-from usvsim.config.base import NonNegativeFloat, PoseDeg, PositiveFloat, Section, TupleOf, Vec2, Vec3
+from usvsim.config.base import (
+    KeyedValueError,
+    NonNegativeFloat,
+    PoseDeg,
+    PositiveFloat,
+    Section,
+    TupleOf,
+    Vec2,
+    Vec3,
+)
 
 Name = Annotated[str, Field(pattern=r"^[A-Za-z][A-Za-z0-9_]*$")]
 TOPIC_PATTERN = r"^/?[A-Za-z_][A-Za-z0-9_]*(/[A-Za-z_][A-Za-z0-9_]*)*$"  # ROS 2 topic name rules
@@ -23,6 +32,11 @@ FRAME_PATTERN = r"^[A-Za-z_][A-Za-z0-9_]*(/[A-Za-z_][A-Za-z0-9_]*)*$"
 MAX_LIDAR_RAYS = 1 << 22  # rays per revolution (channels x columns), ~4 M: 16x an OS1-128 at 2048 columns
 MAX_LATENCY_S = 3600.0  # an hour: beyond it nothing would be published in any run worth the name
 Probability = Annotated[float, Field(ge=0.0, lt=1.0)]
+# Marine radar: X-band marine radars display at most 96 NM (177.792 km); real ones send 1440-8192 spokes of
+# 512-1024 samples a turn (Garmin xHD 1440 x 733, Navico 2048 x 512/1024, Furuno DRS-NXT 8192), so a turn of
+# at most 2^23 cells (8192 x 1024) covers them (one turn of 8192 x 8192 would hold 0.5 GB per float64 array).
+MAX_RADAR_RANGE_M = 96 * 1852  # m
+MAX_RADAR_CELLS = 1 << 23
 
 
 class Mount(PoseDeg):
@@ -338,14 +352,16 @@ class Radar(SensorBase):
     do (angles are REP 103 in the sensor frame, counter-clockwise from the bow = 0: spoke k points at
     -k·360°/`spokes`), `spokes` azimuths per turn, `range_bins` bins to `range_max_m`; each sample publishes
     the spokes swept since the last one as marine_sensor_msgs/RadarSector (echoes 0..1 = 0..`dynamic_range_db`
-    over the noise floor). A 1 m² surface facing the radar at 1 km returns `reference_snr_db`."""
+    over the noise floor). A 1 m² surface facing the radar at 1 km returns `reference_snr_db`. At most 8192 × 1024
+    cells (`spokes` × `range_bins`) a turn; `range_min_m` and the ARPA's below `range_max_m`."""
 
     type: Literal["radar"]
     rate_hz: PositiveFloat = 10.0
     rpm: Annotated[float, Field(gt=0, le=120)] = 24.0
     spokes: Annotated[int, Field(ge=16, le=8192)] = 1024
     range_bins: Annotated[int, Field(ge=8, le=8192)] = 512
-    range_max_m: PositiveFloat = 1500.0
+    range_max_m: float = Field(default=1500.0, gt=0, le=MAX_RADAR_RANGE_M,
+                               description="the display's range (96 NM at most, as X-band marine radars)")
     range_min_m: NonNegativeFloat = Field(default=5.0, description="no echoes nearer (transmit pulse, own hull)")
     horizontal_beamwidth_deg: Annotated[float, Field(gt=0, le=30)] = 1.8
     vertical_beamwidth_deg: Annotated[float, Field(gt=0, le=60)] = 22.0
@@ -359,6 +375,18 @@ class Radar(SensorBase):
     image: Literal["polar", "cartesian", "none"] = "cartesian"
     image_size_px: Annotated[int, Field(ge=32, le=4096)] = 512
     arpa: Arpa | None = Arpa()
+
+    @model_validator(mode="after")
+    def _bounded_turn(self):
+        if self.spokes * self.range_bins > MAX_RADAR_CELLS:
+            raise KeyedValueError("range_bins", f"spokes x range_bins must be at most {MAX_RADAR_CELLS:,} cells a turn "
+                                  f"(8192 x 1024; real radars send up to 8192 spokes of 1024 samples), got "
+                                  f"{self.spokes} x {self.range_bins} = {self.spokes * self.range_bins:,}")  # fmt: skip
+        for key, near, what in (("range_min_m", self.range_min_m, "the radar would show nothing"),
+                                ("arpa.range_min_m", self.arpa and self.arpa.range_min_m, "ARPA would plot nothing")):
+            if near is not None and near >= self.range_max_m:
+                raise KeyedValueError(key, f"{near:g} m must be less than range_max_m ({self.range_max_m:g} m): {what}")
+        return self
 
 
 Sensor = Annotated[Imu | Odometry | Gnss | GroundTruth | Lidar | Camera | Detections | Radar,

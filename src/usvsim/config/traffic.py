@@ -25,13 +25,26 @@ SHIP_TYPES = {"pleasure": 37, "sailing": 36, "fishing": 30, "tug": 52, "pilot": 
               "cargo": 70, "tanker": 80, "high_speed": 40, "other": 90}  # fmt: skip
 ShipType = Literal["pleasure", "sailing", "fishing", "tug", "pilot", "passenger", "cargo", "tanker", "high_speed",
                    "other"]  # fmt: skip
+# Upper bounds that no real ship reaches but that refuse nonsense (a 1e6 m/s ferry); docs/limits.md. Speed: 100 m/s
+# (194 kn) is above every ship in service (fast ferries ~40-60 kn, naval fast craft ~60 kn, offshore racing boats
+# ~140 kn; AIS reports up to 102.2 kn) and is the default `world.divergence.max_speed_mps` of a physics vessel.
+# Size: the longest ship built (Seawise Giant) was 458 m with a 24.6 m draught, the widest (Pioneering Spirit) is
+# 124 m; AIS carries at most 1022 x 126 m.
+MAX_SHIP_SPEED_MPS = 100
+MAX_SHIP_LENGTH_M = 500
+MAX_SHIP_BEAM_M = 130
+MAX_SHIP_HEIGHT_M = 100
+MAX_SHIP_DRAFT_M = 30
+ShipSpeed = Annotated[float, Field(ge=0, le=MAX_SHIP_SPEED_MPS)]
+ShipLength = Annotated[float, Field(gt=0, le=MAX_SHIP_LENGTH_M)]
+ShipBeam = Annotated[float, Field(gt=0, le=MAX_SHIP_BEAM_M)]
 
 
 class Waypoint(Section):
     """A point of a route and the speed of the leg that starts there."""
 
     position: Vec2 = Field(description="world ENU (x east, y north), m")
-    speed_mps: NonNegativeFloat = Field(description="speed on the leg that starts here, m/s; 0: the ship stops here for good "
+    speed_mps: ShipSpeed = Field(description="speed on the leg that starts here, m/s; 0: the ship stops here for good "
                                         "(heading as it arrived, or along this leg at the route's start)")
 
 
@@ -50,7 +63,7 @@ class Constant(Section):
     type: Literal["constant"] = "constant"
     position: Vec2 = Field(description="world ENU position at t = 0, m")
     course_deg: float = Field(ge=0.0, lt=360.0, description="course over ground, degrees clockwise from north")
-    speed_mps: NonNegativeFloat
+    speed_mps: ShipSpeed
 
 
 class AisReplay(Section):
@@ -80,10 +93,11 @@ class Ship(Section):
     motion: Motion
     mmsi: int = Field(ge=100_000_000, le=999_999_999, description="9-digit Maritime Mobile Service Identity")
     ship_type: ShipType = "cargo"
-    length_m: PositiveFloat = 20.0
-    beam_m: PositiveFloat = 6.0
-    height_m: PositiveFloat = Field(default=4.0, description="hull top above the waterline (superstructure adds half)")
-    draft_m: NonNegativeFloat = 1.5
+    length_m: ShipLength = 20.0
+    beam_m: ShipBeam = 6.0
+    height_m: float = Field(default=4.0, gt=0, le=MAX_SHIP_HEIGHT_M,
+                            description="hull top above the waterline (superstructure adds half)")
+    draft_m: float = Field(default=1.5, ge=0, le=MAX_SHIP_DRAFT_M)
     vessel: Name | None = Field(default=None, description="a scenario vessel (with a velocity controller) to drive")
     ais: ShipAis = ShipAis()
 
@@ -95,8 +109,8 @@ class OwnShipAis(Section):
     mmsi: int = Field(ge=100_000_000, le=999_999_999)
     ais_class: Literal["A", "B"] = "A"
     ship_type: ShipType = "pleasure"
-    length_m: PositiveFloat = 5.0
-    beam_m: PositiveFloat = 2.0
+    length_m: ShipLength = 5.0
+    beam_m: ShipBeam = 2.0
 
 
 class Ais(Section):
