@@ -1,10 +1,12 @@
 """A stand-in for a VRX team's ROS 2 stack, in its own process and DDS participant (test_live_ros2.py).
 
 No usvsim import: the message types are written here by hand as cyclonedds IDL structs with ROS 2 naming,
-and Cyclone is pinned to loopback with multicast off. It subscribes to /clock and /vrx/task/info, pushes
-the WAM-V with VRX's thruster topics (N), and reports each perception object with
+and Cyclone is pinned to loopback with multicast off. It subscribes to /clock and /vrx/task/info, reports each
+perception object with
 geographic_msgs/GeoPoseStamped on /vrx/perception/landmark while the object is shown (its window in
-simulation time, from /clock), plus one bad report (NaN latitude). Prints one JSON line when /clock stops.
+simulation time, from /clock), plus one bad report (NaN latitude), then pushes the WAM-V with VRX's thruster
+topics (N): objects appear at offsets from the boat where it is then, so the boat stays at its start pose (where
+the given positions are) until the last one is reported. Prints one JSON line when /clock stops.
 
     python vrx_peer.py DOMAIN 'JSON [[class, t_s, duration_s, lat, lon], ...]' THRUST_N
 """
@@ -144,8 +146,8 @@ def main(domain_id: int, objects: list, thrust_n: float) -> dict:
         for sample in info.take(N=10):
             if isinstance(sample, ParamVec):
                 infos.append({p.name: value(p.value) for p in sample.params})
-        for w in thrust:
-            w.write(Float64(thrust_n))
+        for w in thrust:  # ahead once every object is reported: they appear relative to the boat (VRX's
+            w.write(Float64(thrust_n if len(reported) == len(objects) else 0.0))  # StartTrial), the start pose here
         for kind, t0, dur, lat, lon in objects:
             if t0 + 0.15 * dur < sim_s < t0 + 0.5 * dur and kind not in reported:  # shown now: report it once
                 header = Header(Time(int(sim_s), int(sim_s % 1 * 1e9)), kind)

@@ -251,38 +251,68 @@ class Wildlife(Task):
         return tx, ty
 
 
-PERCEPTION_OBJECTS = [  # VRX practice_2023_perception0: appearance time s, class, position relative to the WAM-V
-    (5.0, "mb_marker_buoy_red", (7.8, 2.1), "red"),
+PERCEPTION_OBJECTS = [  # VRX practice_2023_perception0: appearance time s, class, offset (x forward, y left) m in
+    (5.0, "mb_marker_buoy_red", (7.8, 2.1), "red"),  # the WAM-V's body frame (FLU) when the object appears, colour
     (15.0, "mb_marker_buoy_green", (8.3, 0.1), "green"),
     (25.0, "mb_marker_buoy_white", (4.9, -2.32), "white"),
 ]
+PERCEPTION_STASH_M = 1000.0  # where the objects wait out of sight (world ENU: this far south of the start, 10 m apart)
 
 
 class Perception(Task):
     """Report each object's class and position while it is shown (5 s each); score: mean error per object
-    (capped at 2 m when the class is right, 10 m if never matched). Objects stand in the scene all along
-    (MuJoCo models are fixed); they count only during their window."""
+    (capped at 2 m when the class is right, 10 m if never matched). As VRX's StartTrial, an object appears at its
+    offset from the WAM-V where it is then: (x forward, y left) m in the boat's body frame (FLU), turned by the
+    boat's heading only (its roll and pitch are left out), at the still water level; after its window it goes
+    back out of sight (VRX's EndTrial), `PERCEPTION_STASH_M` south of the start."""
 
     scorer: PerceptionScorer
     name, vrx_name = "perception", "perception"
-    schedule = PERCEPTION_OBJECTS  # (appearance s, class, (x, y) m, colour); `duration_s` each
+    schedule = PERCEPTION_OBJECTS  # (appearance s, class, (x forward, y left) m, colour); `duration_s` each
     duration_s = 5.0
 
     def sample(self, rng):
-        self.scorer = PerceptionScorer([PerceptionObject(k, t, *xy, self.duration_s) for t, k, xy, _ in self.schedule])
+        self.scorer = PerceptionScorer([PerceptionObject(k, t, *self._stash(i)[:2], self.duration_s)
+                                        for i, (t, k, _, _) in enumerate(self.schedule)])  # fmt: skip
 
     def plan_marks(self):
-        return [(*xy, None, f"{kind} at {t:g} s") for t, kind, xy, _ in self.schedule]
+        """Where the objects appear if the WAM-V is still at its start pose (origin, heading east)."""
+        return [(*xy, None, f"{kind} at {t:g} s (offset from the WAM-V)") for t, kind, xy, _ in self.schedule]
 
     def objects(self):
-        return [{"type": "buoy", "name": f"object_{i}", "position": [*xy, 0.0], "color": c}
-                for i, (_, _, xy, c) in enumerate(self.schedule)]  # fmt: skip
+        return [{"type": "buoy", "name": f"object_{i}", "position": list(self._stash(i)), "color": c, "mooring": None}
+                for i, (_, _, _, c) in enumerate(self.schedule)]  # fmt: skip
+
+    def _stash(self, i: int) -> tuple[float, float, float]:
+        return 0.0, -PERCEPTION_STASH_M - 10.0 * i, 0.0
+
+    def clear(self):
+        for i in sorted(getattr(self, "_shown", ())):  # shown when the task was reset: out of sight again
+            self._hide(i)
+        self._shown: set[int] = set()
+        super().clear()
 
     def score_step(self, x, y, yaw):
+        self._sync()
+        self.scorer.update(self.elapsed_s, show=self._show, hide=self._hide)
+        self._finished = self.scorer.finished
+
+    def _sync(self) -> None:
         for i, o in enumerate(self.scorer.objects):  # the buoys drift a little: score against where they are
             o.x_m, o.y_m = self.object_xy(f"object_{i}")
-        self.scorer.update(self.elapsed_s)
-        self._finished = self.scorer.finished
+
+    def _show(self, i: int) -> None:
+        """Object i to its offset from the WAM-V as it is now (VRX's StartTrial: the boat's position and yaw)."""
+        x, y, yaw = self.pose()
+        fwd, left = self.schedule[i][2]
+        c, s = math.cos(yaw), math.sin(yaw)
+        self.sim.bodies[f"object_{i}"].teleport((x + c * fwd - s * left, y + s * fwd + c * left, 0.0, 0.0, 0.0, yaw))
+        self._shown.add(i)
+        self._sync()
+
+    def _hide(self, i: int) -> None:
+        self.sim.bodies[f"object_{i}"].teleport((*self._stash(i), 0.0, 0.0, 0.0))
+        self._shown.discard(i)
 
     def reference_target(self):
         return Pose2D(0.0, 0.0, 0.0)

@@ -3,7 +3,8 @@ position (`/vrx/perception/landmark`: geometry_msgs/PoseStamped, class in header
 longitude in pose.position.x / .y).
 
 Per object (VRX `PerceptionScoringPlugin`): the object is active during (t, t + duration) of running
-time; each active object adds one attempt to the balance and removing it takes one away. Every report
+time (`show`/`hide` callbacks of `update` let the task move it into view and back, as VRX's StartTrial and
+EndTrial do); each active object adds one attempt to the balance and removing it takes one away. Every report
 burns one attempt (ignored at balance 0); a report of the right class sets the object's error to
 min(2.0, its error, planar distance in m) while the object is active. An object never matched keeps
 10.0. The score is the mean error per object (lower is better), final when all objects are gone; before
@@ -20,7 +21,8 @@ ERROR_CAP_M, ERROR_UNMATCHED_M = 2.0, 10.0
 
 @dataclass
 class PerceptionObject:
-    """`kind` (class name as VRX spells it, e.g. mb_marker_buoy_red), appearance time and position (world ENU)."""
+    """`kind` (class name as VRX spells it, e.g. mb_marker_buoy_red), appearance time (s of running time) and
+    position (world ENU, m: where it is, for scoring)."""
 
     kind: str
     time_s: float
@@ -57,16 +59,22 @@ class PerceptionScorer:
     def active_objects(self) -> list[PerceptionObject]:
         return [o for o in self.objects if o.active]
 
-    def update(self, elapsed_s: float) -> None:
+    def update(self, elapsed_s: float, show=None, hide=None) -> None:
+        """Objects appear and go at `elapsed_s` (s of running time), then the reports since the last update are
+        scored. `show(i)` / `hide(i)` (optional) run when object i appears / goes, before any report is scored."""
         if self.finished:
             return
-        for o in self.objects:
+        for i, o in enumerate(self.objects):
             if o.time_s < elapsed_s < o.time_s + o.duration_s and not o.active and not o.done:
                 o.active, self.balance = True, self.balance + 1
+                if show is not None:
+                    show(i)
             if elapsed_s > o.time_s + o.duration_s and o.active:
                 self.balance = max(0, self.balance - 1)
                 o.active, o.done = False, True
                 self.total += o.error_m
+                if hide is not None:
+                    hide(i)
         if all(o.done for o in self.objects):
             self.finished = True
         self._process()
