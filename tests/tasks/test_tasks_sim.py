@@ -80,3 +80,29 @@ def test_gymkhana_black_box_samples_the_whole_run_as_vrx():
     assert task.score == pytest.approx((80 + 70 + 50 + 40 + 20 + 10 + 4 * 3.0) / 10, abs=1e-9)
     assert task.collision_buffer_s == 3.0 and task.collision_penalty == 1.0
     sim.close()
+
+
+@pytest.mark.parametrize("name", ["follow_path", "gymkhana"])
+def test_collisions_count_from_the_start_as_vrx_and_cost_only_while_running(name):
+    """VRX counts a WAM-V contact in every task state (ScoringPlugin::OnContacts has no state check; vrx_gz and
+    VRX classic alike): num_collisions includes the initial and ready states, and the gymkhana's penalty (its
+    OnFinished: NumCollisions x obstacle_penalty) with it; follow the path's penalty applies while running
+    (one before is taken off a score of 0 at the first running step, floored at 0). usvsim counted only while
+    running (QA). The contact is simulated for 0.3 s of the ready state."""
+    timing = TaskTiming(initial_s=0.5, ready_s=1.0, running_s=1.0)
+    task = TASKS[name](difficulty=0, seed=0, timing=timing)
+    sim = Simulation(task.scenario(), seed=0)
+    try:
+        task.bind(sim)
+        task.in_contact = lambda: 0.8 <= sim.time <= 1.1  # in the ready state
+        while not task.finished:
+            sim.step()
+            task.update()
+        assert task.collisions.count == 1 and task.info()["num_collisions"] == 1
+        assert timing.initial_s <= task.collisions.times_s[0] < timing.start_s
+        if name == "gymkhana":
+            assert task.score == 200.0 + 1.0  # the channel not completed, + 1 per collision
+        else:
+            assert task.score == 0.0 and task.scorer.collisions == 0  # no gate, no penalty while not running
+    finally:
+        sim.close()

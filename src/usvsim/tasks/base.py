@@ -132,11 +132,16 @@ class Task:
     def update(self) -> None:
         """Call after every physics step: scores the state it reached, from the first step of the running phase
         to its last one (the state at the time limit included: that step's error was left out, so 4 s of
-        station keeping had 399 samples and a wildlife run of 5 s scored 4.99 s)."""
+        station keeping had 399 samples and a wildlife run of 5 s scored 4.99 s). Collisions are counted from the
+        start, in the initial and ready states too, as VRX's contact callback counts them in every state
+        (`ScoringPlugin::OnContacts`); penalties and progress resets (`on_collision`) apply while it runs."""
         steps = self._clock.steps
-        if steps <= self._start_step or steps > self._end_step or self._finished:
+        if steps > self._end_step or self._finished:
             return
-        if self.in_contact() and self.collisions.update(self.sim.time, True):
+        counted = self.in_contact() and self.collisions.update(self.sim.time, True)
+        if steps <= self._start_step:
+            return
+        if counted:
             self.on_collision()
         self.score_step(*self.pose())
         if steps == self._end_step and not self._finished:
