@@ -62,6 +62,57 @@ def test_sync_and_async_vector_envs_are_equal():
     assert all(np.array_equal(x, y) for x, y in zip(*results))
 
 
+class _Kicked(gymnasium.Wrapper):
+    """A worker whose boat is thrown at 500 m/s before its step: the world's divergence check stops it."""
+
+    def step(self, action):
+        self.env.unwrapped.vessel.teleport((0.0, 0.0, 0.0, 0.0, 0.0, 0.0), twist=(500.0, 0.0, 0.0, 0.0, 0.0, 0.0))
+        return self.env.step(action)
+
+
+def _station_keeping(kicked: bool):
+    from usvsim.tasks.gym import TaskEnv
+
+    return lambda: _Kicked(TaskEnv("station_keeping", time_limit_s=2.0)) if kicked else TaskEnv("station_keeping",
+                                                                                                time_limit_s=2.0)  # fmt: skip
+
+
+def test_an_error_in_an_async_worker_reaches_the_user_as_itself():
+    """Gymnasium's AsyncVectorEnv re-raises a worker's error in the main process as `type(err)(err)`, after
+    logging "Received the following error from Worker-1" with its traceback. usvsim's DivergenceError and
+    ScenarioError did not survive that (pickled with their message only, then built from one argument): the user
+    got "TypeError: DivergenceError.__init__() missing 1 required positional argument: 'time_s'", and the vector
+    env's close() then waited forever for the failed worker (QA)."""
+    from usvsim.core.errors import DivergenceError
+
+    envs = gymnasium.vector.AsyncVectorEnv([_station_keeping(False), _station_keeping(True)])
+    try:
+        envs.reset(seed=0)
+        with pytest.raises(DivergenceError, match=r"^simulation diverged: body 'wamv' at t = 0\.010 s \(speed"):
+            envs.step(np.zeros((2, 4), np.float32))
+        envs.close()  # the failed worker is shut down: closing does not wait for it
+        assert envs.closed
+    finally:
+        if not envs.closed:
+            envs.close(terminate=True)
+
+
+def test_usvsim_errors_cross_a_process_boundary_unchanged():
+    """Pickled and rebuilt from one argument (what Gymnasium's async worker and multiprocessing do), every usvsim
+    error keeps its type, text and fields."""
+    import pickle
+
+    from usvsim.core.errors import DivergenceError, InputError, ScenarioError, UnknownNameError
+
+    errors = [DivergenceError("wamv", 1.5, "(speed 700 m/s)"), ScenarioError("s.yaml", "vessels[0].name", "bad"),
+              ScenarioError("s.yaml", "", "not a mapping"), InputError("a pose has 6 numbers"),
+              UnknownNameError("no body named 'x'")]  # fmt: skip
+    for err in errors:
+        for again in (pickle.loads(pickle.dumps(err)), type(err)(err), type(err)(pickle.loads(pickle.dumps(err)))):
+            assert type(again) is type(err) and str(again) == str(err)
+            assert vars(again) == vars(err)
+
+
 def test_the_chase_view_draws_the_sea_of_now():
     """`render()` shows the waves at the current time of the current episode: the same frame whatever was
     rendered before (it drew the height field its GL context got when it was made, stale ever after)."""

@@ -12,13 +12,19 @@ class UsvsimError(Exception):
 class ScenarioError(UsvsimError):
     """A scenario file is invalid. Names the file, the key path and what is wrong."""
 
-    def __init__(self, source: str, key_path: str, message: str):
-        source, key_path, message = source[:200], key_path[:200], message[:MAX_MESSAGE_CHARS]
+    def __init__(self, source, key_path: str | None = None, message: str | None = None):
+        if key_path is None and message is None:  # one argument: an error of this kind (or its text) made again, as a
+            other = source  # process boundary does (pickle; Gymnasium's async vector env raises type(err)(err))
+            source, key_path, message = ((other.source, other.key_path, other.message) if isinstance(other, ScenarioError)
+                                         else ("", "", str(other)))  # fmt: skip
+        source, key_path, message = str(source)[:200], str(key_path)[:200], str(message)[:MAX_MESSAGE_CHARS]
         self.source = source
         self.key_path = key_path
         self.message = message
-        where = f"{source}: {key_path}: " if key_path else f"{source}: "
-        super().__init__(where + message)
+        super().__init__(": ".join(part for part in (source, key_path, message) if part))
+
+    def __reduce__(self):
+        return type(self), (self.source, self.key_path, self.message)
 
 
 class MeshError(UsvsimError):
@@ -28,10 +34,22 @@ class MeshError(UsvsimError):
 class DivergenceError(UsvsimError):
     """The numerical state became non-finite. Names the body and the simulation time."""
 
-    def __init__(self, body: str, time_s: float, detail: str = ""):
+    def __init__(self, body, time_s: float | None = None, detail: str = ""):
+        if time_s is None:  # one argument: an error of this kind (or its text) made again across a process boundary
+            other = body
+            self.body, self.time_s, self.detail = ((other.body, other.time_s, other.detail)
+                                                   if isinstance(other, DivergenceError) else (None, None, ""))  # fmt: skip
+            super().__init__(str(other))
+            return
         self.body = body
         self.time_s = time_s
+        self.detail = detail
         super().__init__(f"simulation diverged: body '{body}' at t = {time_s:.3f} s {detail}".rstrip())
+
+    def __reduce__(self):
+        if self.time_s is None:
+            return type(self), (str(self),)
+        return type(self), (self.body, self.time_s, self.detail)
 
 
 class InputError(UsvsimError, ValueError):
