@@ -198,3 +198,40 @@ def test_render_fps_is_the_control_rate():
     assert env.metadata["render_fps"] == 5.0
     assert usvsim.tasks.gym.TaskEnv.metadata["render_fps"] == 10  # the class default is left as it was
     env.close()
+
+
+BAD_ENV_KWARGS = [{"time_limit_s": math.nan}, {"time_limit_s": 0.001}, {"action_type": "thrust"},
+                  {"observation": ("state", "radar")}, {"task": "perception"}, {"control_rate_hz": 7.0},
+                  {"render_mode": "rgb_aray"}, {"difficulty": 1.5}, {"sea_state": 12}, {"numba_threads": 0}]  # fmt: skip
+
+
+@pytest.mark.parametrize("kwargs", BAD_ENV_KWARGS)
+def test_the_arguments_check_says_what_the_env_says(kwargs):
+    """`check_arguments` (no simulation built) refuses what `TaskEnv` refuses, in the same words."""
+    with pytest.raises(ValueError) as made:
+        usvsim.tasks.gym.TaskEnv(**({"time_limit_s": 1.0} | kwargs))
+    with pytest.raises(ValueError) as checked:
+        usvsim.tasks.gym.check_arguments(**({"time_limit_s": 1.0} | kwargs))
+    assert str(checked.value) == str(made.value)
+
+
+def test_vector_env_names_the_env_whose_arguments_are_bad():
+    """Given to gymnasium's AsyncVectorEnv, an env that fails to build in its worker kills the worker: the user
+    saw 'ConnectionResetError: [Errno 104] Connection reset by peer' (the worker's ValueError only on stderr).
+    `usvsim.tasks.gym.vector_env` checks every env's arguments in the calling process first (QA)."""
+    good = {"task": "station_keeping", "time_limit_s": 1.0}
+    for bad, words in (({"difficulty": 7}, "difficulty must be one of [0, 1, 2], not 7"),
+                       ({"dificulty": 1}, "got an unexpected keyword argument 'dificulty'; TaskEnv takes task, ")):  # fmt: skip
+        with pytest.raises(ValueError) as info:
+            usvsim.tasks.gym.vector_env([good, good | bad])
+        assert str(info.value).startswith(f"env_kwargs[1]: {words}")
+    with pytest.raises(ValueError, match="vectorization_mode must be 'async' or 'sync', not 'asnyc'"):
+        usvsim.tasks.gym.vector_env([good], vectorization_mode="asnyc")
+    for mode in ("sync", "async"):  # good arguments: the same vector env as gymnasium's own
+        envs = usvsim.tasks.gym.vector_env([good, good | {"difficulty": 1}], vectorization_mode=mode)
+        try:
+            obs, _ = envs.reset(seed=[3, 4])
+            obs, reward, *_ = envs.step(np.zeros((2, 4), np.float32))
+            assert obs.shape == (2, envs.single_observation_space.shape[0]) and reward.shape == (2,)
+        finally:
+            envs.close()

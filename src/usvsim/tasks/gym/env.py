@@ -23,7 +23,7 @@ import gymnasium as gym
 import numpy as np
 from gymnasium import spaces
 
-from usvsim.core.clock import steps_per_period
+from usvsim.core.clock import period_ns, steps_per_period
 from usvsim.core.errors import UsvsimError
 from usvsim.tasks.gym.observations import SENSORS, sensor_arrays, sensor_configs, sensor_spaces
 from usvsim.tasks.library import TASKS
@@ -149,6 +149,35 @@ class TaskEnv(gym.Env):
         head = [u, w, float(s.omega_body[i, 2]), roll, pitch]
         thrust = (self.sim.thrusters.thrust[self._thruster_ids] / self._max_thrust).tolist()
         return np.array(head + thrust + self.task.features().tolist(), dtype=np.float32)
+
+
+def check_arguments(**kwargs) -> None:
+    """ValueError naming what is wrong with `TaskEnv(**kwargs)`, without building its simulation: what an env
+    checks when it is made (a bad difficulty, observation, time limit, control rate, an unknown argument)."""
+    import inspect
+
+    try:
+        bound = inspect.signature(TaskEnv).bind(**kwargs)
+    except TypeError as exc:  # "got an unexpected keyword argument 'dificulty'"
+        raise ValueError(f"{exc}; TaskEnv takes {', '.join(inspect.signature(TaskEnv).parameters)}") from None
+    bound.apply_defaults()
+    a = bound.arguments
+    observation = (a["observation"],) if isinstance(a["observation"], str) else tuple(a["observation"])
+    _check_options(a["task"], a["action_type"], observation, a["time_limit_s"])
+    if a["render_mode"] not in (None, *TaskEnv.metadata["render_modes"]):
+        raise ValueError(f"render_mode must be None or 'rgb_array', not {a['render_mode']!r}")
+    threads = a["numba_threads"]
+    if threads is not None and (isinstance(threads, bool) or not isinstance(threads, int) or threads < 1):
+        raise ValueError(f"numba_threads must be a positive integer (or None), not {threads!r}")
+    try:
+        task = TASKS[a["task"]](a["difficulty"], 0, TaskTiming(running_s=a["time_limit_s"]), a["sea_state"])
+    except UsvsimError as exc:
+        raise ValueError(str(exc)) from None
+    step_ns = period_ns(task.scenario().world.physics_rate_hz)
+    steps_per_period(a["control_rate_hz"], step_ns)
+    if round(a["time_limit_s"] * 1e9 / step_ns) == 0:
+        raise ValueError(f"the running time {a['time_limit_s']:g} s is shorter than one physics step "
+                         f"({step_ns / 1e9:g} s): nothing would be scored")  # fmt: skip
 
 
 def _check_options(task: str, action_type: str, observation: tuple, time_limit_s: float) -> None:
