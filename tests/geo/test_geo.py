@@ -51,7 +51,13 @@ def test_latlon_and_heading_place_objects_where_pymap3d_says(place):
                                                 "pose": {"latlon": [lat, lon], "heading_deg": 45.0}}]))
     x, y, _ = pymap3d.geodetic2enu(lat, lon, 0.0, *ORIGIN)
     pose = sim.scenario.vessels[0].pose
-    assert pose.position[:2] == pytest.approx((x, y), abs=1e-3) and pose.yaw_deg == pytest.approx(45.0)
+    assert pose.position[:2] == pytest.approx((x, y), abs=1e-3)
+    yaw = np.radians(pose.yaw_deg)  # a compass heading at the placed point: 1 m along the bow, pyproj's azimuth
+    lat2, lon2, _ = pymap3d.enu2geodetic(x + np.cos(yaw), y + np.sin(yaw), 0.0, *ORIGIN)
+    from pyproj import Geod
+
+    assert Geod(ellps="WGS84").inv(lon, lat, lon2, lat2)[0] == pytest.approx(45.0, abs=1e-5)
+    assert pose.yaw_deg == pytest.approx(45.0 + 6.2e-4, abs=1e-5)  # 41 m east of the origin the meridian has turned
     assert sim.vessels["wamv"].position[:2] == pytest.approx((x, y), abs=0.05)
     marks = {o.name: o for o in sim.scenario.objects}
     assert marks["mark0_0"].color == "green" and marks["mark0_0"].position[:2] == pytest.approx((20, 10), abs=1e-3)

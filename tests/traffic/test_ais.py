@@ -164,3 +164,37 @@ def test_static_report_dimensions_decode_to_the_configured_length_and_beam(ais_c
         assert msg["partno"] == 1
     assert (msg["to_bow"] + msg["to_stern"], msg["to_port"] + msg["to_starboard"]) == expected
     assert abs(msg["to_bow"] - msg["to_stern"]) <= 1 and abs(msg["to_port"] - msg["to_starboard"]) <= 1  # midship
+
+
+def test_true_bearings_turn_with_the_meridians_as_pyproj_geod_measures():
+    """The true bearing of a world direction, away from the origin, against pyproj's geodesic azimuth between the
+    point and a point 1 m along that direction (both through pymap3d); and grid_bearing_deg inverts it."""
+    geod = pytest.importorskip("pyproj").Geod(ellps="WGS84")
+    rng = np.random.default_rng(2)
+    for lat0, lon0 in ((59.42, 10.43), (-33.9, 151.2), (0.0, 0.0), (78.2, 15.6)):
+        for e, n in rng.uniform(-20_000, 20_000, (10, 2)):
+            grid = rng.uniform(0.0, 360.0)
+            g = math.radians(grid)
+            lat, lon, _ = pymap3d.enu2geodetic(e, n, 0.0, lat0, lon0, 0.0)
+            lat2, lon2, _ = pymap3d.enu2geodetic(e + math.sin(g), n + math.cos(g), 0.0, lat0, lon0, 0.0)
+            azimuth = geod.inv(lon, lat, lon2, lat2)[0] % 360.0
+            got = float(ais.true_bearing_deg(lat, lon, grid, lat0, lon0))
+            assert abs((got - azimuth + 180.0) % 360.0 - 180.0) < 1e-5, (lat0, e, n, grid, got, azimuth)
+            back = float(ais.grid_bearing_deg(lat, lon, got, lat0, lon0))
+            assert abs((back - grid + 180.0) % 360.0 - 180.0) < 1e-9
+    lat, lon, _ = pymap3d.enu2geodetic(20_000.0, 0.0, 0.0, 59.4, 10.4, 0.0)  # 20 km east, 59.4° N: the y axis
+    assert float(ais.true_bearing_deg(lat, lon, 0.0, 59.4, 10.4)) == pytest.approx(0.30, abs=0.01)  # points east of north
+
+
+def test_far_ships_report_true_course_and_heading(scenario_of):
+    """A ship 20 km east of the origin sailing along the world's y axis: AIS (decoded with pyais) says its true
+    course and heading, 0.3° east of north there, not 0.0 (the y axis is true north at the origin only)."""
+    ship = {"name": "far", "mmsi": 257000009, "motion": {"type": "constant", "position": [20_000, 0], "course_deg": 0,
+                                                         "speed_mps": 10 * KN}}  # fmt: skip
+    sim = Simulation(scenario_of({"world": {"physics_rate_hz": 20, "origin": {"latitude_deg": 59.4, "longitude_deg": 10.4}},
+                                  "outputs": {"recording": {"clock_rate_hz": 10, "ground_truth_rate_hz": 10}},
+                                  "vessels": [{"name": "wamv", "model": "wamv"}], "traffic": {"ships": [ship]}}))  # fmt: skip
+    reports = [decode(s).asdict() for _, s in collect(sim, 12.0)]
+    positions = [r for r in reports if r["msg_type"] == 1]
+    assert positions and all(r["course"] == pytest.approx(0.3, abs=0.051) for r in positions)
+    sim.close()

@@ -16,6 +16,7 @@ from usvsim.config.scenario import Scenario
 from usvsim.core.errors import ScenarioError
 from usvsim.geo.frame import GeoFrame
 from usvsim.geo.vector import read_features
+from usvsim.traffic.ais import grid_bearing_deg
 
 if TYPE_CHECKING:
     from usvsim.geo.scene import GeoScene
@@ -121,7 +122,10 @@ def _place(section, frame: GeoFrame, where: str, path: str):
     if getattr(section, "heading_deg", None) is not None:
         if "yaw_deg" in section.model_fields_set:
             raise ScenarioError(where, f"{path}.heading_deg", "give either heading_deg or yaw_deg, not both")
-        update["yaw_deg"] = 90.0 - section.heading_deg  # compass (CW from north) → ENU yaw (CCW from east)
+        x, y = update.get("position", section.position)[:2]  # the compass's north there: the world's y axis turned
+        lat, lon = frame.to_geodetic(x, y)[0, :2]  # by the meridians' convergence (0.3° 20 km east, at 59° N)
+        grid = float(grid_bearing_deg(lat, lon, section.heading_deg, *frame.origin[:2]))
+        update["yaw_deg"] = 90.0 - grid  # compass (CW from north) → ENU yaw (CCW from east)
     return section.model_copy(update=update)
 
 

@@ -26,6 +26,7 @@ import functools
 import math
 from dataclasses import dataclass
 
+import numpy as np
 from pyais.encode import encode_dict
 
 KNOT_MPS = 1852.0 / 3600.0
@@ -186,6 +187,36 @@ def enu_to_latlon(east_m: float, north_m: float, lat0_deg: float, lon0_deg: floa
     return math.degrees(lat), math.degrees(math.atan2(y, x))
 
 
-def heading_deg(yaw_enu_rad: float) -> int:
-    """True heading in whole degrees (0..359) of an ENU yaw."""
-    return int(round(math.degrees(0.5 * math.pi - yaw_enu_rad))) % 360
+def _north_east(lat_deg, lon_deg):
+    """Unit vectors (ECEF) of true north and east at geodetic (lat, lon) degrees (arrays broadcast)."""
+    phi, lam = np.radians(lat_deg), np.radians(lon_deg)
+    sp, cp, sl, cl = np.sin(phi), np.cos(phi), np.sin(lam), np.cos(lam)
+    return np.stack([-sp * cl, -sp * sl, cp], axis=-1), np.stack([-sl, cl, np.zeros_like(sl)], axis=-1)
+
+
+def true_bearing_deg(lat_deg, lon_deg, grid_deg, lat0_deg: float, lon0_deg: float):
+    """True bearing (degrees clockwise from true north, [0, 360)) at the point (lat, lon) of the world's horizontal
+    direction whose grid bearing is `grid_deg` (degrees clockwise from the world's y axis, which is true north at
+    the origin (lat0, lon0) only). The meridians converge: 20 km east of an origin at 59.4° N true north is 0.30°
+    west of the y axis (Δλ·sin φ to first order), more than an AIS course's 0.1° resolution. Exact for the ENU
+    tangent plane: the direction is taken in ECEF and measured in the point's own north-east plane."""
+    n0, e0 = _north_east(lat0_deg, lon0_deg)
+    n, e = _north_east(lat_deg, lon_deg)
+    g = np.radians(grid_deg)
+    d = np.sin(g)[..., None] * e0 + np.cos(g)[..., None] * n0
+    return np.degrees(np.arctan2((d * e).sum(-1), (d * n).sum(-1))) % 360.0
+
+
+def grid_bearing_deg(lat_deg, lon_deg, true_deg, lat0_deg: float, lon0_deg: float):
+    """Inverse of `true_bearing_deg`: the grid bearing (degrees clockwise from the world's y axis, [0, 360)) of the
+    direction at (lat, lon) whose true bearing is `true_deg` (to ~1e-12 degrees within the world's limits)."""
+    grid = np.asarray(true_deg, dtype=float)
+    for _ in range(3):  # the map is a rotation by the convergence, up to a distortion of ~(d/R)²: converges at once
+        grid = grid - (((true_bearing_deg(lat_deg, lon_deg, grid, lat0_deg, lon0_deg) - true_deg) + 180.0) % 360.0
+                       - 180.0)  # fmt: skip
+    return grid % 360.0
+
+
+def heading_deg(true_deg: float) -> int:
+    """An AIS true heading in whole degrees (0..359) from a true bearing in degrees."""
+    return int(round(true_deg)) % 360

@@ -136,8 +136,9 @@ class AisPublisher:
             x, y = x + float(noise[0]), y + float(noise[1])
         o = self.origin
         lat, lon = ais.enu_to_latlon(x, y, o.latitude_deg, o.longitude_deg, o.altitude_m)
-        cog = math.degrees(math.atan2(vx, vy)) % 360.0
-        report = ais.Report(t.mmsi, lat, lon, sog_kn, cog, ais.heading_deg(yaw), int(now) % 60, moored)
+        grid = (math.degrees(math.atan2(vx, vy)), 90.0 - math.degrees(yaw))  # course and heading, from the y axis
+        cog, hdg = ais.true_bearing_deg(lat, lon, np.array(grid), o.latitude_deg, o.longitude_deg).tolist()
+        report = ais.Report(t.mmsi, lat, lon, sog_kn, cog, ais.heading_deg(hdg), int(now) % 60, moored)
         return interval, [ais.position_sentence(report, t.ais_class)]
 
     def _publish(self, world: World, sentences: list[str], publish: bool) -> list[Envelope]:

@@ -20,6 +20,7 @@ import pymap3d
 from usvsim.config import traffic as cfg
 from usvsim.config.base import MAX_COORDINATE_M
 from usvsim.core.errors import ScenarioError
+from usvsim.traffic.ais import grid_bearing_deg
 
 KNOT_MPS = 1852.0 / 3600.0
 AIS_NO_HEADING = 511
@@ -187,9 +188,11 @@ def read_ais_csv(path: Path, origin, source: str = "", key: str = "") -> Track:
     if np.any(far):
         raise ScenarioError(source, key, f"{path}: row {_first(far, lines)} is more than {MAX_COORDINATE_M / 1000:.0f} km "
                             "from the world origin (world.origin)")  # fmt: skip
-    course = np.radians(cog)
+    # true course and heading → bearings from the world's y axis (north at the origin only: ais.grid_bearing_deg)
+    lat0, lon0 = origin.latitude_deg, origin.longitude_deg
+    course = np.radians(grid_bearing_deg(lat, lon, cog, lat0, lon0))
     vel = (sog * KNOT_MPS)[:, None] * np.stack([np.sin(course), np.cos(course)], axis=1)
-    heading = np.where(hdg == AIS_NO_HEADING, cog, hdg)
+    heading = grid_bearing_deg(lat, lon, np.where(hdg == AIS_NO_HEADING, cog, hdg), lat0, lon0)
     yaw = 0.5 * np.pi - np.radians(heading)
     return hermite_track(t, np.stack([e, n], axis=1), vel, yaw)
 
