@@ -43,7 +43,22 @@ class MassProperties(Section):
 
     mass_kg: MassKg | None = None
     com: Vec3 | None = Field(default=None, description="centre of mass in base_link (FLU), m")
-    inertia: Inertia3 | None = Field(default=None, description="principal moments about the CoM along FLU axes, kg m^2")
+    inertia: Inertia3 | None = Field(default=None, description="principal moments about the CoM along FLU axes, kg m^2; "
+                                     "a rigid body's satisfy A + B >= C for every order")
+
+    @model_validator(mode="after")
+    def _rigid_body_inertia(self):
+        # any mass distribution has I_xx + I_yy >= I_zz (and the other two orders): MuJoCo refuses the rest with a
+        # traceback at the build ("inertia must satisfy A + B >= C"); equal sums are a flat body and allowed
+        if self.inertia is not None:
+            a = self.inertia
+            for i, j, k in ((0, 1, 2), (1, 2, 0), (2, 0, 1)):
+                if a[i] + a[j] < a[k]:
+                    axes = "xyz"
+                    raise KeyedValueError("inertia", f"no rigid body has these principal moments: I_{axes[i]} + "
+                                          f"I_{axes[j]} = {a[i] + a[j]:g} is below I_{axes[k]} = {a[k]:g} kg m² "
+                                          f"(got {list(a)}); each moment must be at most the sum of the other two")
+        return self
 
 
 class StateSpaceDrag(Section):
