@@ -53,7 +53,7 @@ class Simulation:
         self.controllers = Names("controller", {name: control_loop(world, name, c)
                                                 for name, c in self._controller_configs.items()})  # fmt: skip
         rec = scenario.outputs.recording
-        self.ground_truth = GroundTruth(world, rec.clock_rate_hz, rec.ground_truth_rate_hz)
+        self.ground_truth = GroundTruth(world, *rec.rates_hz(world.clock.step_ns))
         self.traffic = Traffic(world, self.controllers)  # other ships: tracks, pilots, awareness, AIS
         # the vessels' recent tracks for the drawn wakes (rendering/wakes.py); the world carries them to the cameras
         world.traffic = self.traffic  # the renderer evaluates the traffic ships' tracks (lamps, wakes)

@@ -73,6 +73,8 @@ EXTREMES = [  # (name, expectation, dotted path, value)
     ("inertia_negative", "error", "vessels.0.mass.inertia", [-1.0, 20.0, 25.0]),
     ("inertia_two", "error", "vessels.0.mass.inertia", [1.0, 2.0]),
     ("inertia_of_no_rigid_body", "error", "vessels.0.mass.inertia", [1.0, 1.0, 100.0]),  # was MuJoCo's traceback
+    ("rate_50hz", "ok", "world.physics_rate_hz", 50),  # was refused for the default 100 Hz /clock
+    ("rate_250hz", "ok", "world.physics_rate_hz", 250),
     ("mesh_scale_1e30", "error", "vessels.0.mesh_scale", 1e30), ("mesh_scale_tiny", "error", "vessels.0.mesh_scale", 1e-30),
     ("position_1e9", "error", "vessels.0.pose.position", [1e9, 0.0, 0.0]),
     ("yaw_1e20", "error", "vessels.0.pose.yaw_deg", 1e20),

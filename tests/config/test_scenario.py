@@ -46,6 +46,25 @@ def test_errors_name_the_key_path(scenario_of, data, path, words):
     assert words in err.value.message
 
 
+@pytest.mark.parametrize("physics_hz, clock_hz, truth_hz", [
+    (20, 20.0, 20.0), (50, 50.0, 50.0), (100, 100.0, 50.0), (125, 62.5, 41.666666666666664), (250, 250 / 3, 50.0),
+    (1000, 100.0, 50.0),
+])  # fmt: skip
+def test_output_rates_left_out_fit_the_physics_step(physics_hz, clock_hz, truth_hz):
+    """/clock and ground truth left at their defaults run at 100 and 50 Hz or the nearest rate below that the step
+    allows: fixed defaults of 100 and 50 Hz refused every physics rate below 100 Hz (and 125, 250 Hz) with an
+    error about keys the file did not have."""
+    scenario = {"version": 1, "world": {"physics_rate_hz": physics_hz}, "vessels": [{"name": "a", "model": "otter"}]}
+    sim = Simulation(scenario)
+    try:
+        step_ns = sim.world.clock.step_ns
+        assert sim.scenario.outputs.recording.rates_hz(step_ns) == pytest.approx((clock_hz, truth_hz), rel=1e-12)
+        assert (sim.ground_truth.clock_every, sim.ground_truth.odom_every) == (
+            round(1e9 / clock_hz / step_ns), round(1e9 / truth_hz / step_ns))
+    finally:
+        sim.close()
+
+
 def test_version_is_required(scenario_of):
     from usvsim.config.loader import parse_scenario
 

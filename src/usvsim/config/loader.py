@@ -232,7 +232,8 @@ def _check_rates(scenario: Scenario, source: str) -> None:
     except ValueError as exc:
         raise ScenarioError(source, "world.physics_rate_hz", str(exc)) from None
     rates = [(f"outputs.recording.{key}", getattr(scenario.outputs.recording, key))
-             for key in ("clock_rate_hz", "ground_truth_rate_hz")]  # fmt: skip
+             for key in ("clock_rate_hz", "ground_truth_rate_hz")
+             if getattr(scenario.outputs.recording, key) is not None]  # null: fitted to the step  # fmt: skip
     rates += [(f"vessels[{i}].controller.rate_hz", v.controller.rate_hz)
               for i, v in enumerate(scenario.vessels) if v.controller]  # fmt: skip
     rates += [(f"vessels[{i}].sensors[{k}].rate_hz", sensor.rate_hz)

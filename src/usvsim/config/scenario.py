@@ -13,6 +13,7 @@ from usvsim.config.objects import WorldObject
 from usvsim.config.rendering import Rendering
 from usvsim.config.traffic import Traffic
 from usvsim.config.vessel import Vessel
+from usvsim.core.clock import rate_at_most
 
 RESERVED_NAMES = {"world"}  # TF's world frame, MuJoCo's body 0, the static objects in LiDAR `reflectivity`
 
@@ -52,8 +53,19 @@ class Recording(Section):
         description="MCAP file written by `usvsim run` without --record (which overrides it); a relative path is "
         "taken from the working directory, like --record's (not from the scenario file, unlike meshes)",
     )
-    clock_rate_hz: PositiveFloat = 100.0
-    ground_truth_rate_hz: PositiveFloat = 50.0
+    clock_rate_hz: PositiveFloat | None = Field(
+        default=None, description="/clock rate, Hz; null: 100 Hz, or the nearest rate below whose period is a whole "
+        "number of physics steps (every step when the physics runs below 100 Hz)")
+    ground_truth_rate_hz: PositiveFloat | None = Field(
+        default=None, description="ground-truth odometry and TF rate, Hz; null: 50 Hz, or the nearest rate below "
+        "whose period is a whole number of physics steps (every step when the physics runs below 50 Hz)")
+
+    def rates_hz(self, step_ns: int) -> tuple[float, float]:
+        """(clock, ground truth) rates at a physics step of `step_ns`: the given ones, or the defaults fitted to the
+        step (fixed 100 and 50 Hz refused every physics rate below 100 Hz and rates such as 250 Hz)."""
+        clock = self.clock_rate_hz if self.clock_rate_hz is not None else rate_at_most(100.0, step_ns)
+        truth = self.ground_truth_rate_hz if self.ground_truth_rate_hz is not None else rate_at_most(50.0, step_ns)
+        return clock, truth
 
 
 class Tf(Section):

@@ -23,6 +23,13 @@ def period_ns(rate_hz: float) -> int:
     return rounded
 
 
+def rate_at_most(rate_hz: float, step_ns: int) -> float:
+    """The highest rate not above `rate_hz` whose period is a whole number of physics steps (every step when the
+    physics is slower): what an output left at its default runs at."""
+    steps = max(1, math.ceil(NS_PER_S / rate_hz / step_ns - 1e-9))
+    return NS_PER_S / (steps * step_ns)
+
+
 def _digits(rate_hz: float) -> str:
     """A rate with the digits it needs to pass `steps_per_period` when copied (33.3333 is 1e-6 off 30 ms: refused)."""
     return f"{rate_hz:.10g}"
