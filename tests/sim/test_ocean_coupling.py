@@ -96,3 +96,29 @@ def test_wind_alone_pushes_the_boat_downwind(scenario_of):
     assert np.linalg.norm(v) > 0.05
     downwind = np.array([math.cos(math.radians(240.0)), math.sin(math.radians(240.0))])
     assert v @ downwind / np.linalg.norm(v) > 0.8
+
+
+def test_fossen_hull_pitches_with_the_slope_of_a_long_swell(scenario_of):
+    """A 2 m hull in a 200 m regular wave pitches with the surface slope a k (the long-wave limit, RAO -> 1: the
+    state-space Otter does, 0.997). Fossen's added mass acts on the acceleration relative to the water; with the
+    water's part of its armature share missing, the Otter with Fossen's model pitched at 0.93 of the slope."""
+    a, wavelength = 0.5, 200.0
+    k = 2 * math.pi / wavelength
+    omega = math.sqrt(9.81 * k)
+    sc = scenario_of({
+        "environment": {"ramp_time_s": 5.0, "sea": {"type": "regular", "components": [
+            {"amplitude_m": a, "wavelength_m": wavelength}]}},
+        "vessels": [{"name": "o", "model": "otter", "hydrodynamics": {"type": "fossen", "parameters": "otter"}}],
+    })  # fmt: skip
+    sim = Simulation(sc)
+    boat = sim.vessels["o"]
+    sim.run(25.0)
+    times, pitch = [], []
+    for _ in range(round(2 * (2 * math.pi / omega) / 0.01)):  # two wave periods
+        sim.step()
+        times.append(sim.time)
+        pitch.append(boat.rpy[1])
+    times, pitch = np.asarray(times), np.asarray(pitch)
+    amplitude = 2 * abs(np.mean((pitch - pitch.mean()) * np.exp(1j * omega * times)))
+    assert amplitude / (a * k) == pytest.approx(1.0, abs=0.015)  # 0.997 (0.933 before)
+    sim.close()

@@ -52,6 +52,7 @@ class MarineModels:
         # MuJoCo's constant diagonal of M without any armature: a "simple" body (free joint, principal axes along
         # its frame) takes its mass matrix from dof_M0, made at compile time, and ignores a later dof_armature
         self._dof_m0 = np.array(mj_model.dof_M0) - np.array(mj_model.dof_armature)
+        self._water_prev: np.ndarray | None = None  # water velocity at the CoMs on the last step (world, m/s)
         self._rebuild()
 
     # -- choosing models ----------------------------------------------------------------------
@@ -76,6 +77,7 @@ class MarineModels:
             self._kerner = KernerForces(self.hulls, configs, [b.mass_kg for b in self.bodies],
                                         rho_water=self.rho, rho_air=self.rho_air)  # fmt: skip
         self._fossen = self._build_fossen()
+        self._water_prev = None  # model histories restart
         self._build_wind()
         self._tail = None  # the bound arguments of `tail`, made again after every rebuild
         self._voxel_index = [i for i, b in enumerate(self.buoyancy) if isinstance(b, VoxelBuoyancy)]
@@ -103,6 +105,24 @@ class MarineModels:
             coriolis.append(ma - np.diag(np.r_[implicit[:3], 0.0, 0.0, 0.0]))
         self._set_armature(armature)
         return FossenForces(params, self.com_body, at_com=(np.array(explicit), np.array(coriolis)))
+
+    def _water_added_mass(self, rot: np.ndarray, water_vel_com: np.ndarray, dt: float) -> None:
+        """Fossen's added-mass force is -M_A ν̇_r, on the acceleration relative to the water; MuJoCo's armature
+        takes its translational part on the hull's own acceleration and the explicit rest sees ν̇_r, so the
+        armature's share of -M_A (-a_water) was missing: add A · a_water (world; a_water the finite difference of
+        the water velocity at the CoM along its path, one step lagged; faded with the damping by immersion_scale,
+        as the armature is). A hull in waves then carries the water's added-mass (diffraction) force: without it the
+        Otter with Fossen's model followed the slope of a 300 m swell at 0.93 of its pitch, the Otter's sway
+        added mass (half of it in the horizontal armature) holding back its surge. Nothing in still water or a
+        steady current."""
+        prev, self._water_prev = self._water_prev, np.array(water_vel_com, dtype=float)
+        if prev is None or prev.shape != self._water_prev.shape:
+            return
+        acc = (self._water_prev - prev) / dt
+        if not acc.any():
+            return
+        force = self._armature.reshape(-1, 6)[:, :3] * acc  # world frame
+        self.body_wrench[:, :3] += np.einsum("bji,bj->bi", rot, force)  # into the body frame (FLU)
 
     def _set_armature(self, armature: np.ndarray) -> None:
         self._armature, self._armature_scale = armature.copy(), np.ones(len(self._dof_adr))
@@ -188,6 +208,7 @@ class MarineModels:
         statespace.drag_wrench(self._state_space, state.nu, self.body_wrench)
         if self._fossen is not None:
             self.body_wrench += self._fossen.compute(state.nu, dt)
+            self._water_added_mass(state.rot, water_vel_com, dt)
         immersion_scale(self.displaced_volume_m3, self.rest_volume, self.body_wrench)  # none on a hull in the air
         if self._fossen is not None:
             self._fade_armature(self.displaced_volume_m3)
@@ -243,6 +264,7 @@ class MarineModels:
         self._tail = None
         if self._kerner is not None:
             self._kerner.reset()
+        self._water_prev = None
         if self._fossen is not None:
             self._fossen.reset()
             self._set_armature(self._armature)
