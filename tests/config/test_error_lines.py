@@ -33,6 +33,9 @@ def test_a_realization_error_has_no_branch_name_in_its_path(realization, path):
     ({"vessels": [{"name": "a", "model": "wamv", "mass": {"mass_kg": -5}}]}, "vessels[0].mass.mass_kg",
      "greater than or equal to 0.001 (got -5; allowed: ≥ 0.001, ≤ 1000000000)"),  # the bound alone named no value
     ({"world": {"physics_rate_hz": 1e9}}, "world.physics_rate_hz", "(got 1000000000.0; allowed: ≥ 20, ≤ 10000)"),
+    ({"vessels": [{"name": "a", "model": "wamv", "water_sampling": {"mode": "patch"},
+                   "buoyancy": {"type": "triangles", "wave_pressure": "froude_krylov"}}]},
+     "vessels[0].buoyancy.wave_pressure", "froude_krylov needs water_sampling.mode: direct"),  # was ignored
     ({"vessels": [{"name": "my boat", "model": "wamv"}]}, "vessels[0].name",
      "should start with a letter and hold only letters, digits and '_' (got 'my boat')"),  # was the regex
     ({"vessels": [{"name": "a", "model": "wamv", "sensors": [{"type": "imu", "name": "i", "topic": "/bad topic"}]}]},

@@ -96,7 +96,7 @@ class TriangleBuoyancy(Section):
     dynamic part decaying with depth as e^{kz} (cosh at finite depth) with Wheeler stretching, so short waves
     excite a hull less, as in reality (ocean/pressure.py). `hydrostatic`: the column under the local surface,
     ρ g (η - z) (every wave acts as an infinitely long one). Same in calm water. Vessels with
-    `water_sampling.mode: patch` always use `hydrostatic`.
+    `water_sampling.mode: patch` always use `hydrostatic` (naming `froude_krylov` with it is an error).
     """
 
     type: Literal["triangles"] = "triangles"
@@ -192,6 +192,12 @@ class Vessel(Section):
             raise KeyedValueError("hull_mesh", f"'hull_mesh' is only for model 'custom' (model is '{self.model}')")
         if self.model != "custom" and self.mesh_scale != 1.0:  # a library hull is built to its size (was ignored)
             raise KeyedValueError("mesh_scale", f"'mesh_scale' is only for model 'custom' (model is '{self.model}')")
+        if (self.water_sampling.mode == "patch" and isinstance(self.buoyancy, TriangleBuoyancy)
+                and "wave_pressure" in self.buoyancy.model_fields_set and self.buoyancy.wave_pressure == "froude_krylov"):
+            # it was taken and ignored: a patch interpolates surface heights only, so patch vessels use `hydrostatic`
+            raise KeyedValueError("buoyancy.wave_pressure", "froude_krylov needs water_sampling.mode: direct (a patch "
+                                  "interpolates surface heights only, and patch vessels use hydrostatic); set "
+                                  "wave_pressure: hydrostatic, or mode: direct")  # fmt: skip
         for kind, names in (("thruster", [t.name for t in self.thrusters or ()]), ("sensor", [s.name for s in self.sensors])):
             repeat = next((i for i, name in enumerate(names) if name in names[:i]), None)
             if repeat is not None:
