@@ -141,8 +141,15 @@ class Body:
         return self._world.marine.buoyancy[self.index]
 
     def set_buoyancy(self, model) -> None:
-        """Switch the buoyancy model now; `model` is a section or a dict like {"type": "voxels"}."""
-        self._world.marine.set_buoyancy(self.index, _validated(model, Buoyancy, "buoyancy"))
+        """Switch the buoyancy model now; `model` is a section or a dict like {"type": "voxels"}. A model that cannot
+        be built for this hull (voxels too fine) raises InputError and leaves the current one."""
+        section = _validated(model, Buoyancy, "buoyancy")
+        try:
+            self._world.marine.set_buoyancy(self.index, section)
+        except InputError:
+            raise
+        except ValueError as exc:  # voxelize.check_grid: a bare ValueError, and the model was switched half
+            raise InputError(f"buoyancy {model!r}: {exc}") from None
         self._world.settle_hydrostatics()  # displaced_volume reads the new model at once
 
 

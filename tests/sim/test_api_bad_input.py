@@ -89,6 +89,7 @@ def test_a_bad_velocity_reference_is_refused_and_does_not_stall_the_controller()
         ("set_hydrodynamics", {"type": "kerner", "slamming_scale": math.nan}, "slamming_scale: Input should be a fin"),
         ("set_buoyancy", "voxels", "give a dict like {'type': ...} (type one of 'triangles', 'voxels')"),
         ("set_buoyancy", {"type": "voxel"}, "unknown type 'voxel'"),
+        ("set_buoyancy", {"type": "voxels", "voxel_size_m": 1e-4}, "cells over the 2 x 1.04 x 0.63 m hull, more than"),
     ],
 )
 def test_model_switches_refuse_what_is_not_a_section_in_one_line(sim, call, value, message):
@@ -99,7 +100,8 @@ def test_model_switches_refuse_what_is_not_a_section_in_one_line(sim, call, valu
     with pytest.raises(ValueError, match=re.escape(message)) as err:
         getattr(boat, call)(value)
     assert "\n" not in str(err.value) and "http" not in str(err.value)
-    assert (boat.hydrodynamics, boat.buoyancy) == before
+    assert isinstance(err.value, UsvsimError)  # voxels too fine for the hull: a bare ValueError from the voxelizer
+    assert (boat.hydrodynamics, boat.buoyancy) == before  # ... after the buoyancy had been switched (half built)
 
 
 def test_thruster_commands_that_are_not_numbers_are_rejected_and_counted(sim):

@@ -57,15 +57,24 @@ class MarineModels:
 
     # -- choosing models ----------------------------------------------------------------------
     def set_buoyancy(self, index: int, model) -> None:
-        """Switch body `index` to another buoyancy model (a TriangleBuoyancy or VoxelBuoyancy section)."""
-        self.buoyancy[index] = model
-        self._rebuild()
+        """Switch body `index` to another buoyancy model (a TriangleBuoyancy or VoxelBuoyancy section). If the
+        models cannot be built with it (voxels too fine for the hull), the previous one stays and the error is
+        raised."""
+        self._switch(self.buoyancy, index, model)
 
     def set_hydrodynamics(self, index: int, model) -> None:
         """Switch body `index` to another hydrodynamics model (StateSpaceDrag, KernerHydrodynamics or
         FossenHydrodynamics section). Model states (slamming history, lagged accelerations) restart."""
-        self.hydrodynamics[index] = model
-        self._rebuild()
+        self._switch(self.hydrodynamics, index, model)
+
+    def _switch(self, models: list, index: int, model) -> None:
+        previous, models[index] = models[index], model
+        try:
+            self._rebuild()
+        except BaseException:  # half-built (it reported voxels of 0.1 mm while it computed the triangles)
+            models[index] = previous
+            self._rebuild()
+            raise
 
     def _rebuild(self) -> None:
         hydro = self.hydrodynamics
