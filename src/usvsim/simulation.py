@@ -208,10 +208,13 @@ class Simulation:
             self._emit(list(envelopes))
 
     def _announce(self) -> None:
-        """The episode marker, /tf_static and the t = 0 messages, once per episode before anything else."""
+        """The episode marker, /tf_static and the t = 0 messages, once per episode before anything else. A first
+        subscriber after steps without one gets the latched messages only (the t = 0 ones were then the current
+        state stamped 0, and /clock went back to 0 before jumping ahead)."""
         if not self._announced and self._subscribers:
             self._announced = True
-            self._emit([*self._latched(), *self.ground_truth.due(0, 0)])
+            clock = self.world.clock
+            self._emit([*self._latched(), *(self.ground_truth.due(0, 0) if clock.steps == 0 else [])])
 
     def subscribe(self, callback: Callable[[Envelope], None]) -> Callable[[], None]:
         """Receive every message the simulation emits; returns a function that unsubscribes."""
@@ -256,9 +259,14 @@ class Simulation:
             recorder.close()
 
     def _latched(self) -> list[Envelope]:
-        """The episode marker and /tf_static: what a subscriber joining mid-episode has missed."""
+        """The episode marker and /tf_static: what a subscriber joining mid-episode has missed. Stamped 0 (the
+        episode's start), published now: a recording started at t = 5 s began with 5 s of nothing."""
         gt = self.ground_truth
-        return [gt.episode(self.episode, self.world.seed), *gt.static_transforms(self.sensors.static_transforms())]
+        static = gt.static_transforms(self.sensors.static_transforms())
+        latched = [gt.episode(self.episode, self.world.seed), *static]
+        for envelope in latched:
+            envelope.publish_ns = self.world.clock.now_ns
+        return latched
 
     def close(self) -> None:
         """Release sensor resources (render contexts, thread pools); the simulation cannot step after this."""

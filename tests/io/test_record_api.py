@@ -38,3 +38,42 @@ def test_python_recording_equals_the_cli_recording(tmp_path):
     assert len(cli[1]) > 200  # /clock, /tf, odometry... over 2 s
     assert api[0] == cli[0]
     assert api[1] == cli[1]
+
+
+def _decoded(path: Path) -> list[tuple[str, int, object]]:
+    from mcap_ros2.decoder import DecoderFactory
+
+    with path.open("rb") as f:
+        reader = make_reader(f, decoder_factories=[DecoderFactory()])
+        return [(c.topic, m.log_time, d) for _, c, m, d in reader.iter_decoded_messages(log_time_order=False)]
+
+
+def _stamp_ns(topic: str, msg) -> int:
+    if topic == "/clock":
+        return msg.clock.sec * 10**9 + msg.clock.nanosec
+    header = msg.transforms[0].header if topic.startswith("/tf") else msg.header
+    return header.stamp.sec * 10**9 + header.stamp.nanosec
+
+
+def test_a_recording_started_mid_episode_starts_then(tmp_path):
+    """Started at t = 1 s (after steps with no subscriber, or after an earlier recording), the file began at log
+    time 0 with /clock 0 and ground truth stamped 0 that held the pose at 1 s, then jumped to 1.01 s."""
+    sim = Simulation.from_scenario("harbor", seed=0)
+    try:
+        sim.vessels["wamv"].command(1.0)
+        sim.run(1.0)  # nobody subscribed: nothing announced yet
+        with sim.record(tmp_path / "late.mcap"):
+            sim.run(0.1)
+        sim.run(0.4)
+        with sim.record(tmp_path / "later.mcap"):  # announced by the first recording
+            sim.run(0.1)
+    finally:
+        sim.close()
+    for name, start_ns in (("late.mcap", 1_000_000_000), ("later.mcap", 1_500_000_000)):
+        messages = _decoded(tmp_path / name)
+        assert min(log for _, log, _ in messages) == start_ns
+        assert [t for t, _, _ in messages[:2]] == ["/usvsim/episode", "/tf_static"]  # latched, stamped 0
+        for topic, log, msg in messages[2:]:
+            assert start_ns < _stamp_ns(topic, msg) <= log, (name, topic)
+        x0 = [m.pose.pose.position.x for t, _, m in messages if t == "/wamv/ground_truth/odometry"][0]
+        assert x0 > 1.0  # under way: the first odometry is the boat at ~start_ns, stamped so
