@@ -231,32 +231,30 @@ class Simulation:
     @contextmanager
     def record(self, path: str | Path, topics: Iterable[str] | None = None, compression: str = "zstd") -> Iterator[Any]:
         """Record to an MCAP file while the block runs: the file `usvsim run --record` writes (rosbag2
-        layout), limited to `topics` if given. Started after the first step, it first writes the latched
+        layout), limited to `topics` if given (names or patterns such as "/tf*", io/topic_filter.py; one that
+        matched no message is a warning at exit). Started after the first step, it first writes the latched
         messages (episode marker, /tf_static). Yields the `McapRecorder`; the file is complete at exit."""
-        from usvsim.io.mcap_recorder import McapRecorder
+        import warnings
 
-        topics = [topics] if isinstance(topics, str) else topics  # one name: set("/clock") was its characters
-        wanted = None if topics is None else set(topics) if isinstance(topics, Iterable) else {topics}  # read once
-        if wanted is not None and not all(isinstance(t, str) for t in wanted):
-            raise UsvsimError(f"record: topics is a topic name or names, not {topics!r}")
+        from usvsim.io.mcap_recorder import McapRecorder
+        from usvsim.io.topic_filter import TopicFilter
+
+        wanted = TopicFilter(topics, "record: topics")
         try:
-            recorder = McapRecorder(path, compression=compression)  # type: ignore[arg-type]
+            recorder = McapRecorder(path, compression=compression, topics=wanted)  # type: ignore[arg-type]
         except OSError as exc:  # a missing folder was a bare FileNotFoundError
             raise UsvsimError(f"record: cannot write {path}: {exc.strerror or exc}") from None
-
-        def write(envelope: Envelope) -> None:
-            if wanted is None or envelope.topic in wanted:
-                recorder.write(envelope)
-
         if self._announced:
             for envelope in self._latched():
-                write(envelope)
-        unsubscribe = self.subscribe(write)
+                recorder.write(envelope)
+        unsubscribe = self.subscribe(recorder.write)
         try:
             yield recorder
         finally:
             unsubscribe()
             recorder.close()
+        for line in wanted.unmatched():  # not on an exception: the block did not run its course
+            warnings.warn(f"{line}; {path} has none", UserWarning, stacklevel=3)
 
     def _latched(self) -> list[Envelope]:
         """The episode marker and /tf_static: what a subscriber joining mid-episode has missed. Stamped 0 (the

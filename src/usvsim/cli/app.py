@@ -8,8 +8,9 @@ import signal
 import sys
 import time
 from contextlib import ExitStack
+from dataclasses import dataclass
 from pathlib import Path
-from typing import Annotated
+from typing import Annotated, Any
 
 import typer
 from rich.console import Console
@@ -28,6 +29,7 @@ from usvsim.cli.task import task as task_command
 from usvsim.cli.traffic import imazu
 from usvsim.cli.traffic import print_report as print_traffic_report
 from usvsim.core.errors import UsvsimError
+from usvsim.io.topic_filter import TopicFilter
 
 app = typer.Typer(
     add_completion=False, no_args_is_help=True, help="usvsim: unmanned surface vehicle simulator."
@@ -65,6 +67,14 @@ def run(
     ] = 60.0,
     realtime: Annotated[bool, typer.Option(help="pace to the wall clock")] = False,
     record: Annotated[Path | None, typer.Option(help="write an MCAP file (rosbag2 layout)")] = None,
+    record_topics: Annotated[
+        list[str] | None,
+        typer.Option(help="record only these topics: names or patterns ('*' matches across '/'), comma-separated "
+                     "or repeated, e.g. '/clock,/tf*,/wamv/imu/data'"),
+    ] = None,
+    record_compression: Annotated[
+        str, typer.Option(help="chunk compression of the recording: zstd, lz4 or none (all open in ros2 bag)")
+    ] = "zstd",
     seed: Annotated[int, typer.Option(help="random seed", min=0)] = 0,
     view: Annotated[
         bool, typer.Option(help="open the interactive viewer (W/S/A/D drive, R reset, Space pause)")
@@ -136,7 +146,8 @@ def run(
     # closes bridges, then the recorder, then the simulation, on every path; a stop during the set-up (kernels
     # compiling, DDS starting) is taken before the first step (it killed the process, the recording a bare header)
     with ExitStack() as stack, StopSignals() as setup:
-        sim, recorder, bridges = _open_run(stack, scenario, seed, record, force, options)
+        recording = _Recording(record, force, record_topics, record_compression)
+        sim, recorder, bridges = _open_run(stack, scenario, seed, recording, options)
         interrupted = 0  # the signal that stopped the run (SIGINT: Ctrl-C; SIGTERM: kill, timeout, docker stop)
         start, steps = time.perf_counter(), _StepCount()
         try:
@@ -167,13 +178,26 @@ def run(
     print_traffic_report(sim, Console(soft_wrap=True))  # a result: stdout, beside "done: ..."
     if recorder:
         typer.echo(f"recorded {recorder.message_count} messages to {recorder.path}")
+        for line in recorder.topic_filter.unmatched():  # a misspelt name recorded nothing, in silence
+            console.print(f"usvsim: warning: {line}", highlight=False, soft_wrap=True, markup=False)
     for bridge in bridges:
         typer.echo(f"{type(bridge).__name__}: {_stats_line(bridge.stats)}")
     if interrupted:
         raise typer.Exit(exit_status(interrupted))  # 130 for Ctrl-C, 143 for SIGTERM, as the shell reports them
 
 
-def _open_run(stack: ExitStack, scenario: str, seed: int, record: Path | None, force: bool, options):
+@dataclass
+class _Recording:
+    """The recording options of `usvsim run`; `filter` is set by `_open_run`."""
+
+    path: Path | None
+    force: bool
+    topics: list[str] | None
+    compression: str
+    filter: TopicFilter | None = None
+
+
+def _open_run(stack: ExitStack, scenario: str, seed: int, recording: _Recording, options):
     """Simulation, recorder (or None) and bridges, each registered on `stack` to be closed; one-line errors."""
     from usvsim.cli.bridges import close_all, open_bridges
     from usvsim.cli.outputs import check_output
@@ -182,8 +206,13 @@ def _open_run(stack: ExitStack, scenario: str, seed: int, record: Path | None, f
     from usvsim.io.mcap_recorder import McapRecorder
     from usvsim.simulation import Simulation
 
-    recorder = None
+    recorder, record, force = None, recording.path, recording.force
     try:
+        topics = [t.strip() for text in recording.topics for t in text.split(",") if t.strip()] \
+            if recording.topics is not None else None  # fmt: skip
+        recording.filter = TopicFilter(topics, "--record-topics")
+        if recording.compression not in ("zstd", "lz4", "none"):
+            raise UsvsimError(f"--record-compression must be zstd, lz4 or none, got {recording.compression!r}")
         if record:
             check_output(record, force)  # before the (slow) build
         sim = Simulation.from_scenario(scenario, seed=seed)
@@ -198,8 +227,11 @@ def _open_run(stack: ExitStack, scenario: str, seed: int, record: Path | None, f
                 raise ScenarioError(source_of(sim.scenario), "outputs.recording.path", str(exc)) from None
         elif path:
             check_output(path, force)
+        if not path and (topics is not None or recording.compression != "zstd"):  # ignored in silence
+            raise UsvsimError("--record-topics and --record-compression apply to a recording: add --record FILE.mcap")
         if path:  # the scenario's path too: it was checked and then not written (QA)
-            recorder = McapRecorder(path)
+            compression: Any = recording.compression  # checked above
+            recorder = McapRecorder(path, compression=compression, topics=recording.filter)
             stack.callback(recorder.close)
             sim.subscribe(recorder.write)
         bridges = open_bridges(sim, options)

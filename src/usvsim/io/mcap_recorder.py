@@ -34,7 +34,8 @@ from typing import Literal, Self
 import yaml
 from mcap.writer import CompressionType, Writer
 
-from usvsim.core.errors import UsvsimError
+from usvsim.core.errors import InputError, UsvsimError
+from usvsim.io.topic_filter import TopicFilter
 from usvsim.messages.envelope import EPISODE_TOPIC, Envelope, QosProfile
 from usvsim.messages.ros import message_definition, typestore
 
@@ -79,6 +80,8 @@ class McapRecorder:
     Foxglove. On the 2-core reference machine zstd writes ~250 MB/s of camera images vs ~900 MB/s
     uncompressed (benchmarks/bench_recorder.py); pass "none" when images dominate and disk is cheap.
     chunk_size: uncompressed bytes per chunk.
+    topics: record only these (names or patterns, a `TopicFilter`; None: all). The episode marker still moves the
+    log-time offset when it is not recorded (after a reset the log times went back to 0).
     """
 
     def __init__(
@@ -89,12 +92,14 @@ class McapRecorder:
         chunk_size: int = 1024 * 1024,
         flush_interval_s: float = 0.5,
         ros_distro: str = "jazzy",
+        topics: TopicFilter | None = None,
     ) -> None:
         from usvsim import __version__
 
         if compression not in _COMPRESSION:
-            raise ValueError(f"compression must be one of {sorted(_COMPRESSION)}, got {compression!r}")
+            raise InputError(f"compression must be one of {sorted(_COMPRESSION)}, got {compression!r}")
         self.path = Path(path)
+        self.topic_filter = topics if topics is not None else TopicFilter(None)
         self.ros_distro = ros_distro
         self._topics: dict[str, _Topic] = {}
         self._schemas: dict[str, int] = {}
@@ -117,6 +122,10 @@ class McapRecorder:
         """Append one message (its cached CDR is written as is)."""
         if self._closed:
             raise ValueError(f"recorder for {self.path} is closed")
+        if not self.topic_filter(envelope.topic):
+            if envelope.topic == EPISODE_TOPIC and self._start_ns is not None:
+                self._offset_ns = self._end_ns + 1 - envelope.publish_ns
+            return
         topic = self._topics.get(envelope.topic) or self._register(envelope)
         if topic.msgtype != envelope.msgtype:
             raise ValueError(
