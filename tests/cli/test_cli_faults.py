@@ -184,3 +184,16 @@ def test_a_slow_first_step_is_told_apart_from_the_speed(tmp_path, monkeypatch):
     assert "done: simulated 0.50 s" in result.stdout
     notes = [ln for ln in result.stderr.splitlines() if "note:" in ln]
     assert len(notes) == 1 and "the first step took" in notes[0] and "the other steps ran at" in notes[0], notes
+
+
+@pytest.mark.parametrize(("path", "words"), [("out.txt", ["ending in .mcap"]), ("missing/run.mcap", ["does not exist"])])
+def test_validate_checks_the_scenarios_recording_path(tmp_path, monkeypatch, path, words):
+    """`usvsim validate` said OK to a recording path that `usvsim run` then refused."""
+    monkeypatch.chdir(tmp_path)
+    scenario = tmp_path / "s.yaml"
+    vessels = "vessels: [{name: a, model: otter}]\n"
+    scenario.write_text(f"version: 1\n{vessels}outputs: {{recording: {{path: {path}}}}}\n")
+    one_line_error(invoke("validate", str(scenario)), "outputs.recording.path", *words)
+    (tmp_path / "taken.mcap").write_bytes(b"x")
+    scenario.write_text(f"version: 1\n{vessels}outputs: {{recording: {{path: taken.mcap}}}}\n")  # --force's business
+    assert invoke("validate", str(scenario)).exit_code == 0

@@ -346,6 +346,7 @@ def validate(
 
     try:
         sim = Simulation.from_scenario(file)
+        _check_recording_path(sim.scenario)  # `usvsim run` refused it after validate said OK
     except UsvsimError as exc:
         fail(exc)
     warnings = _print_setup_warnings(sim)
@@ -356,6 +357,20 @@ def validate(
         typer.echo(f"NOT OK (--strict): {summary}, {len(warnings)} warning(s)")
         raise typer.Exit(1)
     typer.echo(f"OK: {summary}")
+
+
+def _check_recording_path(scenario) -> None:
+    """A ScenarioError for an `outputs.recording.path` that `usvsim run` cannot write (an existing file is fine here:
+    whether to replace it is --force's business at run time)."""
+    from usvsim.cli.outputs import check_output
+    from usvsim.config.loader import source_of
+    from usvsim.core.errors import ScenarioError
+
+    if scenario.outputs.recording.path:
+        try:
+            check_output(Path(scenario.outputs.recording.path), force=True)
+        except UsvsimError as exc:
+            raise ScenarioError(source_of(scenario), "outputs.recording.path", str(exc)) from None
 
 
 app.command()(recover)
