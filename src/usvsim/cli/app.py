@@ -20,6 +20,7 @@ from rich.table import Table
 from usvsim.cli.dataset import dataset_command
 from usvsim.cli.errors import console, fail
 from usvsim.cli.geo_map import map_command
+from usvsim.cli.info import info
 from usvsim.cli.navigate import demo_app
 from usvsim.cli.recover import recover
 from usvsim.cli.schema import schema_command
@@ -374,6 +375,7 @@ def _check_recording_path(scenario) -> None:
 
 
 app.command()(recover)
+app.command()(info)
 
 
 @app.command()
