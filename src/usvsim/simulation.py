@@ -240,10 +240,7 @@ class Simulation:
         from usvsim.io.topic_filter import TopicFilter
 
         wanted = TopicFilter(topics, "record: topics")
-        try:
-            recorder = McapRecorder(path, compression=compression, topics=wanted)  # type: ignore[arg-type]
-        except OSError as exc:  # a missing folder was a bare FileNotFoundError
-            raise UsvsimError(f"record: cannot write {path}: {exc.strerror or exc}") from None
+        recorder = McapRecorder(path, compression=compression, topics=wanted)  # type: ignore[arg-type]
         if self._announced:
             for envelope in self._latched():
                 recorder.write(envelope)

@@ -104,3 +104,16 @@ def test_log_times_keep_increasing_over_a_reset_without_the_episode_marker(tmp_p
         logs = [m.log_time for _, _, m in make_reader(f).iter_messages(log_time_order=False)]
     assert len(logs) == 102 and all(b > a for a, b in zip(logs, logs[1:], strict=False))
     assert logs[51] == logs[50] + 1  # the second episode's t = 0, 1 ns after the first's last message
+
+
+def test_a_file_that_cannot_be_opened_is_one_line(tmp_path, monkeypatch):
+    """A path that passed the CLI's checks but failed to open (as root, /proc/x.mcap) printed the bare
+    "[Errno 2] No such file or directory: '/proc/x.mcap'"."""
+    import usvsim.cli.outputs
+
+    monkeypatch.setattr(usvsim.cli.outputs, "check_output", lambda path, force: None)
+    target = tmp_path / "missing" / "x.mcap"
+    result = CliRunner().invoke(app, ["run", "harbor", "--duration", "0.1", "--record", str(target)])
+    lines = [ln for ln in result.stderr.splitlines() if ln.strip()]
+    assert result.exit_code == 2 and len(lines) == 1, result.output
+    assert f"cannot write {target}: No such file or directory" in lines[0]

@@ -108,7 +108,10 @@ class McapRecorder:
         self._flush_interval_ns, self._flushed_ns = int(flush_interval_s * 1e9), 0
         self._closed = self._failed = False
         self._offset_ns = 0  # added to stamps: log times increase across episodes
-        self._file = self.path.open("wb")
+        try:
+            self._file = self.path.open("wb")
+        except OSError as exc:  # the CLI printed "[Errno 2] No such file or directory: '/proc/x.mcap'"
+            raise UsvsimError(f"cannot write {self.path}: {exc.strerror or exc}") from None
         try:
             self._writer = Writer(self._file, chunk_size=chunk_size, compression=_COMPRESSION[compression])
             self._writer.start(profile="ros2", library=f"usvsim/{__version__}")
