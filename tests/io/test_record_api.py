@@ -77,3 +77,19 @@ def test_a_recording_started_mid_episode_starts_then(tmp_path):
             assert start_ns < _stamp_ns(topic, msg) <= log, (name, topic)
         x0 = [m.pose.pose.position.x for t, _, m in messages if t == "/wamv/ground_truth/odometry"][0]
         assert x0 > 1.0  # under way: the first odometry is the boat at ~start_ns, stamped so
+
+
+def test_relative_topic_names_are_recorded_absolute(tmp_path):
+    """`topic: my_imu` was recorded (and served to Foxglove) as `my_imu`, where ROS 2 and the DDS bridge name it
+    `/my_imu`; rosbag2 stores fully qualified names only."""
+    scenario = {"version": 1, "vessels": [{"name": "a", "model": "otter",
+                                           "sensors": [{"type": "imu", "name": "imu", "rate_hz": 50, "topic": "my_imu"},
+                                                       {"type": "gnss", "name": "gps", "rate_hz": 10, "topic": "a/fix"}]}]}  # fmt: skip
+    sim = Simulation(scenario)
+    try:
+        with sim.record(tmp_path / "rel.mcap") as recorder:
+            sim.run(0.2)
+    finally:
+        sim.close()
+    topics = set(recorder.message_counts)
+    assert {"/my_imu", "/a/fix"} <= topics and all(t.startswith("/") for t in topics)

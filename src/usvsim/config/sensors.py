@@ -13,7 +13,7 @@ import math
 from typing import Annotated, Literal
 
 import numpy as np
-from pydantic import Field, model_validator
+from pydantic import AfterValidator, Field, model_validator
 
 from usvsim.config.base import (
     KeyedValueError,
@@ -28,6 +28,15 @@ from usvsim.config.base import (
 
 Name = Annotated[str, Field(pattern=r"^[A-Za-z][A-Za-z0-9_]*$")]
 TOPIC_PATTERN = r"^/?[A-Za-z_][A-Za-z0-9_]*(/[A-Za-z_][A-Za-z0-9_]*)*$"  # ROS 2 topic name rules
+
+
+def _absolute(topic: str) -> str:
+    """A relative name resolves in the root namespace, as ROS 2 resolves it for a node there: `my_imu` is `/my_imu`
+    (it was recorded, and served to Foxglove, as `my_imu`, while DDS published `rt/my_imu`)."""
+    return topic if topic.startswith("/") else "/" + topic
+
+
+TopicName = Annotated[str, Field(pattern=TOPIC_PATTERN, max_length=256), AfterValidator(_absolute)]
 FRAME_PATTERN = r"^[A-Za-z_][A-Za-z0-9_]*(/[A-Za-z_][A-Za-z0-9_]*)*$"
 MAX_LIDAR_RAYS = 1 << 22  # rays per revolution (channels x columns), ~4 M: 16x an OS1-128 at 2048 columns
 MAX_LATENCY_S = 3600.0  # an hour: beyond it nothing would be published in any run worth the name
@@ -55,7 +64,7 @@ class SensorBase(Section):
         default=0.0, description="publish this long after sampling (stamp = sample time); a whole number of physics steps"
     )
     mount: Mount = Mount()
-    topic: Annotated[str, Field(pattern=TOPIC_PATTERN, max_length=256)] | None = Field(
+    topic: TopicName | None = Field(
         default=None, description="default /<vessel>/<name>; the sensor publishes on it or under it "
         "(a LiDAR on <topic>/points, a camera on <topic>/image_raw, odometry on <topic>: docs/ros2.md)")
     frame_id: Annotated[str, Field(pattern=FRAME_PATTERN, max_length=256)] | None = Field(

@@ -16,10 +16,10 @@ from typing import Annotated, Literal
 from pydantic import Field, model_validator
 
 from usvsim.config.base import KeyedValueError, NonNegativeFloat, PositiveFloat, Section, TupleOf, Vec2
-from usvsim.config.sensors import TOPIC_PATTERN
+from usvsim.config.sensors import TopicName
 
 Name = Annotated[str, Field(pattern=r"^[A-Za-z][A-Za-z0-9_]*$")]
-Topic = Annotated[str, Field(pattern=TOPIC_PATTERN, max_length=256)]  # a ROS 2 topic name, as sensors' topics
+Topic = TopicName  # a ROS 2 topic name, as sensors' topics (a relative one made absolute)
 # AIS ship type (ITU-R M.1371 table 53, first digit 3x/5x specials and 6x-8x classes) by name
 SHIP_TYPES = {"pleasure": 37, "sailing": 36, "fishing": 30, "tug": 52, "pilot": 50, "passenger": 60,
               "cargo": 70, "tanker": 80, "high_speed": 40, "other": 90}  # fmt: skip
