@@ -117,3 +117,35 @@ def test_a_file_that_cannot_be_opened_is_one_line(tmp_path, monkeypatch):
     lines = [ln for ln in result.stderr.splitlines() if ln.strip()]
     assert result.exit_code == 2 and len(lines) == 1, result.output
     assert f"cannot write {target}: No such file or directory" in lines[0]
+
+
+def test_the_scenario_chooses_topics_and_compression_and_the_options_override_it(tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    scenario = tmp_path / "s.yaml"
+    scenario.write_text("version: 1\nvessels: [{name: wamv, model: wamv}]\noutputs: {recording: {path: s.mcap, "
+                        "topics: ['/clock', '/tf*'], compression: lz4}}\n")  # fmt: skip
+    assert CliRunner().invoke(app, ["run", str(scenario), "--duration", "0.2"]).exit_code == 0
+    assert _topics_and_compression(tmp_path / "s.mcap") == ({"/clock", "/tf", "/tf_static"}, {"lz4"})
+    result = CliRunner().invoke(app, ["run", str(scenario), "--duration", "0.2", "--record", "o.mcap",
+                                      "--record-topics", "/wamv/*", "--record-compression", "none"])  # fmt: skip
+    assert result.exit_code == 0, result.output
+    assert _topics_and_compression(tmp_path / "o.mcap") == ({"/wamv/ground_truth/odometry"}, {""})
+    sim = Simulation.from_scenario(str(scenario))
+    try:
+        with sim.record(tmp_path / "p.mcap"):  # the Python API writes what the CLI writes
+            sim.run(0.2)
+    finally:
+        sim.close()
+    assert _topics_and_compression(tmp_path / "p.mcap") == ({"/clock", "/tf", "/tf_static"}, {"lz4"})
+
+
+def test_bad_scenario_topics_name_the_key(tmp_path):
+    scenario = tmp_path / "s.yaml"
+    scenario.write_text(
+        "version: 1\nvessels: [{name: wamv, model: wamv}]\noutputs: {recording: {topics: [clock]}}\n"
+    )
+    result = CliRunner().invoke(app, ["validate", str(scenario)])
+    assert (
+        result.exit_code == 2
+        and "outputs.recording.topics[0]: should be a topic name or pattern" in result.stderr
+    )

@@ -71,11 +71,12 @@ def run(
     record_topics: Annotated[
         list[str] | None,
         typer.Option(help="record only these topics: names or patterns ('*' matches across '/'), comma-separated "
-                     "or repeated, e.g. '/clock,/tf*,/wamv/imu/data'"),
+                     "or repeated, e.g. '/clock,/tf*,/wamv/imu/data' (default: outputs.recording.topics, else all)"),
     ] = None,
     record_compression: Annotated[
-        str, typer.Option(help="chunk compression of the recording: zstd, lz4 or none (all open in ros2 bag)")
-    ] = "zstd",
+        str | None, typer.Option(help="chunk compression of the recording: zstd, lz4 or none, all open in ros2 bag "
+                                 "(default: outputs.recording.compression, zstd)"),
+    ] = None,
     seed: Annotated[int, typer.Option(help="random seed", min=0)] = 0,
     view: Annotated[
         bool, typer.Option(help="open the interactive viewer (W/S/A/D drive, R reset, Space pause)")
@@ -194,7 +195,7 @@ class _Recording:
     path: Path | None
     force: bool
     topics: list[str] | None
-    compression: str
+    compression: str | None
     filter: TopicFilter | None = None
 
 
@@ -212,7 +213,7 @@ def _open_run(stack: ExitStack, scenario: str, seed: int, recording: _Recording,
         topics = [t.strip() for text in recording.topics for t in text.split(",") if t.strip()] \
             if recording.topics is not None else None  # fmt: skip
         recording.filter = TopicFilter(topics, "--record-topics")
-        if recording.compression not in ("zstd", "lz4", "none"):
+        if recording.compression not in (None, "zstd", "lz4", "none"):
             raise UsvsimError(f"--record-compression must be zstd, lz4 or none, got {recording.compression!r}")
         if record:
             check_output(record, force)  # before the (slow) build
@@ -228,10 +229,13 @@ def _open_run(stack: ExitStack, scenario: str, seed: int, recording: _Recording,
                 raise ScenarioError(source_of(sim.scenario), "outputs.recording.path", str(exc)) from None
         elif path:
             check_output(path, force)
-        if not path and (topics is not None or recording.compression != "zstd"):  # ignored in silence
+        if not path and (topics is not None or recording.compression is not None):  # ignored in silence
             raise UsvsimError("--record-topics and --record-compression apply to a recording: add --record FILE.mcap")
         if path:  # the scenario's path too: it was checked and then not written (QA)
-            compression: Any = recording.compression  # checked above
+            configured_recording = sim.scenario.outputs.recording
+            if topics is None and configured_recording.topics is not None:
+                recording.filter = TopicFilter(configured_recording.topics, "outputs.recording.topics")
+            compression: Any = recording.compression or configured_recording.compression  # checked above
             recorder = McapRecorder(path, compression=compression, topics=recording.filter)
             stack.callback(recorder.close)
             sim.subscribe(recorder.write)

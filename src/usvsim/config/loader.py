@@ -12,7 +12,7 @@ from pydantic import ValidationError
 from usvsim.config import safe_yaml
 from usvsim.config.base import KeyedValueError
 from usvsim.config.scenario import Scenario
-from usvsim.config.sensors import FRAME_PATTERN, TOPIC_PATTERN
+from usvsim.config.sensors import FRAME_PATTERN, TOPIC_FILTER_PATTERN, TOPIC_PATTERN
 from usvsim.core.clock import latency_steps, period_ns, steps_per_period
 from usvsim.core.errors import ScenarioError
 
@@ -185,6 +185,7 @@ BOUNDS = ("greater_than", "greater_than_equal", "less_than", "less_than_equal", 
 PATTERN_WORDS = {  # the name and topic patterns of config/*.py, in words
     r"^[A-Za-z][A-Za-z0-9_]*$": "should start with a letter and hold only letters, digits and '_'",
     TOPIC_PATTERN: "should be a ROS 2 topic name: '/'-separated parts of letters, digits and '_', none starting with a digit",
+    TOPIC_FILTER_PATTERN: "should be a topic name or pattern starting with '/' (e.g. '/clock' or '/tf*')",
     FRAME_PATTERN: "should be a frame name: '/'-separated parts of letters, digits and '_', none starting with a digit",
 }
 MAPPING = "a mapping (key: value lines, or {key: value, ...})"

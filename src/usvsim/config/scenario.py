@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from typing import Literal
+from typing import Annotated, Literal
 
 from pydantic import Field, model_validator
 
@@ -11,6 +11,7 @@ from usvsim.config.environment import Environment
 from usvsim.config.geo import Geo
 from usvsim.config.objects import WorldObject
 from usvsim.config.rendering import Rendering
+from usvsim.config.sensors import TOPIC_FILTER_PATTERN
 from usvsim.config.traffic import Traffic
 from usvsim.config.vessel import Vessel
 from usvsim.core.clock import rate_at_most
@@ -59,6 +60,12 @@ class Recording(Section):
     ground_truth_rate_hz: PositiveFloat | None = Field(
         default=None, description="ground-truth odometry and TF rate, Hz; null: 50 Hz, or the nearest rate below "
         "whose period is a whole number of physics steps (every step when the physics runs below 50 Hz)")
+    topics: list[Annotated[str, Field(pattern=TOPIC_FILTER_PATTERN, max_length=256)]] | None = Field(
+        default=None, min_length=1, description="record only these topics: names or patterns such as /tf* ('*' "
+        "matches across '/'); null: all. --record-topics overrides it")  # fmt: skip
+    compression: Literal["zstd", "lz4", "none"] = Field(
+        default="zstd", description="chunk compression (all three open in ros2 bag and Foxglove); --record-compression "
+        "overrides it")  # fmt: skip
 
     def rates_hz(self, step_ns: int) -> tuple[float, float]:
         """(clock, ground truth) rates at a physics step of `step_ns`: the given ones, or the defaults fitted to the
