@@ -68,7 +68,7 @@ def _read_summary(file: Path):
             header, summary = reader.get_header(), reader.get_summary()
         except Exception:  # whatever the damage: the file has no readable summary
             summary = header = None
-    if summary is None:
+    if summary is None or header is None:
         raise UsvsimError(f"{file} was cut short (no summary: killed, or the disk filled up); "
                           f"'usvsim recover {file}' rewrites what it holds into a complete file")  # fmt: skip
     return summary, header
