@@ -29,9 +29,14 @@ def test_names_and_patterns():
     assert [t for t in offered if keep(t)] == offered[:5]  # '*' crosses '/'
     assert keep.unmatched() == ["topics: no message on /nothing"]
     assert all(TopicFilter(None)(t) for t in offered) and TopicFilter(None).unmatched() == []
+    all_but_camera = TopicFilter(["!/wamv/camera/*", "!/nothing"])
+    assert [t for t in offered if all_but_camera(t)] == ["/clock", "/tf", "/tf_static", "/wamv/imu/data"]
+    assert all_but_camera.unmatched() == ["topics: no message on /nothing"]
+    some_but_depth = TopicFilter(["/wamv/*", "!/wamv/camera/depth/*"])
+    assert [t for t in offered if some_but_depth(t)] == ["/wamv/camera/image_raw", "/wamv/imu/data"]
 
 
-@pytest.mark.parametrize(("topics", "words"), [("clock", ["not a topic name", "'/clock'"]), ([], ["no topic given"]),
+@pytest.mark.parametrize(("topics", "words"), [("clock", ["not a topic name", "'/clock'"]), ("!clock", ["not a topic name"]), ([], ["no topic given"]),
                                                (5, ["topic name or names"]), (["/a", 3], ["topic name or names"])])  # fmt: skip
 def test_bad_topics_are_usvsim_errors(topics, words):
     with pytest.raises(UsvsimError) as info:

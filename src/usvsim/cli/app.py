@@ -71,7 +71,8 @@ def run(
     record_topics: Annotated[
         list[str] | None,
         typer.Option(help="record only these topics: names or patterns ('*' matches across '/'), comma-separated "
-                     "or repeated, e.g. '/clock,/tf*,/wamv/imu/data' (default: outputs.recording.topics, else all)"),
+                     "or repeated, e.g. '/clock,/tf*,/wamv/imu/data'; '!' leaves one out: '!/wamv/camera/*' "
+                     "(default: outputs.recording.topics, else all)"),
     ] = None,
     record_compression: Annotated[
         str | None, typer.Option(help="chunk compression of the recording: zstd, lz4 or none, all open in ros2 bag "

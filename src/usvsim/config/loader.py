@@ -185,7 +185,7 @@ BOUNDS = ("greater_than", "greater_than_equal", "less_than", "less_than_equal", 
 PATTERN_WORDS = {  # the name and topic patterns of config/*.py, in words
     r"^[A-Za-z][A-Za-z0-9_]*$": "should start with a letter and hold only letters, digits and '_'",
     TOPIC_PATTERN: "should be a ROS 2 topic name: '/'-separated parts of letters, digits and '_', none starting with a digit",
-    TOPIC_FILTER_PATTERN: "should be a topic name or pattern starting with '/' (e.g. '/clock' or '/tf*')",
+    TOPIC_FILTER_PATTERN: "should be a topic name or pattern starting with '/' (e.g. '/clock' or '/tf*'), or '!/' to leave one out",
     FRAME_PATTERN: "should be a frame name: '/'-separated parts of letters, digits and '_', none starting with a digit",
 }
 MAPPING = "a mapping (key: value lines, or {key: value, ...})"

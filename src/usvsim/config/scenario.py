@@ -62,7 +62,8 @@ class Recording(Section):
         "whose period is a whole number of physics steps (every step when the physics runs below 50 Hz)")
     topics: list[Annotated[str, Field(pattern=TOPIC_FILTER_PATTERN, max_length=256)]] | None = Field(
         default=None, min_length=1, description="record only these topics: names or patterns such as /tf* ('*' "
-        "matches across '/'); null: all. --record-topics overrides it")  # fmt: skip
+        "matches across '/'), '!' before one leaves it out (['!/wamv/camera/*']: all but the camera); null: all. "
+        "--record-topics overrides it")  # fmt: skip
     compression: Literal["zstd", "lz4", "none"] = Field(
         default="zstd", description="chunk compression (all three open in ros2 bag and Foxglove); --record-compression "
         "overrides it")  # fmt: skip

@@ -28,7 +28,7 @@ from usvsim.config.base import (
 
 Name = Annotated[str, Field(pattern=r"^[A-Za-z][A-Za-z0-9_]*$")]
 TOPIC_PATTERN = r"^/?[A-Za-z_][A-Za-z0-9_]*(/[A-Za-z_][A-Za-z0-9_]*)*$"  # ROS 2 topic name rules
-TOPIC_FILTER_PATTERN = r"^/\S*$"  # a topic name or a shell-style pattern of them (outputs.recording.topics)
+TOPIC_FILTER_PATTERN = r"^!?/\S*$"  # a topic name or a shell-style pattern of them, '!' to exclude (recording.topics)
 
 
 def _absolute(topic: str) -> str:
