@@ -138,6 +138,10 @@ def test_rosbag2_layout(recording: Path):
 
     meta = rosbag2_metadata(recording)
     assert meta["version"] == 8 and meta["storage_identifier"] == "mcap"
+    assert meta["files"][0]["duration"] == meta["duration"]
+    with recording.open("rb") as f:  # written out as rosbag2 writes it: no YAML anchors (&id001) and aliases
+        text = next(m for m in make_reader(f).iter_metadata() if m.name == "rosbag2").metadata["serialized_metadata"]
+    assert "&id" not in text and "*id" not in text
     assert meta["relative_file_paths"] == ["run.mcap"]
     assert meta["message_count"] == sum(EXPECTED_COUNTS.values())
     assert meta["starting_time"]["nanoseconds_since_epoch"] == DT_NS

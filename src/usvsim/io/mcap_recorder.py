@@ -207,7 +207,7 @@ class McapRecorder:
         """rosbag2 `BagMetadata` (version 8) as YAML, as rosbag2 stores it in `serialized_metadata`."""
         start = self._start_ns or 0
         duration = {"nanoseconds": max(0, self._end_ns - start)}
-        starting_time = {"nanoseconds_since_epoch": start}
+        starting_time = {"nanoseconds_since_epoch": start}  # each used twice: copied below, so no YAML anchors
         info = {
             "version": METADATA_VERSION,
             "storage_identifier": "mcap",
@@ -233,8 +233,8 @@ class McapRecorder:
             "files": [
                 {
                     "path": self.path.name,
-                    "starting_time": starting_time,
-                    "duration": duration,
+                    "starting_time": dict(starting_time),
+                    "duration": dict(duration),
                     "message_count": self.message_count,
                 }
             ],
