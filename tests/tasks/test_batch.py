@@ -1,5 +1,6 @@
 """usvsim.batch: the same metrics whatever the backend and worker count; the sweep CLI."""
 
+import importlib.util
 import json
 from pathlib import Path
 
@@ -125,3 +126,43 @@ def test_sweep_prints_a_mean_score_per_configuration(tmp_path, monkeypatch):
             (["station_keeping"], ["follow_path"])}  # fmt: skip
     assert rows == {"station_keeping": ["0", "2", "3", "lower", "1"], "follow_path": ["0", "2", "31.5", "higher", "1"]}
     assert "4 runs, mean scores of 2 configurations above" in result.output
+
+
+FAILING = {"task": "station_keeping", "seeds": [0, 1], "time_limit_s": 1.0, "grid": {"mass_kg": [180, 0.01]}}
+
+
+def test_a_failed_run_keeps_the_others_and_says_why():
+    """A WAM-V of 10 g diverges in 0.04 s: its runs hold the error, the 180 kg runs their scores (one divergence
+    ended the sweep before, 2 workers: BrokenProcessPool and a traceback; 1 worker: nothing written)."""
+    from usvsim.batch import failed
+
+    both = []
+    for backend, workers in (("process", 1), ("process", 2), ("ray", 2)):
+        if backend == "ray" and importlib.util.find_spec("ray") is None:
+            continue
+        results = run(expand(FAILING), backend, workers=workers)
+        assert [("score" in r) for r in results] == [True, True, False, False]
+        assert failed(results) == results[2:]
+        assert all(r["error"].startswith("DivergenceError: simulation diverged") for r in results[2:])
+        both.append(_metrics(results))
+    assert all(b == both[0] for b in both)
+
+
+def test_sweep_cli_with_a_failed_run_writes_every_run_and_exits_1(tmp_path):
+    spec = tmp_path / "sweep.yaml"
+    spec.write_text(json.dumps({**FAILING, "workers": 2}))
+    out = tmp_path / "runs.jsonl"
+    result = CliRunner().invoke(app, ["sweep", str(spec), "--out", str(out)])
+    assert result.exit_code == 1, result.output
+    assert "Traceback" not in result.output and "2 of 4 runs failed" in result.output
+    assert "failed: station_keeping level 0 mass_kg=0.01 seed 0: DivergenceError" in result.output
+    rows = [json.loads(line) for line in out.read_text().splitlines()]
+    assert ["score" in r for r in rows] == [True, True, False, False]
+
+
+@pytest.mark.parametrize("workers", [0, -1, 1.5, True])
+def test_workers_below_one_is_refused(workers):
+    from usvsim.core.errors import UsvsimError
+
+    with pytest.raises(UsvsimError, match="workers must be a whole number >= 1"):  # 0 meant every CPU
+        run(expand({"task": "station_keeping", "seeds": [0]}), "process", workers=workers)

@@ -1,5 +1,5 @@
 """Many task runs at once: scenarios × seeds × parameter grids on local processes or Ray (`run`, `expand`)."""
 
-from usvsim.batch.runner import RunSpec, expand, run
+from usvsim.batch.runner import RunSpec, expand, failed, run
 
-__all__ = ["RunSpec", "expand", "run"]
+__all__ = ["RunSpec", "expand", "failed", "run"]

@@ -3,6 +3,9 @@
 Backends: `process` (local processes, the default) and `ray` (a local Ray instance, or a cluster at
 `address`; extra `ray`). Every worker runs numba with one thread, so results are bit-identical whatever
 the backend and the number of workers (the run's `wall_time_s` aside).
+
+A run that fails (a divergence, a bad value, a bug) does not end the sweep: its place holds
+`{"run": spec, "error": "DivergenceError: ..."}` and the other runs go on (`failed(results)` lists them).
 """
 
 from __future__ import annotations
@@ -54,14 +57,33 @@ def run_one(spec: RunSpec, after_step: Callable[[], None] | None = None) -> dict
     return {"run": asdict(spec), **report}
 
 
+def run_or_error(spec: RunSpec, after_step: Callable[[], None] | None = None) -> dict:
+    """`run_one`, or `{"run": spec, "error": "Type: message"}` for a run that raised: one failed run (a divergence
+    in one grid corner) ended the whole sweep and lost every other run's result. A stop (KeyboardInterrupt, the
+    CLI's Stopped) is not a failure: it propagates."""
+    try:
+        return run_one(spec, after_step)
+    except Exception as exc:
+        return {"run": asdict(spec), "error": f"{type(exc).__name__}: {exc}"}
+
+
+def failed(results: Sequence[dict | None]) -> list[dict]:
+    """The results of runs that failed (they hold "error" instead of a score)."""
+    return [r for r in results if r is not None and "error" in r]
+
+
 def run(runs: Sequence[RunSpec], backend: str = "process", workers: int | None = None, address: str | None = None,
         progress: Callable[[int, int], None] | None = None, stop: Callable[[], None] | None = None,
         finished: list[dict | None] | None = None) -> list[dict]:  # fmt: skip
-    """Metrics of every run, in the order of `runs`. `progress(done, total)` is called as runs finish. `stop()`
+    """Metrics of every run, in the order of `runs` (a failed run: its "error", see `run_or_error`); `workers` ≥ 1,
+    default the CPU count. `progress(done, total)` is called as runs finish. `stop()`
     is called between runs (and, in this process, between steps; a few times a second while waiting on workers):
     an exception from it ends the sweep, the workers stopped, and propagates; `finished`, if given (a list of
     len(runs)), holds each run's result as it comes in, so the caller keeps what was done."""
-    workers = workers or os.cpu_count() or 1
+    if workers is None:
+        workers = os.cpu_count() or 1
+    if isinstance(workers, bool) or not isinstance(workers, int) or workers < 1:  # 0 silently meant every CPU
+        raise UsvsimError(f"workers must be a whole number >= 1 (default: the CPU count), not {workers!r}")
     out: list[dict | None] = [None] * len(runs) if finished is None else finished
     if backend == "process":
         return _process(runs, workers, progress, stop or _never, out)
@@ -117,13 +139,13 @@ def _process(runs, workers, progress, stop, out) -> list[dict]:
     if workers == 1:
         for i, r in enumerate(runs):
             stop()
-            out[i] = run_one(r, after_step=stop)
+            out[i] = run_or_error(r, after_step=stop)
             if progress:
                 progress(i + 1, len(runs))
         return _filled(out)
     pool = _pool(workers)
     try:
-        futures = {pool.submit(run_one, r): i for i, r in enumerate(runs)}
+        futures = {pool.submit(run_or_error, r): i for i, r in enumerate(runs)}
         pending, done = set(futures), 0
         while pending:
             stop()
@@ -153,7 +175,7 @@ def _ray(runs, workers, address, progress, stop, out) -> list[dict]:
         ray.init(address=address, include_dashboard=False, log_to_driver=False, configure_logging=False, **local)
     pending: list = []
     try:
-        remote = ray.remote(num_cpus=1)(run_one)
+        remote = ray.remote(num_cpus=1)(run_or_error)
         refs = [remote.remote(r) for r in runs]
         index = {ref: i for i, ref in enumerate(refs)}
         pending, done = list(refs), 0

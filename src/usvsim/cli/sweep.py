@@ -23,7 +23,7 @@ def sweep(
     import yaml
     from pydantic import ValidationError
 
-    from usvsim.batch import expand, run
+    from usvsim.batch import expand, failed, run
     from usvsim.batch.spec import SweepSpec
     from usvsim.cli.outputs import prepare_file
     from usvsim.cli.stopping import Stopped, StopSignals, exit_status, signal_name
@@ -45,7 +45,7 @@ def sweep(
         prepare_file(out)  # a bad --out path fails now, not after every run
         columns = (TextColumn("sweep"), BarColumn(), MofNCompleteColumn(), TimeElapsedColumn())
         finished: list[dict | None] = [None] * len(runs)
-        signum = 0
+        signum, broken = 0, None
         # Ctrl-C or SIGTERM: the runs still going are ended and not written (a run is scored whole), the finished
         # ones are (they were lost, and forked workers went on running after the sweep's process had gone)
         with StopSignals() as stop, Progress(*columns, console=console, transient=True) as bar:
@@ -56,6 +56,10 @@ def sweep(
                     finished=finished)  # fmt: skip
             except Stopped as exc:
                 signum = exc.signum
+            except UsvsimError:  # the sweep could not start (backend, workers, Ray missing)
+                raise
+            except Exception as exc:  # the sweep broke (a worker killed): keep what was finished
+                broken = exc
         results = [r for r in finished if r is not None]
     except UsvsimError as exc:
         fail(exc)
@@ -65,15 +69,32 @@ def sweep(
     except OSError as exc:
         typer.echo(lines, nl=False)  # nothing lost: the results go to stdout instead
         fail(f"cannot write {out}: {exc.strerror or exc}; the results were printed to stdout instead")
-    groups = mean_scores(results)
+    errors = failed(results)
+    groups = mean_scores([r for r in results if "error" not in r])
     _print_table(groups)
+    if broken is not None:
+        fail(f"the sweep stopped: {type(broken).__name__}: {broken}; wrote the {len(results)} of {len(runs)} runs "
+             f"finished to {out}")  # fmt: skip
     mean = "no score" if not groups else (f"mean score {groups[0]['mean_score']:.4g}" if len(groups) == 1
                                           else f"mean scores of {len(groups)} configurations above")  # fmt: skip
     if signum:
         typer.echo(f"stopped ({signal_name(signum)}): {len(results)} of {len(runs)} runs finished, {mean}; wrote "
                    f"them to {out} (the runs under way are not scored)")  # fmt: skip
         raise typer.Exit(exit_status(signum))
+    if errors:
+        for r in errors[:5]:
+            typer.echo(f"failed: {_describe(r['run'])}: {r['error']}", err=True)
+        more = f" ({len(errors) - 5} more in {out})" if len(errors) > 5 else ""
+        typer.echo(f"{len(errors)} of {len(results)} runs failed{more}; the others: {mean}; wrote {out}")
+        raise typer.Exit(1)
     typer.echo(f"{len(results)} runs, {mean}; wrote {out}")
+
+
+def _describe(run: dict) -> str:
+    """A run in one line: task, level, the grid values set, seed."""
+    grid = [f"{k}={run[k]:g}" for k in ("sea_state", "mass_kg") if run.get(k) is not None]
+    grid += [f"{k}={v:g}" for k, v in run.get("hold") or ()]
+    return " ".join([f"{run['task']} level {run['difficulty']}", *grid, f"seed {run['seed']}"])
 
 
 def mean_scores(results: list[dict]) -> list[dict]:
