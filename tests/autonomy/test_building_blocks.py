@@ -151,3 +151,34 @@ def test_deskew_moves_each_point_to_the_sweep_end_frame():
     mount = np.eye(4)
     mount[:3, 3] = (0.7, 0.0, 1.0)  # a LiDAR ahead of base_link moves sideways when the boat turns
     np.testing.assert_allclose(lidar_twist(twist, mount), [1.5, 0.28, 0.0, 0.0, 0.0, 0.4])
+
+
+KISS_EQUAL_TIMES = """
+import numpy as np
+from usvsim.autonomy.odometry import KissIcpOdometry
+rng = np.random.default_rng(0)
+n = 2000
+walls = [np.c_[rng.uniform(-10, 10, n), np.full(n, 10.0), rng.uniform(-1, 1, n)],
+         np.c_[np.full(n, 10.0), rng.uniform(-10, 10, n), rng.uniform(-1, 1, n)],
+         np.c_[rng.uniform(-10, 10, n), np.full(n, -10.0), rng.uniform(-1, 1, n)]]
+room = np.concatenate(walls)
+odo = KissIcpOdometry(np.eye(4))
+odo.initialise(np.eye(4))
+for k in range(3):  # the boat at rest in a room; every point stamped 0 (no motion distortion)
+    pose, frame = odo.update(room, np.zeros(len(room)), np.zeros(6), 0.1)
+print(abs(pose[:3, 3]).max(), len(frame))
+"""
+
+
+def test_kiss_icp_takes_clouds_without_point_times():
+    """A LiDAR with `motion_distortion: false` stamps every point 0: KISS-ICP normalised the times by
+    (max - min) = 0, and Sophus aborted the whole process (SIGABRT, `usvsim demo navigate` died without a word)."""
+    import subprocess
+    import sys
+
+    pytest.importorskip("kiss_icp")
+    script = [sys.executable, "-c", KISS_EQUAL_TIMES]
+    done = subprocess.run(script, capture_output=True, text=True, timeout=120)
+    assert done.returncode == 0, done.stderr[-500:]
+    offset, points = done.stdout.split()
+    assert float(offset) < 0.05 and int(points) > 1000  # at rest: the pose stays where it started

@@ -105,7 +105,10 @@ class KissIcpOdometry:
             to_lidar = lambda m: self.lidar_from_base @ m @ self.base_from_lidar  # noqa: E731
             self.icp.last_pose = self.icp.last_pose @ to_lidar(twist_motion(twist, max(dt_s - sweep, 0.0)))
             self.icp.last_delta = to_lidar(twist_motion(twist, sweep))
-        frame, _ = self.icp.register_frame(np.asarray(xyz, np.float64), times_s)
+        # a cloud whose points share one time (a LiDAR without motion_distortion) has nothing to deskew, and
+        # KISS-ICP's time normalisation (t - min) / (max - min) made NaN of it: Sophus aborted the process
+        stamps = times_s if len(times_s) and times_s.max() > times_s.min() else np.zeros(0)
+        frame, _ = self.icp.register_frame(np.asarray(xyz, np.float64), stamps)
         if self.map_from_lidar0 is None:
             raise RuntimeError("LidarOdometry.update() before initialise()")
         pose = self.map_from_lidar0 @ self.icp.last_pose @ self.lidar_from_base
