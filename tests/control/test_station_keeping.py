@@ -43,3 +43,16 @@ def test_wamv_holds_position_and_heading(closed_loop):
 def test_otter_drives_to_the_target_and_holds_heading(closed_loop):
     distance, heading = hold(closed_loop, "otter", Pose2D(8.0, 5.0, math.radians(-30)), 40.0)
     assert distance < 0.5 and heading < 0.01  # underactuated: the lateral offset is not removed
+
+
+@pytest.mark.parametrize(
+    "make",
+    [lambda: StationKeeping(position_gain_1ps=float("nan")), lambda: StationKeeping(max_speed_mps=0.0),
+     lambda: StationKeeping(arrive_radius_m=-1.0), lambda: HeadingHold(gain_1ps=float("inf")),
+     lambda: HeadingHold(max_yaw_rate_rad_s=None)],
+)  # fmt: skip
+def test_outer_loop_gains_are_checked(make):
+    from usvsim.core.errors import InputError
+
+    with pytest.raises(InputError, match="must be a finite number > 0"):  # NaN froze the vessel silently
+        make()

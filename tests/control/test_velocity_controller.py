@@ -86,3 +86,26 @@ def test_reset_restarts_from_the_measurement():
     ctrl.update(np.array([0.7, 0.0, 0.0]), [0.7, 0.0, 0.0], 0.05)
     np.testing.assert_allclose(ctrl.reference, [0.7, 0.0, 0.0], atol=1e-12)
     np.testing.assert_allclose(ctrl.integrators, 0.0, atol=1e-9)
+
+
+@pytest.mark.parametrize(
+    "field, value",
+    [("kp", float("nan")), ("ki", float("inf")), ("kp", -1.0), ("bandwidth_rad_s", float("nan")),
+     ("bandwidth_rad_s", -1.0), ("max_velocity", 0.0), ("reference_bandwidth_rad_s", "fast")],
+)  # fmt: skip
+def test_python_tuning_is_checked_like_the_scenario_keys(field, value):
+    """From Python a NaN gain gave a controller that left the WAM-V at rest under a 1 m/s command, a negative
+    bandwidth drove it backwards at 1.18 m/s, and max_velocity=0 was read as "derive it" (the YAML keys refuse all)."""
+    from usvsim.core.errors import InputError
+
+    with pytest.raises(InputError, match=f"AxisTuning.{field} must be a finite number"):
+        AxisTuning(**{field: value})
+    assert AxisTuning(kp=0.0, ki=0.0).kp == 0.0  # zero feedback gains are a choice
+
+
+def test_unknown_allocator_names_the_choices():
+    from usvsim.control import VesselController
+    from usvsim.core.errors import InputError
+
+    with pytest.raises(InputError, match="allocator 'qp': choose 'unconstrained' or 'constrained'"):
+        VesselController.for_model(wamv.build(), allocator="qp")  # was KeyError: 'qp'

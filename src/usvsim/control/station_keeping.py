@@ -17,8 +17,11 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from numbers import Real
 
 import numpy as np
+
+from usvsim.core.errors import InputError
 
 
 def wrap_angle(angle_rad: float) -> float:
@@ -28,6 +31,14 @@ def wrap_angle(angle_rad: float) -> float:
 
 def _clamp(x: float, limit: float) -> float:
     return min(max(x, -limit), limit)
+
+
+def _check_positive(owner, *names: str) -> None:
+    """InputError unless each field is a finite number > 0 (a NaN gain froze the vessel without a word)."""
+    for name in names:
+        value = getattr(owner, name)
+        if isinstance(value, bool) or not isinstance(value, Real) or not math.isfinite(value) or value <= 0:
+            raise InputError(f"{type(owner).__name__}.{name} must be a finite number > 0, not {value!r}")
 
 
 @dataclass(frozen=True)
@@ -46,6 +57,9 @@ class HeadingHold:
     gain_1ps: float = 0.25
     max_yaw_rate_rad_s: float = 0.3
 
+    def __post_init__(self):
+        _check_positive(self, "gain_1ps", "max_yaw_rate_rad_s")
+
     def yaw_rate(self, yaw_rad: float, target_yaw_rad: float) -> float:
         return _clamp(self.gain_1ps * wrap_angle(target_yaw_rad - yaw_rad), self.max_yaw_rate_rad_s)
 
@@ -59,6 +73,9 @@ class StationKeeping:
     max_speed_mps: float = 1.0
     fully_actuated: bool = True
     arrive_radius_m: float = 2.0
+
+    def __post_init__(self):
+        _check_positive(self, "position_gain_1ps", "max_speed_mps", "arrive_radius_m")
 
     def velocity_reference(self, position_enu_m, yaw_rad: float, target: Pose2D) -> np.ndarray:
         dx, dy = target.x_m - float(position_enu_m[0]), target.y_m - float(position_enu_m[1])

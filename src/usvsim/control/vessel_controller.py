@@ -19,7 +19,7 @@ from usvsim.control.plant import PlantModel, com_velocity, reference_at_com
 from usvsim.control.station_keeping import Pose2D, StationKeeping
 from usvsim.control.velocity import VelocityController, actuator_time_constant
 from usvsim.core.clock import steps_per_period
-from usvsim.core.errors import UsvsimError
+from usvsim.core.errors import InputError, UsvsimError
 
 
 @dataclass(frozen=True)
@@ -61,6 +61,8 @@ class VesselController:
         layout = ThrusterLayout.from_thrusters(model.thrusters, plant.com_flu_m)
         tau_act = actuator_time_constant(model.thrusters)
         velocity = VelocityController.design(plant, layout, tau_act, tuning, coriolis_feedforward)
+        if allocator not in ALLOCATORS:  # was a bare KeyError: 'qp'
+            raise InputError(f"allocator {allocator!r}: choose {' or '.join(map(repr, ALLOCATORS))}")
         return cls(plant, layout, velocity, ALLOCATORS[allocator](layout), station_keeping)
 
     def reset(self) -> None:
