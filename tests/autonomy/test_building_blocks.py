@@ -182,3 +182,29 @@ def test_kiss_icp_takes_clouds_without_point_times():
     assert done.returncode == 0, done.stderr[-500:]
     offset, points = done.stdout.split()
     assert float(offset) < 0.05 and int(points) > 1000  # at rest: the pose stays where it started
+
+
+def test_harbor_navigate_lidar_sees_a_buoy_9m_away():
+    """The LiDAR sat 5 mm above the WAM-V's deck plate (the seed's lidar_link, 1.031 m): the plate hid every beam
+    below -2.5 deg, so buoy_1, 9 m abeam of the start, gave no point (0 per cloud) and was never mapped."""
+    from usvsim.autonomy.sensing import Tap
+    from usvsim.core.transforms import matrix_from_quat
+    from usvsim.simulation import Simulation
+
+    sim = Simulation.from_scenario("harbor_navigate")
+    try:
+        tap = Tap(sim, ["/wamv/lidar/points"])
+        sim.step()
+        mount, boat, buoy = tap.static["wamv/lidar"], sim.vessels["wamv"], sim.bodies["buoy_1"]
+        counts = []
+        while len(counts) < 3:
+            sim.step()
+            if (env := tap.take("/wamv/lidar/points")) is None:
+                continue
+            xyz, _ = cloud_arrays(env.msg)
+            world = (matrix_from_quat(boat.quat) @ (mount[:3, :3] @ xyz.T + mount[:3, 3:4])).T + boat.position
+            counts.append(int((np.linalg.norm(world - buoy.position, axis=1) < 0.8).sum()))
+        assert min(counts) >= 5, counts  # 14-21 points a cloud on the 0.3 m sphere
+    finally:
+        sim.close()
+

@@ -25,7 +25,7 @@ SCENARIO = {
     "version": 1, "name": "ros2_drive", "world": {"physics_rate_hz": 100},
     "vessels": [{"name": "wamv", "model": "wamv", "pose": {"position": [0.0, 0.0, 0.0]}, "command_timeout_s": 1.0,
                  "sensors": [{"type": "lidar", "name": "lidar", "preset": "vlp16", "columns": 900, "rate_hz": 10,
-                              "motion_distortion": True, "self_returns": False, "mount": {"position": [0.701, 0.0, 1.031]}},
+                              "motion_distortion": True, "self_returns": False, "mount": {"position": [0.701, 0.0, 1.6]}},
                              {"type": "odometry", "name": "odometry", "rate_hz": 20}]}],
     "objects": [{"type": "wall", "name": "north", "position": [0, 10, 1], "size": [40, 1, 4]},
                 {"type": "wall", "name": "south", "position": [0, -10, 1], "size": [40, 1, 4]},

@@ -29,7 +29,7 @@ def _args(argv):
     p.add_argument("--ros2", action="store_true", required=True, help="run as a ROS 2 node (rclpy)")
     p.add_argument("--vessel", default="wamv")
     p.add_argument("--lidar", default="lidar")
-    p.add_argument("--lidar-xyz", default="0.701,0.0,1.031", help="LiDAR position in base_link, m")
+    p.add_argument("--lidar-xyz", default="0.701,0.0,1.6", help="LiDAR position in base_link, m")
     p.add_argument("--goals", required=True, help="'x,y;x,y' in the map frame (<vessel>/odom), m")
     p.add_argument(
         "--bounds", default="-60,-40,60,40", help="map extent xmin,ymin,xmax,ymax in m (--bounds=-60,...)"
