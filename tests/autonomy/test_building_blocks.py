@@ -208,3 +208,33 @@ def test_harbor_navigate_lidar_sees_a_buoy_9m_away():
     finally:
         sim.close()
 
+
+def test_a_goal_on_an_obstacle_is_given_up_and_the_next_one_driven_to():
+    """A goal in a wall: no plan reaches it, and the boat used to stay on it until --max-time (the goals after it
+    never tried, no word why). After `give_up_s` of failed plans it is given up with the reason, and the next goal
+    gets a path."""
+    from usvsim.autonomy.navigator import Navigator, NavigatorConfig
+
+    nav = Navigator(_wall_grid(), None, [(10.1, 4.0), (15.0, 10.0)], NavigatorConfig(give_up_s=10.0))
+    nav.pose[:2, 3] = (5.0, 10.0)
+    t = 0.0
+    while not nav.given_up and t < 60.0:
+        nav.decide(t)
+        t += 0.1
+    why = "on an obstacle in the map"
+    assert nav.given_up == [{"goal": 0, "t_s": pytest.approx(10.0, abs=2.1), "why": why}]
+    nav.decide(t)
+    assert nav.goal is not None and nav.goal.tolist() == [15.0, 10.0] and nav.path is not None
+    assert np.allclose(nav.path[-1], (15.0, 10.0)) and not nav.done
+
+
+def test_arrival_errors_pair_each_reached_goal_with_its_own_goal():
+    """With goal 0 given up, the one reached (goal 1) is measured against goal 1, not against goal 0."""
+    from types import SimpleNamespace
+
+    from usvsim.autonomy.report import _goal_errors
+
+    goals = [np.array([0.0, 0.0]), np.array([10.0, 0.0])]
+    nav = SimpleNamespace(goals=goals, reached=[5.0], reached_goals=[1])
+    truth = np.array([[4.9, 9.0, 0.0], [5.0, 10.3, 0.4], [5.1, 11.0, 0.0]])  # t, x, y
+    assert _goal_errors(nav, truth) == [0.5]

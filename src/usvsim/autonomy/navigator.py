@@ -30,6 +30,7 @@ class NavigatorConfig:
     half_width_m: float = 1.3  # WAM-V beam / 2
     corridor_margin_m: float = 0.7
     stop_distance_m: float = 3.0
+    give_up_s: float = 30.0  # a goal no plan reaches for this long is given up (the next one is taken)
     guidance: LosGuidance = field(default_factory=LosGuidance)
     planner: GridPlanner | HybridAStarPlanner = field(default_factory=GridPlanner)
 
@@ -53,20 +54,29 @@ class Navigator:
     def __init__(self, grid: OccupancyGrid, odometry, goals, config: NavigatorConfig | None = None):
         self.grid, self.odometry, self.config = grid, odometry, config or NavigatorConfig()
         self.goals = [np.asarray(g, float) for g in goals]
-        self.reached: list[float] = []  # time (s) each goal was reached
+        self.reached: list[float] = []  # time (s) each reached goal was reached
+        self.reached_goals: list[int] = []  # their indices in `goals`
+        self.given_up: list[dict] = []  # {"goal": index, "t_s": time, "why": reason} of goals no plan reached
         self.path: np.ndarray | None = None
         self.pose = np.eye(4)
+        self._index = 0  # the goal driven to
         self._planned_at = -math.inf
+        self._blocked_since: float | None = None  # since when no plan reaches the goal
         self._prev: tuple[float, np.ndarray] | None = None
         self._band = np.zeros((0, 3))
 
     @property
     def done(self) -> bool:
-        return len(self.reached) == len(self.goals)
+        """Every goal reached or given up."""
+        return self._index == len(self.goals)
 
     @property
     def goal(self) -> np.ndarray | None:
-        return None if self.done else self.goals[len(self.reached)]
+        return None if self.done else self.goals[self._index]
+
+    def _next_goal(self) -> None:
+        self._index += 1
+        self.path, self._blocked_since = None, None
 
     def update(self, t: float, xyz: np.ndarray, times_s: np.ndarray, twist=None, dt_s: float = 0.1):
         """One cloud (LiDAR frame, m; per-point times s after its stamp) whose sweep ended at t: the new velocity
@@ -89,7 +99,8 @@ class Navigator:
         goal = self.goal
         if goal is not None and np.hypot(*(goal - p)) < self.config.goal_tolerance_m:
             self.reached.append(t)
-            self.path = None
+            self.reached_goals.append(self._index)
+            self._next_goal()
         if self.done:
             return 0.0, 0.0
         ahead = self._obstacle_ahead(self._band, p, yaw)
@@ -99,6 +110,8 @@ class Navigator:
             or ahead < self.config.stop_distance_m
         ):
             self._replan(t, p, yaw)
+        if self.done:  # the last goal was given up
+            return 0.0, 0.0
         if self.path is None:
             return 0.0, 0.3  # no way yet: turn on the spot to see more
         u, r = self.config.guidance.command(p, yaw, nu, 0.1)
@@ -132,5 +145,31 @@ class Navigator:
         self._planned_at = t
         path = self.config.planner.plan(self.grid, p, self.goal, yaw)
         if path is not None and len(path) >= 2:
-            self.path = path
+            self.path, self._blocked_since = path, None
             self.config.guidance.follow(path)
+            return
+        # no plan: an unreachable goal held the boat (turning or on a stale path) until the time limit, and the
+        # goals after it were never tried
+        if self._blocked_since is None:
+            self._blocked_since = t
+        elif t - self._blocked_since >= self.config.give_up_s:
+            self.given_up.append({"goal": self._index, "t_s": round(t, 2), "why": self._why_unreachable()})
+            self._next_goal()
+
+    def _why_unreachable(self) -> str:
+        """Why no plan reaches the current goal, from the map."""
+        goal = self.goal
+        assert goal is not None
+        i, j = self.grid.cells(goal[None, :])[0]
+        if not (0 <= i < self.grid.shape[0] and 0 <= j < self.grid.shape[1]):
+            return "outside the map"
+        occupied = self.grid.occupied()
+        clearance = getattr(self.config.planner, "clearance_m", None)
+        if occupied[i, j]:
+            return "on an obstacle in the map"
+        if occupied.any() and clearance is not None:
+            ii, jj = np.nonzero(occupied)
+            near = float(np.hypot(ii - i, jj - j).min()) * self.grid.resolution_m
+            if near < clearance:
+                return f"{near:.2f} m from an obstacle in the map, within the {clearance:g} m clearance"
+        return f"no path to it in the map for {self.config.give_up_s:g} s (closed off, or the way too narrow)"

@@ -24,6 +24,7 @@ def summarize(
         "goals": [list(map(float, g)) for g in nav.goals], "goals_reached": len(nav.reached),
         "goal_times_s": [round(t, 2) for t in nav.reached],
         "final_goal_error_m": _goal_errors(nav, truth),
+        "goals_given_up": [{**g, "goal": list(map(float, nav.goals[g["goal"]]))} for g in nav.given_up],
         "collisions": sorted(trace.contacts),
         "map_iou": round(metrics.map_iou(grid, truth_occ, truth[:, 1:3]), 4),  # one-cell tolerance
         "map_iou_strict": round(metrics.map_iou(grid, truth_occ, truth[:, 1:3], tolerance_cells=0), 4),
@@ -40,7 +41,7 @@ def summarize(
 def _goal_errors(nav, truth: np.ndarray) -> list[float]:
     """True distance (m) to each reached goal at the time it was declared reached."""
     out = []
-    for goal, t in zip(nav.goals, nav.reached):
+    for goal, t in zip((nav.goals[i] for i in nav.reached_goals), nav.reached):
         k = min(np.searchsorted(truth[:, 0], t), len(truth) - 1)
         out.append(round(float(np.hypot(*(truth[k, 1:3] - goal))), 3))
     return out

@@ -5,7 +5,8 @@ its twist is the ICP's motion prior; with `--odometry sensor` its pose is the lo
 `/map` (nav_msgs/OccupancyGrid, transient local, 1 Hz), `/plan` (nav_msgs/Path on every new plan) and
 `/<v>/cmd_vel` (geometry_msgs/Twist) at the cloud rate. Frames: the map frame is `<v>/odom` (the odometry's
 frame, so the goals are in it); the LiDAR mount in base_link is `--lidar-xyz` (FLU m, no rotation), as a
-parameter like most drivers' extrinsics. Prints one JSON line `RESULT {...}` when every goal is reached.
+parameter like most drivers' extrinsics. Prints one JSON line `RESULT {...}` when every goal is reached (or
+given up: no plan reached it for 30 s).
 """
 
 from __future__ import annotations
@@ -113,7 +114,8 @@ class AutonomyNode:
             self.map.publish(self._grid_msg(msg.header.stamp))
         if self.nav.done and self.args.exit_when_done:
             p = self.nav.pose[:2, 3]
-            print("RESULT " + json.dumps({"reached_s": self.nav.reached, "x": p[0], "y": p[1]}), flush=True)
+            result = {"reached_s": self.nav.reached, "given_up": self.nav.given_up, "x": p[0], "y": p[1]}
+            print("RESULT " + json.dumps(result), flush=True)
 
     def _publish_plan(self, stamp) -> None:
         from geometry_msgs.msg import PoseStamped

@@ -50,6 +50,9 @@ def navigate_command(
         _fail(exc)
     checks = acceptance(summary)
     typer.echo(json.dumps({k: v for k, v in summary.items() if k != "files"}, indent=2))
+    for g in summary["goals_given_up"]:
+        x, y = g["goal"]
+        typer.echo(f"goal {x:g},{y:g} given up at t = {g['t_s']:g} s: {g['why']}")
     typer.echo(" ".join(f"{k}: {'PASS' if ok else 'FAIL'}" for k, ok in checks.items()))
     typer.echo(f"wrote {', '.join(summary['files'])}")
     if not all(checks.values()):  # as `usvsim experiment`: scripts see a failed check (it exited 0)
