@@ -238,3 +238,14 @@ def test_arrival_errors_pair_each_reached_goal_with_its_own_goal():
     nav = SimpleNamespace(goals=goals, reached=[5.0], reached_goals=[1])
     truth = np.array([[4.9, 9.0, 0.0], [5.0, 10.3, 0.4], [5.1, 11.0, 0.0]])  # t, x, y
     assert _goal_errors(nav, truth) == [0.5]
+
+
+@pytest.mark.parametrize(
+    "field, value",
+    [("speed_mps", float("nan")), ("lookahead_m", 0.0), ("course_gain_1ps", -0.4), ("integral_gain", None)],
+)
+def test_los_parameters_are_checked(field, value):
+    from usvsim.core.errors import InputError
+
+    with pytest.raises(InputError, match=f"LosGuidance.{field} must be a finite number"):
+        LosGuidance(**{field: value})

@@ -15,8 +15,11 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from numbers import Real
 
 import numpy as np
+
+from usvsim.core.errors import InputError
 
 
 def wrap(angle: float) -> float:
@@ -33,6 +36,12 @@ class LosGuidance:
     integral_gain: float = 0.0  # σ_i of integral LOS; 0 = plain LOS
 
     def __post_init__(self):
+        # a NaN speed or gain reached the velocity controller as a NaN reference, refused there, far from the cause
+        for name, value in vars(self).items():
+            ok = isinstance(value, Real) and not isinstance(value, bool) and math.isfinite(value)
+            if not ok or value < 0 or (value == 0 and name != "integral_gain"):
+                least = ">= 0" if name == "integral_gain" else "> 0"
+                raise InputError(f"LosGuidance.{name} must be a finite number {least}, not {value!r}")
         self.path = np.zeros((0, 2))
         self.leg, self.y_int = 0, 0.0
 
