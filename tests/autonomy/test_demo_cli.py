@@ -30,3 +30,36 @@ def test_a_failed_check_exits_1_after_writing_its_outputs(tmp_path):
                            "--out", str(tmp_path / "nav")], capture_output=True, text=True, timeout=600)  # fmt: skip
     assert done.returncode == 1, done.stderr
     assert "goals_reached_within_1m: FAIL" in done.stdout and (tmp_path / "nav" / "metrics.json").exists()
+
+
+BASIN = {"version": 1, "name": "basin", "vessels": [{"name": "wamv", "model": "wamv", "controller": {"type": "velocity"},
+         "sensors": [{"type": "lidar", "name": "scan", "preset": "seed_2d", "rate_hz": 10},
+                     {"type": "lidar", "name": "lidar", "preset": "vlp16", "rate_hz": 1}]}],
+         "objects": [{"type": "wall", "name": "north", "position": [10.0, 15.0, -0.5], "size": [40.0, 1.0, 3.0]}]}  # fmt: skip
+
+
+def test_the_3d_lidar_is_picked_over_a_2d_one():
+    """The first LiDAR was taken even when it was a 2D one (LaserScan): no cloud ever came, the boat idled to
+    --max-time and the report ended in an IndexError traceback."""
+    from usvsim.autonomy.demo import pick
+    from usvsim.config.loader import parse_scenario
+    from usvsim.core.errors import UsvsimError
+
+    assert pick(parse_scenario(BASIN), None, None) == ("wamv", "lidar")
+    only_2d = {**BASIN, "vessels": [{**BASIN["vessels"][0], "sensors": BASIN["vessels"][0]["sensors"][:1]}]}
+    with pytest.raises(UsvsimError, match="3D `lidar`"):
+        pick(parse_scenario(only_2d), None, None)
+
+
+def test_no_cloud_in_the_time_given_is_one_line(tmp_path):
+    """A 1 Hz LiDAR and --max-time 1.5: the stack never got a cloud (it takes every third) and the report raised
+    IndexError in the ATE; now one line, exit 2."""
+    import json
+
+    (tmp_path / "basin.yaml").write_text(json.dumps(BASIN))
+    done = subprocess.run([sys.executable, "-m", "usvsim.cli", "demo", "navigate", str(tmp_path / "basin.yaml"),
+                           "--goals", "10,8", "--max-time", "1.5", "--out", str(tmp_path / "o")],
+                          capture_output=True, text=True, timeout=300)  # fmt: skip
+    lines = [ln for ln in done.stderr.splitlines() if ln.strip()]
+    assert done.returncode == 2 and len(lines) == 1 and "Traceback" not in done.stderr, done.stderr
+    assert "no point cloud reached the stack from /wamv/lidar/points in 1.5 s" in lines[0]

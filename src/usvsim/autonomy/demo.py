@@ -35,12 +35,15 @@ def parse_goals(text: str) -> list[tuple[float, float]]:
 
 def pick(scenario, vessel: str | None, lidar: str | None) -> tuple[str, str]:
     """The vessel of `scenario` (a config.Scenario) with a velocity controller and a 3D LiDAR (the first, unless
-    named)."""
+    named). A 2D LiDAR (LaserScan output) is passed over: it sends no cloud, and the run idled to --max-time and
+    ended in an IndexError."""
+    from usvsim.sensors.lidar.patterns import resolve
+
     for v in scenario.vessels:
         if vessel not in (None, v.name) or v.controller is None:
             continue
         for s in v.sensors:
-            if s.type == "lidar" and lidar in (None, s.name):
+            if s.type == "lidar" and lidar in (None, s.name) and resolve(s).output == "points":
                 return v.name, s.name
     raise UsvsimError(f"scenario {scenario.name!r}: demo navigate needs a vessel with a `controller` and a 3D "
                       "`lidar` sensor (see the harbor_navigate scenario)")  # fmt: skip
@@ -78,6 +81,9 @@ def run_demo(scenario: str, goals=None, out: Path = Path("navigate_out"), max_ti
         start = time.perf_counter()
         trace = navigate(sim, nav, tap, vessel, lidar, max_time_s)
         wall = time.perf_counter() - start
+        if not trace.rows:
+            raise UsvsimError(f"no point cloud reached the stack from /{vessel}/{lidar}/points in {sim.time:g} s "
+                              "(give --max-time at least a few LiDAR periods)")  # fmt: skip
         truth = true_occupancy(sim, nav.grid, vessel, nav.config.slice_m)
         summary = report.summarize(nav, trace, nav.grid, truth, sim.time, wall)
         summary["files"] = [str(p) for p in report.write(Path(out), nav, trace, nav.grid, truth, summary)]
