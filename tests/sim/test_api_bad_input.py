@@ -80,6 +80,26 @@ def test_a_bad_velocity_reference_is_refused_and_does_not_stall_the_controller()
     sim.close()
 
 
+def test_a_bad_force_is_refused():
+    """`loop.force` (τ about the CoM) took a NaN (thrusters silently at 0), (1.0,) (broadcast to (1, 1, 1)) and a
+    string (ValueError inside the next run); now refused like a bad reference."""
+    from usvsim.config.scenario import Scenario
+
+    scenario = Scenario.model_validate({"version": 1, "vessels": [
+        {"name": "wamv", "model": "wamv", "controller": {"type": "velocity", "rate_hz": 20}}]})  # fmt: skip
+    sim = Simulation(scenario, seed=0)
+    loop = sim.controllers["wamv"]
+    for bad in ((math.nan, 0.0, 0.0), (1.0,), "x", (0.0, 0.0, math.inf)):
+        with pytest.raises(UsvsimError, match="force must be 3 finite numbers"):
+            loop.force = bad
+    loop.force = (200.0, 0.0, 0.0)
+    sim.run(3.0)
+    assert sim.vessels["wamv"].velocity_body[0] > 0.5  # 200 N ahead moves it
+    loop.force = None  # back to the reference
+    assert loop.force is None
+    sim.close()
+
+
 @pytest.mark.parametrize(
     ("call", "value", "message"),
     [

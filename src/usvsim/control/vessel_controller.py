@@ -151,6 +151,24 @@ class ControlLoop:
             raise UsvsimError(f"reference must be 3 finite numbers (u m/s, v m/s, r rad/s) or a Pose2D, not {value!r}")
         self._reference = value
 
+    @property
+    def force(self):
+        """A force τ (X N, Y N, N N m) about the CoM, body FLU, that overrides the reference; None: the reference."""
+        return self._force
+
+    @force.setter
+    def force(self, value) -> None:
+        # checked as the reference is: a NaN left the thrusters at 0 without a word, (1.0,) was broadcast to
+        # (1, 1, 1), and a string failed inside the next sim.run
+        if value is not None:
+            try:
+                ok = len(value) == 3 and all(math.isfinite(float(v)) for v in value)
+            except (TypeError, ValueError):
+                ok = False
+            if not ok:
+                raise UsvsimError(f"force must be 3 finite numbers (X N, Y N, N N m) or None, not {value!r}")
+        self._force = value
+
     def reset(self) -> None:
         """Controller state cleared, next update at the next step (after a simulation reset)."""
         self.controller.reset()
