@@ -166,3 +166,25 @@ def test_workers_below_one_is_refused(workers):
 
     with pytest.raises(UsvsimError, match="workers must be a whole number >= 1"):  # 0 meant every CPU
         run(expand({"task": "station_keeping", "seeds": [0]}), "process", workers=workers)
+
+
+def test_a_broken_sweep_writes_the_runs_it_finished(tmp_path, monkeypatch):
+    """A worker killed (BrokenProcessPool) ended the sweep with a traceback and nothing written."""
+    from concurrent.futures.process import BrokenProcessPool
+    from dataclasses import asdict
+
+    import usvsim.batch
+
+    def broken(runs, *args, finished, **kwargs):
+        finished[0] = {"run": asdict(runs[0]), "score": 2.0, "num_collisions": 0, "higher_is_better": False}
+        raise BrokenProcessPool("A process in the process pool was terminated abruptly")
+
+    monkeypatch.setattr(usvsim.batch, "run", broken)
+    spec = tmp_path / "sweep.yaml"
+    spec.write_text("task: station_keeping\nseeds: [0, 1, 2]\ntime_limit_s: 2\n")
+    out = tmp_path / "runs.jsonl"
+    result = CliRunner().invoke(app, ["sweep", str(spec), "--out", str(out)])
+    assert result.exit_code == 2 and "Traceback" not in result.output
+    assert "the sweep stopped: BrokenProcessPool" in result.output
+    assert "wrote the 1 of 3 runs finished" in result.output
+    assert [json.loads(line)["score"] for line in out.read_text().splitlines()] == [2.0]
