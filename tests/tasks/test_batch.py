@@ -188,3 +188,12 @@ def test_a_broken_sweep_writes_the_runs_it_finished(tmp_path, monkeypatch):
     assert "the sweep stopped: BrokenProcessPool" in result.output
     assert "wrote the 1 of 3 runs finished" in result.output
     assert [json.loads(line)["score"] for line in out.read_text().splitlines()] == [2.0]
+
+
+def test_an_unreachable_ray_cluster_is_one_error():
+    """`address: 127.0.0.1:1` (nothing listens): Ray retried for over 2 minutes, printing its own warnings."""
+    pytest.importorskip("ray")
+    from usvsim.core.errors import UsvsimError
+
+    with pytest.raises(UsvsimError, match="cannot reach the Ray cluster at 127.0.0.1:1"):
+        run(expand({"task": "station_keeping", "seeds": [0]}), "ray", workers=1, address="127.0.0.1:1")

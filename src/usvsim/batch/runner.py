@@ -164,12 +164,28 @@ def _process(runs, workers, progress, stop, out) -> list[dict]:
     return _filled(out)
 
 
+def _check_reachable(address: str, timeout_s: float = 5.0) -> None:
+    """UsvsimError unless a TCP connection to a Ray `address` ("host:port" or "ray://host:port") opens: an
+    unreachable one held `usvsim sweep` for minutes in Ray's own retries, printing only Ray's warnings."""
+    import socket
+
+    host, _, port = address.removeprefix("ray://").rpartition(":")
+    if address in ("auto", "local") or not host or not port.isdigit():
+        return  # Ray's own keywords and forms: left to Ray
+    try:
+        socket.create_connection((host.strip("[]"), int(port)), timeout=timeout_s).close()
+    except OSError as exc:
+        raise UsvsimError(f"cannot reach the Ray cluster at {address}: {exc.strerror or exc}") from None
+
+
 def _ray(runs, workers, address, progress, stop, out) -> list[dict]:
     try:
         import ray
     except ImportError:
         raise UsvsimError("the ray backend needs Ray: pip install 'usvsim[ray]'") from None
     started = not ray.is_initialized()
+    if started and address:
+        _check_reachable(address)
     if started:
         local = {} if address else {"num_cpus": workers, "_node_ip_address": "127.0.0.1"}  # loopback only
         ray.init(address=address, include_dashboard=False, log_to_driver=False, configure_logging=False, **local)
