@@ -1,10 +1,12 @@
 """The Otter with Fossen's model in the full simulation (MuJoCo + mesh hydrostatics + Fossen forces) against
 PVS's equations (issue [seas] item 4).
 
-Reference numbers: Fossen's PythonVehicleSimulator (PVS) Otter equations (otter.py at c717e073, physics.md §3.1–3.2)
-integrated as PVS does (forward Euler, h = 0.02 s) by `usvsim.experiments.otter.simulate` (which reproduces PVS's
-straight runs of physics.md §3.5), with PVS's payload-weight double count switched off (payload_quirk=False),
-120 s from rest, mean of the last 10 s; velocities at Fossen's CO, FLU. Recorded here as constants.
+Reference numbers: made by Fossen's PythonVehicleSimulator (PVS) itself, commit c717e073, unmodified: its otter()
+with a constant command, its own mainLoop.simulate (forward Euler, h = 0.02 s), 120 s from rest, mean of the last
+10 s, with the payload-weight double count switched off at run time (vehicle.mp = 0 after construction; physics.md
+§3.2 quirk 2); velocities at Fossen's CO, FLU. Recorded here as constants; `pvs_reference_runs.py` beside this file
+says exactly how (2026-11-28). usvsim's own re-implementation (`usvsim.experiments.otter.simulate`,
+payload_quirk=False) gives the same numbers to every digit shown.
 Finding: PVS's equations themselves are directionally unstable from about n = 65 rad/s with equal commands (a
 1e-3 rad/s yaw kick grows into a 0.06 rad/s turn at 75 rad/s, 0.27 rad/s at 103.9); PVS's straight runs stay
 straight only because its arithmetic is exactly symmetric. So straightness is checked at 60 rad/s, where PVS
@@ -28,6 +30,9 @@ PVS_TURNS = {
     (103.930864, 51.965432): (1.82746, 0.19086, -0.28624, 12.8381),
 }
 
+
+# n rad/s on both propellers -> PVS's steady surge u (m/s at CO); straight (v = r = 0 exactly in PVS)
+PVS_STRAIGHT = {51.965432: 0.771600, 60.0: 1.028645}
 
 MODELS = ["otter", "otter_pvs"]  # the default hull with Fossen's model; the hull made to Fossen's hydrostatics
 # physics.md §3.1 (PVS's formulas): metacentric heights (m), both pontoons' waterplane area (m²), draft (m)
@@ -104,6 +109,23 @@ def test_steady_turn_against_pvs_equations(command, model):
     assert v == pytest.approx(v_ref, rel=0.03)
     assert r == pytest.approx(r_ref, rel=0.03)
     assert 2 * np.hypot(u, v) / abs(r) == pytest.approx(d_ref, rel=0.03)
+    sim.close()
+
+
+@pytest.mark.parametrize("model", MODELS)
+@pytest.mark.parametrize("n", list(PVS_STRAIGHT))
+def test_steady_straight_surge_against_pvs(n, model):
+    """Equal commands where PVS's equations are directionally stable (n < ~65 rad/s): straight, at PVS's surge
+    within 3 % (the issue's target; measured -0.3 and -0.4 %)."""
+    sim = _otter(n, n, model)
+    sim.run(60.0)
+    samples = []
+    for _ in range(10):
+        sim.run(1.0)
+        samples.append(_at_co(sim))
+    u, v, r = np.mean(samples, axis=0)
+    assert u == pytest.approx(PVS_STRAIGHT[n], rel=0.03)
+    assert abs(v) < 1e-6 and abs(r) < 1e-6
     sim.close()
 
 
