@@ -9,22 +9,12 @@ import math
 import numpy as np
 import pymap3d
 import pytest
-from place import COAST_Y, CRS, ORIGIN, QUAY, SHOAL, geo_section, to_utm, write_place
+from place import COAST_Y, CRS, ORIGIN, QUAY, SHOAL, geo_section, to_utm
 
 from usvsim.config.loader import parse_scenario
 from usvsim.core.errors import UsvsimError
 from usvsim.geo.frame import GeoFrame
 from usvsim.simulation import Simulation
-
-
-@pytest.fixture(scope="module")
-def place(tmp_path_factory):
-    return write_place(tmp_path_factory.mktemp("place"))
-
-
-@pytest.fixture(autouse=True)
-def _own_cache(tmp_path, monkeypatch):
-    monkeypatch.setenv("USVSIM_CACHE", str(tmp_path / "cache"))
 
 
 def scenario(place, vessels=(), sensors=(), **geo):

@@ -5,22 +5,12 @@ from __future__ import annotations
 import numpy as np
 import pytest
 import shapely
-from place import COAST_Y, ORIGIN, geo_section, write_place
+from place import COAST_Y, ORIGIN, geo_section
 
 from usvsim.config.loader import parse_scenario
 from usvsim.core.errors import UsvsimError
 from usvsim.geo.frame import GeoFrame
 from usvsim.simulation import Simulation
-
-
-@pytest.fixture(scope="module")
-def place(tmp_path_factory):
-    return write_place(tmp_path_factory.mktemp("place"))
-
-
-@pytest.fixture(autouse=True)
-def _own_cache(tmp_path, monkeypatch):
-    monkeypatch.setenv("USVSIM_CACHE", str(tmp_path / "cache"))
 
 
 def scenario_data(place, **geo):

@@ -143,11 +143,7 @@ class ControlLoop:
         # checked here: a NaN was taken and poisoned the controller's state for good (the boat never moved
         # again, whatever the later references), and (1.0,) failed at the next step, far from the mistake
         numbers = (value.x_m, value.y_m, value.yaw_rad) if isinstance(value, Pose2D) else value
-        try:
-            ok = len(numbers) == 3 and all(math.isfinite(float(v)) for v in numbers)
-        except (TypeError, ValueError):
-            ok = False
-        if not ok:
+        if not _three_finite(numbers):
             raise UsvsimError(f"reference must be 3 finite numbers (u m/s, v m/s, r rad/s) or a Pose2D, not {value!r}")
         self._reference = value
 
@@ -160,13 +156,8 @@ class ControlLoop:
     def force(self, value) -> None:
         # checked as the reference is: a NaN left the thrusters at 0 without a word, (1.0,) was broadcast to
         # (1, 1, 1), and a string failed inside the next sim.run
-        if value is not None:
-            try:
-                ok = len(value) == 3 and all(math.isfinite(float(v)) for v in value)
-            except (TypeError, ValueError):
-                ok = False
-            if not ok:
-                raise UsvsimError(f"force must be 3 finite numbers (X N, Y N, N N m) or None, not {value!r}")
+        if value is not None and not _three_finite(value):
+            raise UsvsimError(f"force must be 3 finite numbers (X N, Y N, N N m) or None, not {value!r}")
         self._force = value
 
     def reset(self) -> None:
@@ -182,3 +173,11 @@ class ControlLoop:
             self.controller.apply_force(self.vessel, self.force, self.dt)
         else:
             self.controller.apply(self.vessel, self.reference, self.dt)
+
+
+def _three_finite(numbers) -> bool:
+    """Whether `numbers` is 3 finite numbers (a NaN, a wrong length or a string is not)."""
+    try:
+        return len(numbers) == 3 and all(math.isfinite(float(v)) for v in numbers)
+    except (TypeError, ValueError):
+        return False
