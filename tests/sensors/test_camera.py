@@ -38,6 +38,29 @@ def _to_optical(cam, sim, world):
     return (world - pos) @ (rot @ OPTICAL_ROT)
 
 
+def test_strong_pincushion_has_a_ray_for_every_pixel():
+    """k1 = 5 (and a mixed strong lens) at 80°: the inverse (Newton's method, core/lens.py) gives every output
+    pixel a ray that the published model (OpenCV's projectPoints with the CameraInfo K and D) maps back onto that
+    pixel; OpenCV's own fixed-point undistortPoints does not converge there."""
+    cv2 = pytest.importorskip("cv2")
+    for D in ((5.0, 0.0, 0.0, 0.0, 0.0), (0.8, 0.2, 0.004, -0.003, 0.05)):
+        cam = Intrinsics.from_fov(160, 120, 80.0, D)
+        rays = cam.rays().reshape(-1, 2)
+        assert np.isfinite(rays).all()
+        pts = np.column_stack([rays, np.ones(len(rays))])
+        uv = cv2.projectPoints(pts, np.zeros(3), np.zeros(3), cam.K, np.asarray(D))[0].reshape(-1, 2)
+        v, u = np.mgrid[0:120, 0:160]
+        assert np.abs(uv - np.column_stack([u.ravel(), v.ravel()])).max() < 1e-6
+    k1_5 = (5.0, 0.0, 0.0, 0.0, 0.0)
+    cam = Intrinsics.from_fov(160, 120, 80.0, k1_5)
+    corner = (np.array([[-0.5, -0.5]]) - [cam.cx, cam.cy]) / [cam.fx, cam.fy]  # the fixed-point iteration diverges
+    xy = corner.copy()
+    with np.errstate(all="ignore"):
+        for _ in range(20):
+            xy = xy + (corner - distort(xy, k1_5))
+    assert not np.abs(distort(xy, k1_5) - corner).max() < 1e-6
+
+
 def test_undistort_inverts_distort():
     xy = np.random.default_rng(0).uniform(-0.6, 0.6, (1000, 2))
     D = [DIST[k] for k in ("k1", "k2", "p1", "p2", "k3")]
@@ -231,9 +254,10 @@ def test_a_lens_without_inverse_over_the_image_is_refused():
         return parse_scenario(data, "lens.yaml")
 
     scenario(threshold + 0.01)
-    for k1 in (threshold - 0.01, -0.25, 5.0):
+    for k1 in (threshold - 0.01, -0.25):
         with pytest.raises(UsvsimError, match=r"vessels\[0\]\.sensors\[0\]: distortion has no inverse"):
             scenario(k1)
+    scenario(5.0)  # strong pincushion is invertible: it was refused (the fixed-point inverse diverged there)
     remap = Remap(Intrinsics.from_fov(640, 480, 80.0, (-0.25, 0, 0, 0, 0)))  # the Python API: no config check
     assert 0 <= remap.nearest.min() and remap.nearest.max() < 640 * 480
     assert 0 <= remap.corners.min() and remap.corners.max() < 640 * 480

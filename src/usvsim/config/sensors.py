@@ -25,6 +25,7 @@ from usvsim.config.base import (
     Vec2,
     Vec3,
 )
+from usvsim.core.lens import inverse_error
 
 Name = Annotated[str, Field(pattern=r"^[A-Za-z][A-Za-z0-9_]*$")]
 TOPIC_PATTERN = r"^/?[A-Za-z_][A-Za-z0-9_]*(/[A-Za-z_][A-Za-z0-9_]*)*$"  # ROS 2 topic name rules
@@ -217,7 +218,7 @@ class Lidar(SensorBase):
 class Distortion(Section):
     """Brown–Conrady (plumb_bob) coefficients on normalized image coordinates, published as D = [k1 k2 p1 p2 k3].
     Every pixel of the camera's image must have a ray: a lens whose polynomial turns back inside the image (e.g.
-    k1 below -0.135 at 80° and 4:3) is refused."""
+    k1 below -0.135 at 80° and 4:3) is refused; strong pincushion (k1 > 0) is invertible and taken."""
 
     k1: float = 0.0
     k2: float = 0.0
@@ -291,9 +292,9 @@ class Camera(SensorBase):
 
 
 def _pixel_without_ray(width: int, height: int, fov_deg: float, D) -> tuple[int, int] | None:
-    """The first image pixel (u, v) whose distorted normalized coordinates the camera's fixed-point inverse
-    (sensors/camera/intrinsics.undistort: 20 iterations) does not invert to 0.1 px, or None. Checked on the image's
-    border, where the radius is largest, and a grid every 16 pixels inside."""
+    """The first image pixel (u, v) whose distorted normalized coordinates the camera's inverse (core/lens.py, what
+    the renderer uses) does not invert to 0.1 px, or None. Checked on the image's border, where the radius is
+    largest, and a grid every 16 pixels inside."""
     if not any(D):
         return None
     f = 0.5 * width / math.tan(math.radians(fov_deg) / 2)
@@ -301,20 +302,7 @@ def _pixel_without_ray(width: int, height: int, fov_deg: float, D) -> tuple[int,
     border = [(u, v) for u in range(width) for v in (0, height - 1)] + [(u, v) for v in range(height) for u in (0, width - 1)]
     uv = np.array(border + [(u, v) for u in us for v in vs], dtype=float)
     xy_d = (uv - [(width - 1) / 2, (height - 1) / 2]) / f
-    k1, k2, p1, p2, k3 = D
-
-    def distort(xy):
-        x, y = xy[:, 0], xy[:, 1]
-        r2 = x * x + y * y
-        radial = 1 + r2 * (k1 + r2 * (k2 + r2 * k3))
-        return np.stack([x * radial + 2 * p1 * x * y + p2 * (r2 + 2 * x * x), y * radial + p1 * (r2 + 2 * y * y) + 2 * p2 * x * y], axis=1)
-
-    xy = xy_d.copy()
-    with np.errstate(all="ignore"):
-        for _ in range(20):
-            xy = xy + (xy_d - distort(xy))
-        error = np.abs(distort(xy) - xy_d).max(axis=1) * f
-    bad = ~(error < 0.1)  # NaN too
+    bad = ~(inverse_error(xy_d, D) * f < 0.1)  # NaN too
     return (int(uv[bad][0, 0]), int(uv[bad][0, 1])) if bad.any() else None
 
 

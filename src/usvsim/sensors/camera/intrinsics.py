@@ -16,25 +16,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from usvsim.core.lens import distort, undistort
 from usvsim.sensors.camera.kernels import remap_bilinear
 
-
-def distort(xy: np.ndarray, D) -> np.ndarray:
-    """Undistorted normalized points (n, 2) → distorted normalized points (plumb_bob D = k1, k2, p1, p2, k3)."""
-    k1, k2, p1, p2, k3 = D
-    x, y = xy[:, 0], xy[:, 1]
-    r2 = x * x + y * y
-    radial = 1 + r2 * (k1 + r2 * (k2 + r2 * k3))
-    return np.stack([x * radial + 2 * p1 * x * y + p2 * (r2 + 2 * x * x),
-                     y * radial + p1 * (r2 + 2 * y * y) + 2 * p2 * x * y], axis=1)  # fmt: skip
-
-
-def undistort(xy_d: np.ndarray, D, iterations: int = 20) -> np.ndarray:
-    """Inverse of `distort` by fixed-point iteration (as OpenCV's undistortPoints)."""
-    xy = xy_d.copy()
-    for _ in range(iterations):
-        xy = xy + (xy_d - distort(xy, D))
-    return xy
+__all__ = ["Intrinsics", "Remap", "distort", "undistort"]
 
 
 @dataclass(frozen=True)
