@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
 import pytest
 from scipy.optimize import brentq
 
@@ -32,3 +33,19 @@ def test_a_buoy_floats_at_the_height_of_its_sphere(radius_m, mass_kg):
     assert abs(world.state.vcom_world[body][2]) < 1e-4  # settled
     assert centre_z == pytest.approx(sphere_centre_height(radius_m, mass_kg), abs=1e-3)
     assert world.hydrostatics.volume[body] * 1025.0 == pytest.approx(mass_kg, rel=1e-4)
+
+
+def test_the_buoy_hull_is_trimeshs_icosphere():
+    """The buoy's own icosphere (made without importing trimesh) against trimesh.creation.icosphere(1): the same 42
+    vertices, closed with consistent outward winding, the same volume."""
+    trimesh = pytest.importorskip("trimesh")
+    from usvsim.vessels.buoy import icosphere
+
+    vertices, faces = icosphere()
+    ref = trimesh.creation.icosphere(subdivisions=1, radius=1.0)
+    mine = trimesh.Trimesh(vertices, faces, process=False)
+    assert len(faces) == 80 and mine.is_watertight and mine.is_winding_consistent and mine.volume > 0
+    assert mine.volume == pytest.approx(ref.volume, rel=1e-14)
+    ours = np.array(sorted(map(tuple, vertices.round(12))))
+    theirs = np.array(sorted(map(tuple, np.asarray(ref.vertices).round(12))))
+    np.testing.assert_allclose(ours, theirs, atol=1e-12)
