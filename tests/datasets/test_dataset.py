@@ -332,3 +332,28 @@ def test_without_randomize_a_note_says_every_frame_is_the_same(tmp_path):
     assert len(images) == 2 and images[0].read_bytes() == images[1].read_bytes()
     result = CliRunner().invoke(app, [*args, "--out", str(tmp_path / "b"), "--randomize", "clear_calm"])
     assert result.exit_code == 0 and "note" not in result.stderr
+
+
+def test_two_vessels_cameras_of_one_name_write_separate_files(tmp_path):
+    """Two vessels each with a camera named `camera` wrote both frames to `000000_camera.png` (QA: the second
+    overwrote the first, and the COCO file listed the same file_name twice with different labels): with a
+    camera name shared between vessels every camera's files are `<frame>_<vessel>-<camera>`."""
+    scenario = tmp_path / "two.yaml"
+    cam = ("{type: camera, name: camera, width: 64, height: 48, horizontal_fov_deg: 70, rate_hz: 10, "
+           "streams: [rgb], mount: {position: [0.3, 0.0, 1.3]}}")  # fmt: skip
+    scenario.write_text(
+        "version: 1\nname: two\nvessels:\n"
+        f"  - {{name: wamv, model: wamv, sensors: [{cam}]}}\n"
+        f"  - {{name: otter, model: otter, pose: {{position: [8.0, 1.0, 0.0], yaw_deg: 90.0}}, sensors: [{cam}]}}\n"
+        "objects:\n  - {type: buoy, name: red_1, position: [6.0, -1.0, 0.0], color: red}\n"
+    )
+    root = generate(DatasetSpec(str(scenario), 1, tmp_path / "s", splits=(1.0, 0.0, 0.0)))
+    coco = json.loads((root / "annotations" / "train.json").read_text())
+    names = [image["file_name"] for image in coco["images"]]
+    assert names == ["train/000000_wamv-camera.png", "train/000000_otter-camera.png"]
+    assert sorted(p.name for p in (root / "images" / "train").iterdir()) == [n[6:] for n in sorted(names)]
+    for vessel in ("wamv", "otter"):
+        meta = json.loads((root / "meta" / f"000000_{vessel}-camera.json").read_text())
+        assert meta["camera"] == f"{vessel}/camera"
+        assert (root / "labels" / "train" / f"000000_{vessel}-camera.txt").is_file()
+        assert (root / "masks" / "instance" / "train" / f"000000_{vessel}-camera.png").is_file()

@@ -194,6 +194,7 @@ class DatasetGenerator:
         self.cameras = [
             (v, Camera(_camera_config(cfg), v, self.sim.world, self.shared)) for v, cfg in camera_cfgs
         ]
+        self.stems = _camera_stems([(v, cam.cfg.name) for v, cam in self.cameras])
         objects = catalogue(self.sim.world)
         self.buoys = [o.name for o in objects if o.category == "buoy"]
         self.labellers, self.looks, self.amodals, self.fogs = [], [], [], []
@@ -292,7 +293,7 @@ class DatasetGenerator:
         release the GIL). Returns the jobs' futures (each gives the frame's COCO records)."""
         jobs, sim = [], self.sim
         for k, (vessel, cam) in enumerate(self.cameras):
-            stem = f"{i:06d}_{cam.cfg.name}" if len(self.cameras) > 1 or k else f"{i:06d}"
+            stem = f"{i:06d}{self.stems[k]}"
             pos, rot = jittered_pose(cam, sim, scene)
             images, labels = self.render(k, pos, rot, look)
             meta = frame_metadata(
@@ -352,6 +353,18 @@ def support_ends(value) -> tuple:
     if isinstance(value, Choice):
         return value.choice
     return (value,)
+
+
+def _camera_stems(cameras: list[tuple[str, str]]) -> list[str]:
+    """Each camera's file-name suffix after the frame number: none for a single camera, `_<camera>` when the
+    cameras' names differ, `_<vessel>-<camera>` for all when two vessels' cameras share a name (names hold no
+    '-', so these never collide)."""
+    if len(cameras) == 1:
+        return [""]
+    names = [cam for _, cam in cameras]
+    if len(set(names)) == len(names):
+        return [f"_{cam}" for cam in names]
+    return [f"_{vessel}-{cam}" for vessel, cam in cameras]
 
 
 def _camera_config(cfg: dict) -> CameraConfig:
