@@ -357,3 +357,22 @@ def test_two_vessels_cameras_of_one_name_write_separate_files(tmp_path):
         assert meta["camera"] == f"{vessel}/camera"
         assert (root / "labels" / "train" / f"000000_{vessel}-camera.txt").is_file()
         assert (root / "masks" / "instance" / "train" / f"000000_{vessel}-camera.png").is_file()
+
+
+@pytest.mark.parametrize(
+    ("args", "words"),
+    [
+        (["--resolution", "640by480"], "--resolution '640by480': give WIDTHxHEIGHT"),
+        (["--splits", "0.5,0.5"], "--splits '0.5,0.5': give three fractions train,val,test"),
+        (["--out", ""], "--out is empty"),
+    ],
+)
+def test_a_bad_resolution_splits_or_empty_out_is_named(tmp_path, monkeypatch, args, words):
+    """One message said '--resolution is WIDTHxHEIGHT and --splits three fractions' whichever was wrong, and an
+    empty --out (an unset shell variable) wrote the data set into the current folder (QA)."""
+    monkeypatch.chdir(tmp_path)
+    result = CliRunner().invoke(app, ["dataset", "buoy_field", "--frames", "1", "--out", "s", *args])
+    assert result.exit_code == 2
+    (line,) = [ln for ln in result.output.splitlines() if ln.strip()]
+    assert line.startswith("usvsim: error: ") and words in line
+    assert list(tmp_path.iterdir()) == []

@@ -16,7 +16,7 @@ from usvsim.core.errors import UsvsimError
 def dataset_command(
     scenario: Annotated[str, typer.Argument(help="built-in scenario name or YAML file (needs a camera)")],
     frames: Annotated[int, typer.Option(help="frames per camera", min=1)] = 100,
-    out: Annotated[Path, typer.Option(help="output folder")] = Path("dataset"),
+    out: Annotated[str, typer.Option(help="output folder")] = "dataset",
     format: Annotated[
         str, typer.Option("--format", help="comma-separated: yolo, coco, masks")
     ] = "yolo,coco,masks",
@@ -51,20 +51,29 @@ def dataset_command(
 
     console = Console(stderr=True)
     stop = StopSignals()
-    try:
+    size, fractions, error = None, (0.8, 0.1, 0.1), None
+    try:  # one message named both options, whichever was wrong
         wh = [int(v) for v in resolution.lower().split("x")] if resolution else None
-        fractions = tuple(float(v) for v in splits.split(","))
-        if (wh and len(wh) != 2) or len(fractions) != 3:
+        if wh is not None and len(wh) != 2:
             raise ValueError
         size = (wh[0], wh[1]) if wh else None
     except ValueError:
-        console.print(
-            "[bold red]usvsim: error:[/] --resolution is WIDTHxHEIGHT and --splits three fractions",
-            highlight=False,
-        )
-        raise typer.Exit(2) from None
+        error = f"--resolution {resolution!r}: give WIDTHxHEIGHT in pixels, e.g. 640x480"
     try:
-        spec = DatasetSpec(scenario, frames, out, tuple(f.strip() for f in format.split(",")), seed, randomize,
+        values = [float(v) for v in splits.split(",")]
+        if len(values) != 3:
+            raise ValueError
+        fractions = (values[0], values[1], values[2])
+    except ValueError:
+        error = error or f"--splits {splits!r}: give three fractions train,val,test summing to 1, e.g. 0.8,0.1,0.1"
+    if not out.strip():  # an empty --out (an unset shell variable) wrote the set into the current folder
+        error = error or "--out is empty: give the output folder (--out . for the current one)"
+    if error:
+        console.print(f"[bold red]usvsim: error:[/] {escape(error)}", highlight=False, soft_wrap=True)
+        raise typer.Exit(2)
+    folder = Path(out)
+    try:
+        spec = DatasetSpec(scenario, frames, folder, tuple(f.strip() for f in format.split(",")), seed, randomize,
                            size, fractions, min_visible_pixels, min_visible_fraction, renderer=renderer)  # fmt: skip
         load_scenario(scenario), load_randomization(randomize)  # bad input fails before the folder is made
         columns = (TextColumn("dataset"), BarColumn(), MofNCompleteColumn(), TimeRemainingColumn())
@@ -78,8 +87,8 @@ def dataset_command(
         with stop:
             gen = DatasetGenerator(spec)  # the scenario's cameras, the look keys and the drawn environment are
             try:  # checked here, before the folder is made (an empty --out folder was left behind)
-                prepare_folder(out)
-                _clear_previous(out, force)
+                prepare_folder(folder)
+                _clear_previous(folder, force)
                 with Progress(*columns, console=console, transient=True, disable=not console.is_terminal) as bar:
                     task = bar.add_task("frames", total=frames)  # the bar is gone when done: an error stays one line
                     gen.run(progress=progress, stop=lambda: signal_name(stop.signum) if stop.signum else None)
