@@ -376,3 +376,17 @@ def test_a_bad_resolution_splits_or_empty_out_is_named(tmp_path, monkeypatch, ar
     (line,) = [ln for ln in result.output.splitlines() if ln.strip()]
     assert line.startswith("usvsim: error: ") and words in line
     assert list(tmp_path.iterdir()) == []
+
+
+def test_an_episodes_frames_share_one_split(tmp_path):
+    """Splits were drawn per frame, so an episode's frames, near-duplicates 0.2 s apart, went to train and val
+    alike (QA: seed 1, frames_per_episode 3: frame 0 in val, frames 1 and 2 in train), leaking val into train."""
+    rnd = tmp_path / "r.yaml"
+    rnd.write_text("version: 1\nper: episode\nframes_per_episode: 3\nlook: {sun.elevation_deg: {uniform: [10, 60]}}\n")
+    root = generate(DatasetSpec("buoy_field", 9, tmp_path / "s", formats="coco", seed=2, randomize=str(rnd),
+                                resolution=(64, 48), splits=(0.5, 0.5, 0.0)))  # fmt: skip
+    metas = [json.loads((root / "meta" / f"{i:06d}.json").read_text()) for i in range(9)]
+    episodes = [{m["split"] for m in metas[e : e + 3]} for e in (0, 3, 6)]
+    assert all(len(s) == 1 for s in episodes) and set.union(*episodes) == {"train", "val"}
+    for m in metas:
+        assert (root / "images" / m["split"] / f"{m['frame']:06d}.png").is_file()

@@ -235,11 +235,13 @@ class DatasetGenerator:
                     except UsvsimError as exc:  # a draw outside a key's bounds (a normal without clip)
                         stopped, failed = "error", exc
                         break
+                    # one split per episode: its frames, 0.2 s apart, are near-duplicates (drawn per frame, they
+                    # went to train and val alike)
+                    split = SPLITS[
+                        int(np.searchsorted(np.cumsum(spec.splits), self.rng.random(), side="right").clip(0, 2))
+                    ]
                 else:
                     self.sim.run(spec.frame_interval_s)
-                split = SPLITS[
-                    int(np.searchsorted(np.cumsum(spec.splits), self.rng.random(), side="right").clip(0, 2))
-                ]
                 pending += self._frame(i, split, look, scene, pool)
                 self.frames_written = i + 1
                 while len(pending) > 2 * workers:  # bounded: each frame in flight holds ~3.5 MB of images
