@@ -390,3 +390,22 @@ def test_an_episodes_frames_share_one_split(tmp_path):
     assert all(len(s) == 1 for s in episodes) and set.union(*episodes) == {"train", "val"}
     for m in metas:
         assert (root / "images" / m["split"] / f"{m['frame']:06d}.png").is_file()
+
+
+@pytest.mark.parametrize(
+    ("scene", "shown"),
+    [("buoy_offset_m: {choice: [a, b]}", "'a'"), ("vessel_yaw_deg: [1, 2]", "(1.0, 2.0)"), ("camera_height_m: true", "True")],
+)
+def test_a_scene_value_that_is_no_number_is_one_line(tmp_path, scene, shown):
+    """`scene: {buoy_offset_m: {choice: [a, b]}}` passed the checks and stopped the first frame with numpy's
+    UFuncTypeError traceback (exit 1), leaving an empty set folder behind (QA)."""
+    (tmp_path / "r.yaml").write_text(f"version: 1\nscene:\n  {scene}\n")
+    with pytest.raises(UsvsimError) as e:
+        load_randomization(tmp_path / "r.yaml")
+    key = scene.split(":")[0]
+    assert str(e.value).startswith(f"randomization {tmp_path / 'r.yaml'}: scene.{key}: {shown} is not a number")
+    args = ["dataset", "buoy_field", "--frames", "1", "--resolution", "64x48", "--out", str(tmp_path / "s")]
+    result = CliRunner().invoke(app, [*args, "--randomize", str(tmp_path / "r.yaml")])
+    assert result.exit_code == 2 and "is not a number" in result.output and not (tmp_path / "s").exists()
+    (tmp_path / "ok.yaml").write_text("version: 1\nscene:\n  vessel_yaw_deg: {choice: [1, 2.5]}\n")
+    assert load_randomization(tmp_path / "ok.yaml").scene["vessel_yaw_deg"].choice == (1, 2.5)

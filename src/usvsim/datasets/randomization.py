@@ -21,6 +21,7 @@ run's seed, in a fixed order, so the same seed gives the same values.
 
 from __future__ import annotations
 
+import math
 from importlib import resources
 from pathlib import Path
 from typing import Annotated, Any, Literal
@@ -81,6 +82,19 @@ class Randomization(Section):
     look: dict[str, Value] = {}
     scene: dict[Literal[tuple(SCENE)], Value] = {}  # type: ignore[valid-type]
     environment: dict[str, Value] = {}
+
+    @model_validator(mode="after")
+    def _scene_numbers(self):
+        """Scene values are numbers added to the scenario's (a `choice: [a, b]` of strings was a numpy
+        UFuncTypeError traceback at the first frame)."""
+        for key, value in self.scene.items():
+            values = value.choice if isinstance(value, Choice) else (value,)
+            for v in values:
+                if isinstance(v, (Uniform, Normal)):
+                    continue
+                if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
+                    raise ValueError(f"scene.{key}: {_shown(v)} is not a number ({SCENE[key]})")
+        return self
 
 
 def draw(value: Value, rng: np.random.Generator):
@@ -175,4 +189,6 @@ def _first_error(exc: ValidationError, data) -> str:
         if form is not None:
             return f"{key}: {_shown(value)} is not {form}"
         return f"{key}: {_shown(value)} is neither a constant nor one of {', '.join(FORMS.values())}"
+    if not loc and err["type"] == "value_error":  # a check across the file (_scene_numbers)
+        return str(err.get("ctx", {}).get("error", err["msg"]))
     return f"{'.'.join(str(p) for p in loc)}: {err['msg']}"
