@@ -409,3 +409,19 @@ def test_a_scene_value_that_is_no_number_is_one_line(tmp_path, scene, shown):
     assert result.exit_code == 2 and "is not a number" in result.output and not (tmp_path / "s").exists()
     (tmp_path / "ok.yaml").write_text("version: 1\nscene:\n  vessel_yaw_deg: {choice: [1, 2.5]}\n")
     assert load_randomization(tmp_path / "ok.yaml").scene["vessel_yaw_deg"].choice == (1, 2.5)
+
+
+def test_generate_refuses_a_folder_holding_a_set_unless_forced(tmp_path):
+    """generate() wrote a 2-frame set over a 4-frame one without a word: frames 2 and 3 stayed in images/ and
+    labels/ beside annotations listing 2 images (QA; the CLI refused, and the detection-robustness experiment,
+    re-run with fewer frames, trained on the stale ones). Now refused as by the CLI; force=True replaces it."""
+    spec = DatasetSpec("buoy_field", 3, tmp_path / "s", formats="yolo,coco", resolution=(64, 48), splits=(1, 0, 0))
+    generate(spec)
+    small = DatasetSpec("buoy_field", 1, tmp_path / "s", formats="yolo,coco", resolution=(64, 48), splits=(1, 0, 0))
+    with pytest.raises(UsvsimError, match="already holds a data set .*pass --force"):
+        generate(small)
+    assert len(list((tmp_path / "s" / "images" / "train").iterdir())) == 3
+    root = generate(small, force=True)
+    assert [p.name for p in (root / "images" / "train").iterdir()] == ["000000.png"]
+    assert [p.name for p in (root / "labels" / "train").iterdir()] == ["000000.txt"]
+    assert len(json.loads((root / "annotations" / "train.json").read_text())["images"]) == 1

@@ -46,7 +46,7 @@ def dataset_command(
     from usvsim.cli.outputs import prepare_folder
     from usvsim.cli.stopping import StopSignals, exit_status, signal_name
     from usvsim.config.loader import load_scenario
-    from usvsim.datasets.generate import DatasetGenerator, DatasetSpec
+    from usvsim.datasets.generate import DatasetGenerator, DatasetSpec, clear_previous
     from usvsim.datasets.randomization import load_randomization
 
     console = Console(stderr=True)
@@ -88,7 +88,7 @@ def dataset_command(
             gen = DatasetGenerator(spec)  # the scenario's cameras, the look keys and the drawn environment are
             try:  # checked here, before the folder is made (an empty --out folder was left behind)
                 prepare_folder(folder)
-                _clear_previous(folder, force)
+                clear_previous(folder, force)
                 with Progress(*columns, console=console, transient=True, disable=not console.is_terminal) as bar:
                     task = bar.add_task("frames", total=frames)  # the bar is gone when done: an error stays one line
                     gen.run(progress=progress, stop=lambda: signal_name(stop.signum) if stop.signum else None)
@@ -107,21 +107,3 @@ def dataset_command(
                       f"{spec.settle_s:g} s after a reset (only a wavy sea's phases differ); give --randomize "
                       "clear_calm, foggy_wavy or a file", highlight=False, soft_wrap=True)  # fmt: skip
 
-
-def _clear_previous(out: Path, force: bool) -> None:
-    """A data set already in `out` is refused, or with --force its files (and only those) removed: written over,
-    its frames beyond the new count stayed beside annotations that no longer listed them. A file in the set's
-    folders that usvsim does not write (a user's images/holiday.jpg) is refused with or without --force: --force
-    deleted every file under images/, labels/, masks/, meta/ and annotations/."""
-    from usvsim.datasets.writers import remove_set, set_files
-
-    ours, foreign = set_files(out)
-    if foreign:
-        raise UsvsimError(f"{out} holds files usvsim did not write ({foreign[0]}{', ...' if len(foreign) > 1 else ''}): "
-                          "--force removes only a data set's own files; give another --out, or move them")  # fmt: skip
-    if not ours:
-        return
-    if not force:
-        raise UsvsimError(f"{out} already holds a data set ({', '.join(str(p) for p in ours[:3])}); pass --force to "
-                          "replace it, or give another --out")  # fmt: skip
-    remove_set(out, ours)

@@ -389,10 +389,31 @@ def frame_metadata(sim, i, camera, split, look, scene, environment, pos, rot) ->
 
 
 def generate(spec: DatasetSpec, progress: Callable[[int], None] | None = None,
-             stop: Callable[[], str | None] | None = None) -> Path:  # fmt: skip
-    """Python API of `usvsim dataset`: writes the data set and returns its folder (`stop`: see `run`)."""
+             stop: Callable[[], str | None] | None = None, force: bool = False) -> Path:  # fmt: skip
+    """Python API of `usvsim dataset`: writes the data set and returns its folder (`stop`: see `run`). A folder
+    already holding a data set is refused; `force=True` replaces it (its files only), as `--force` does."""
     gen = DatasetGenerator(spec)
     try:
+        clear_previous(spec.out, force)
         return gen.run(progress, stop)
     finally:
         gen.close()
+
+
+def clear_previous(out: Path, force: bool) -> None:
+    """A data set already in `out` is refused, or with `force` its files (and only those) removed: written over,
+    its frames beyond the new count stayed beside annotations that no longer listed them (generate() did so
+    silently). A file in the set's folders that usvsim does not write (a user's images/holiday.jpg) is refused
+    with or without `force`: --force deleted every file under images/, labels/, masks/, meta/ and annotations/."""
+    from usvsim.datasets.writers import remove_set, set_files
+
+    ours, foreign = set_files(out)
+    if foreign:
+        raise UsvsimError(f"{out} holds files usvsim did not write ({foreign[0]}{', ...' if len(foreign) > 1 else ''}): "
+                          "--force removes only a data set's own files; give another --out, or move them")  # fmt: skip
+    if not ours:
+        return
+    if not force:
+        raise UsvsimError(f"{out} already holds a data set ({', '.join(str(p) for p in ours[:3])}); pass --force to "
+                          "replace it, or give another --out")  # fmt: skip
+    remove_set(out, ours)

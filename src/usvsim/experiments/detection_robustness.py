@@ -196,9 +196,9 @@ def run(out_dir: Path, progress: Callable[[str], None] | None = None) -> dict:
     size, formats, min_px = (imgsz, imgsz * 3 // 4), ("yolo", "coco"), sizes["min_visible_pixels"]
     say(f"rendering {sizes['clear_frames']} clear and {sizes['foggy_frames']} foggy frames ...")
     clear = generate(DatasetSpec("buoy_field", sizes["clear_frames"], work / "clear", formats, 11, "clear_calm",
-                                 size, (0.8, 0.2, 0.0), min_px, horizontal_fov_deg=FOV_DEG))  # fmt: skip
+                                 size, (0.8, 0.2, 0.0), min_px, horizontal_fov_deg=FOV_DEG), force=True)  # fmt: skip
     foggy = generate(DatasetSpec("buoy_field", sizes["foggy_frames"], work / "foggy", formats, 12, "foggy_wavy",
-                                 size, (0.0, 1.0, 0.0), min_px, horizontal_fov_deg=FOV_DEG))  # fmt: skip
+                                 size, (0.0, 1.0, 0.0), min_px, horizontal_fov_deg=FOV_DEG), force=True)  # fmt: skip
     job = {"train": str(clear / "data.yaml"), "epochs": sizes["epochs"], "imgsz": imgsz, "batch": 8,
            "conf": 0.001, "train_args": TRAIN_ARGS,
            "evals": {"clear": str(clear / "data.yaml"), "foggy": str(foggy / "data.yaml")}}  # fmt: skip
