@@ -77,6 +77,12 @@ class CommandInbox:
         self.topics[topic], self._targets[topic] = msgtype, ("custom", topic, None)
         self._handlers[topic] = (parse, apply)
 
+    def streaming(self, topic: str) -> bool:
+        """True for a topic whose commands come as a stream that the watchdog expects to be refreshed (cmd_vel,
+        thrust): a bridge may accept it best-effort. One-shot commands (/reset, angles, registered topics) not."""
+        target = self._targets.get(topic)
+        return target is not None and target[0] in ("cmd_vel", "thrust")
+
     # -- any thread ---------------------------------------------------------------------------
     def post_cdr(self, topic: str, data: bytes | bytearray | memoryview) -> bool:
         """Queue a command from its CDR bytes (with the 4-byte encapsulation header); False if refused."""

@@ -215,3 +215,30 @@ def test_writes_go_through_dds_write_with_the_gil_released():
     from usvsim.bridges import dds_types
 
     assert dds_types._dds_write() is not None
+
+
+def test_best_effort_publishers_drive_the_streaming_command_topics(sim):
+    """A best-effort publisher (rclpy's qos_profile_sensor_data, `ros2 topic pub --qos-reliability best_effort`)
+    of cmd_vel or thrust matched no command reader (they were all reliable, a request a best-effort writer cannot
+    meet): its commands were lost without a word on either side (QA, rclpy peer: 0 matched subscriptions)."""
+    from cyclonedds.pub import DataWriter
+    from cyclonedds.topic import Topic
+
+    best_effort = QosProfile(reliability="best_effort")
+    float64, twist = "std_msgs/msg/Float64", "geometry_msgs/msg/Twist"
+    with DdsBridge(sim) as bridge:
+        thrust_name = "rt/wamv/thrusters/rear_left/thrust"
+        thrust_topic = Topic(bridge.participant, thrust_name, dds_types.idl_type(float64))
+        thrust = DataWriter(bridge.participant, thrust_topic, qos=_qos(best_effort, float64))
+        cmd_topic = Topic(bridge.participant, "rt/wamv/cmd_vel", dds_types.idl_type(twist))
+        cmd_vel = DataWriter(bridge.participant, cmd_topic, qos=_qos(best_effort, twist))
+        time.sleep(0.3)
+        half = bytes(typestore().serialize_cdr(msg_class(float64)(data=0.5), float64))
+        forward = msg_class(twist)(linear=msg_class("geometry_msgs/msg/Vector3")(x=1.0, y=0.0, z=0.0),
+                                   angular=msg_class("geometry_msgs/msg/Vector3")(x=0.0, y=0.0, z=0.0))  # fmt: skip
+        dds_types.write_cdr(thrust, half)
+        dds_types.write_cdr(cmd_vel, bytes(typestore().serialize_cdr(forward, twist)))
+        deadline = time.monotonic() + 3.0
+        while bridge.stats["commands_received"] < 2 and time.monotonic() < deadline:
+            time.sleep(0.01)
+    assert bridge.stats["commands_received"] == 2 and bridge.stats["commands_refused"] == 0

@@ -11,7 +11,10 @@ USER_DATA `typehash=RIHS01_…;` (what Jazzy RMWs announce). The envelope's CDR 
 second serialization. Real ROS 2 nodes (rmw_fastrtps, rmw_cyclonedds) receive them as ordinary topics.
 
 In: one reader per topic of `sim.commands.topics` (thrusters, cmd_vel, /reset); raw CDR samples go to
-`sim.commands.post_cdr`, which validates and queues them for the next step.
+`sim.commands.post_cdr`, which validates and queues them for the next step. The readers of the streaming
+commands (cmd_vel, thrust) are best-effort, so that both reliable and best-effort publishers match them
+(`qos_profile_sensor_data`); the one-shot ones (/reset, thruster angles) are reliable, so that a command sent
+once (`ros2 topic pub --once`) is repaired if its first packet is lost, and need a reliable publisher.
 
 Threads: the step loop only serializes (once, shared with other consumers) and appends to a bounded
 queue; a sender thread writes to DDS; when it falls behind, the oldest queued message is dropped and
@@ -142,7 +145,8 @@ class DdsBridge:
         from cyclonedds.topic import Topic
 
         dds_topic = Topic(self.participant, dds_types.dds_topic_name(topic), dds_types.idl_type(msgtype))
-        qos = _qos(QosProfile(depth=COMMAND_DEPTH), msgtype)
+        reliability = "best_effort" if self._sim.commands.streaming(topic) else "reliable"
+        qos = _qos(QosProfile(reliability=reliability, depth=COMMAND_DEPTH), msgtype)
         return topic, DataReader(self.participant, dds_topic, qos=qos)
 
     def _receive_loop(self) -> None:
