@@ -231,6 +231,23 @@ def test_close_stops_the_server_and_not_the_simulation():
     sim.close()
 
 
+def test_close_says_goodbye_to_connected_clients_with_a_close_frame():
+    """Ctrl-C / SIGTERM of `usvsim run --foxglove` with Foxglove connected: the proxy aborted the client's TCP
+    connection before the server stopped, so the client got no WebSocket close frame (an abnormal 1006 closure)
+    and the SDK logged 'Connection reset without closing handshake' on stderr at every clean shutdown (QA)."""
+    sim = make_sim(sensors=False)
+    bridge = make_bridge(sim)
+    c = FoxgloveClient(bridge.url)
+    assert c.wait_for(lambda: c.server_info is not None)
+    sim.run(0.05)
+    bridge.close()
+    with pytest.raises(ConnectionClosed) as closed:
+        while True:
+            c.ws.recv(timeout=5)
+    assert closed.value.rcvd is not None  # a close frame arrived: a clean closing handshake
+    sim.close()
+
+
 def test_scene_restarts_after_a_simulation_reset():
     sim = make_sim(sensors=False)
     bridge = make_bridge(sim)

@@ -168,8 +168,8 @@ class FoxgloveBridge:
             self._unsubscribe()
         except ValueError:
             pass
-        self._proxy.close()
         self._server.stop()
+        self._proxy.close()
         for ch in [*(t.channel for t in self._topics.values()), self._scene_channel, self._water_channel]:
             ch.close()
 

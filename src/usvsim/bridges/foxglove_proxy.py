@@ -38,6 +38,7 @@ READ_BYTES = 1 << 18
 PAUSE_BYTES = 1 << 20  # a client this far behind pauses its server side (the SDK then drops its oldest data)
 LOG_PERIOD_S = 10.0
 CLOSE_TIMEOUT_S = 2.0  # how long a closing connection may take to flush its last bytes
+CLOSE_GRACE_S = 1.0  # at close, how long connections may take to end on their own (the server's close frames)
 HANDSHAKE_S = 5.0  # how long a new connection may take to send its WebSocket upgrade request
 PENDING_PER_CLIENT = 4  # connections that may wait for their upgrade request, per client slot
 
@@ -98,6 +99,8 @@ class FoxgloveProxy:
 
     async def _shutdown(self) -> None:
         self._server.close()
+        if self._clients:  # the server stopped first: its close frames reach the clients
+            await asyncio.wait(list(self._clients), timeout=CLOSE_GRACE_S)
         tasks = [*self._clients, *self._pending]
         for task in tasks:
             task.cancel()
