@@ -208,3 +208,28 @@ def test_run_with_live_bridges_reports_their_counts():
     assert url.startswith("ws://127.0.0.1:") and int(url.rsplit(":", 1)[1]) > 0
     published = int(result.stdout.split("DdsBridge: published ")[1].split(",")[0])
     assert published >= 100 + 50 * 2  # /clock at 100 Hz, /tf and two odometry topics at 50 Hz (+ t = 0)
+
+
+def test_realtime_falling_behind_warning_is_one_line(monkeypatch, capsys):
+    """The warning was wrapped by rich at 80 columns when stderr is not a terminal (a log file, a pipe): its figure
+    '(0.58x real time)' landed on a line of its own (QA: usvsim run --ros2 --realtime on a loaded machine)."""
+    from types import SimpleNamespace
+
+    from rich.console import Console
+
+    from usvsim.cli import app as app_module
+
+    monkeypatch.setattr(app_module, "console", Console(stderr=True, width=80))  # a pipe or a file
+    clock = iter(range(0, 10_000, 3))  # every perf_counter() call: 3 s of wall time later
+    monkeypatch.setattr(app_module, "time", SimpleNamespace(perf_counter=lambda: float(next(clock))))
+    steps = app_module._StepCount()
+
+    def run(seconds, realtime, on_step):
+        for _ in range(round(seconds / 0.01)):
+            steps.n += 1
+
+    sim = SimpleNamespace(clock=SimpleNamespace(dt=0.01), scenario=SimpleNamespace(name="harbor"), run=run)
+    app_module._progress_loop(sim, 2.0, True, None, steps)
+    lines = [line for line in capsys.readouterr().err.splitlines() if line.strip()]
+    warning = [line for line in lines if "falling behind" in line]
+    assert len(warning) == 1 and warning[0].endswith("real time)"), lines

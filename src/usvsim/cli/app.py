@@ -317,7 +317,7 @@ def _progress_loop(sim, duration: float, realtime: bool, on_step, steps: _StepCo
             if realtime and not behind_warned and wall > 2.0 and done < 0.9 * wall:
                 behind_warned = True
                 console.print(f"usvsim: warning: --realtime is falling behind: {done:.1f} s simulated in "
-                              f"{wall:.1f} s wall ({done / wall:.2f}x real time)", highlight=False)  # fmt: skip
+                              f"{wall:.1f} s wall ({done / wall:.2f}x real time)", highlight=False, soft_wrap=True)  # fmt: skip
 
 
 def _run_viewer(sim, duration: float, screenshot: Path | None, video: Path | None, steps: _StepCount) -> None:
