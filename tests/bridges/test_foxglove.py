@@ -207,6 +207,25 @@ def test_client_publishes_cmd_vel_cdr_json_and_garbage(served, client):
     assert "wamv" in sim.controllers  # cmd_vel created the velocity loop
 
 
+def test_client_json_may_leave_out_fields_as_with_foxglove_bridge(served, client):
+    """`{"linear": {"x": 0.5}}` from Foxglove's Publish panel was refused as malformed (every field was required);
+    rosbridge and foxglove_bridge fill the missing fields with their defaults (QA). NaN and strings still fail."""
+    sim, bridge, _ = served
+    before = dict(bridge.stats)
+    client.advertise(11, "/wamv/cmd_vel", "json", "geometry_msgs/msg/Twist")
+    client.advertise(12, "/wamv/thrusters/rear_left/thrust", "json", "std_msgs/msg/Float64")
+    for payload in (b'{"linear": {"x": 0.5}}', b'{"angular": {"z": -0.1}}', b"{}"):
+        client.publish(11, payload)
+    for payload in (b'{"linear": {"x": NaN}}', b'{"linear": {"x": "1"}}', b"[1]"):
+        client.publish(11, payload)
+    client.publish(12, b'{"data": 0.25}')
+    assert client.wait_for(lambda: bridge.stats["client_messages"] - before["client_messages"] == 7)
+    assert bridge.stats["client_accepted"] - before["client_accepted"] == 4
+    assert bridge.stats["client_refused"] - before["client_refused"] == 3
+    sim.run(0.02)
+    assert sim.controllers["wamv"].reference == (0.0, 0.0, 0.0)  # the last one, {}: a zero Twist
+
+
 def test_latched_tf_static_reaches_late_subscribers(served, client):
     sim, bridge, _ = served
     got = receive(client, sim, ["/tf_static"], seconds=0.05)

@@ -34,16 +34,17 @@ import logging
 import threading
 import time
 from types import SimpleNamespace
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import foxglove
 from foxglove.channels import SceneUpdateChannel
 from foxglove.websocket import Capability, ServerListener
+from rosbags.interfaces import Nodetype
 
 from usvsim.bridges import foxglove_logs
 from usvsim.bridges.foxglove_proxy_process import ProxyProcess
 from usvsim.bridges.foxglove_scene import SceneBuilder, scene_period_ns
-from usvsim.messages.ros import message_definition
+from usvsim.messages.ros import message_definition, typestore
 
 if TYPE_CHECKING:
     from usvsim.messages.envelope import Envelope
@@ -320,8 +321,30 @@ class _ClientCommands:
             return self._commands.post_cdr(topic, data)
         if encoding == "json":
             try:
-                msg = json.loads(data, object_hook=lambda d: SimpleNamespace(**d))
+                value = json.loads(data)
             except ValueError:
                 return False
-            return self._commands.post(topic, msg)
+            return self._commands.post(topic, _namespace(_with_defaults(self._commands.topics[topic], value)))
         return False
+
+
+def _with_defaults(msgtype: str, value: Any) -> Any:
+    """A JSON message with the fields it leaves out set to their ROS defaults (0, "", False), as rosbridge and
+    foxglove_bridge fill them: `{"linear": {"x": 0.5}}` is a whole Twist. Anything but an object is left as it is
+    (and refused as malformed)."""
+    if not isinstance(value, dict):
+        return value
+    out = dict(value)
+    for name, (nodetype, detail) in typestore().fielddefs[msgtype][1]:
+        if nodetype == Nodetype.NAME:
+            out[name] = _with_defaults(detail, out.get(name, {}))
+        elif nodetype == Nodetype.BASE and name not in out:
+            out[name] = {"string": "", "bool": False}.get(detail[0], 0)
+    return out
+
+
+def _namespace(value: Any) -> Any:
+    """JSON objects as attribute namespaces (the command parsers read `msg.linear.x`)."""
+    if isinstance(value, dict):
+        return SimpleNamespace(**{k: _namespace(v) for k, v in value.items()})
+    return value
