@@ -38,7 +38,8 @@ READ_BYTES = 1 << 18
 PAUSE_BYTES = 1 << 20  # a client this far behind pauses its server side (the SDK then drops its oldest data)
 LOG_PERIOD_S = 10.0
 CLOSE_TIMEOUT_S = 2.0  # how long a closing connection may take to flush its last bytes
-CLOSE_GRACE_S = 1.0  # at close, how long connections may take to end on their own (the server's close frames)
+CLOSE_GRACE_S = 2.0  # at close, how long connections may take to end on their own (the server's close frames;
+# it returns as soon as they have: the margin is for a loaded machine)
 HANDSHAKE_S = 5.0  # how long a new connection may take to send its WebSocket upgrade request
 PENDING_PER_CLIENT = 4  # connections that may wait for their upgrade request, per client slot
 
