@@ -184,6 +184,11 @@ def test_a_slow_first_step_is_told_apart_from_the_speed(tmp_path, monkeypatch):
     assert "done: simulated 0.50 s" in result.stdout
     notes = [ln for ln in result.stderr.splitlines() if "note:" in ln]
     assert len(notes) == 1 and "the first step took" in notes[0] and "the other steps ran at" in notes[0], notes
+    calls.clear()  # a run of a single step (0.01 s at 100 Hz) said nothing beside its "0.0x real time"
+    result = invoke("run", str(scenario), "--duration", "0.01")
+    assert result.exit_code == 0, result.output
+    notes = [ln for ln in result.stderr.splitlines() if "note:" in ln]
+    assert len(notes) == 1 and "the first step took" in notes[0] and "other steps" not in notes[0], notes
 
 
 @pytest.mark.parametrize(("path", "words"), [("out.txt", ["ending in .mcap"]), ("missing/run.mcap", ["does not exist"])])
