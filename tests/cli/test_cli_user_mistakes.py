@@ -215,7 +215,7 @@ def test_dataset_out_under_a_file_is_one_line_and_the_result_line_is_on_stdout(t
         "dataset", "buoy_field", "--frames", "1", "--resolution", "64x48", "--format", "coco", "--out", out
     )
     assert result.exit_code == 0, result.output
-    assert result.stdout.strip() == f"wrote 1 frames to {out}"
+    assert result.stdout.strip() == f"wrote 1 frame to {out}"
     coco = json.loads(next((out / "annotations").glob("*.json")).read_text())
     assert "images" in coco
 

@@ -101,7 +101,7 @@ def dataset_command(
         typer.echo(f"stopped ({signal_name(stop.signum)}): wrote {written[0]} of {frames} frames to {out}; its "
                    "annotations, data.yaml and dataset.json cover those frames (dataset.json: stopped, frames_requested)")  # fmt: skip
         raise typer.Exit(exit_status(stop.signum))
-    typer.echo(f"wrote {frames} frames to {out}")  # the result on stdout, progress on stderr
+    typer.echo(f"wrote {frames} frame{'s' if frames != 1 else ''} to {out}")  # the result on stdout, progress on stderr
     if randomize is None:  # after the run: an error stays one line
         console.print(f"usvsim: note: no --randomize: nothing was drawn; every frame is the scenario as written, "
                       f"{spec.settle_s:g} s after a reset (only a wavy sea's phases differ); give --randomize "
