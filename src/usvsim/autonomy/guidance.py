@@ -15,11 +15,10 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from numbers import Real
 
 import numpy as np
 
-from usvsim.core.errors import InputError
+from usvsim.core.errors import require_finite
 
 
 def wrap(angle: float) -> float:
@@ -38,10 +37,7 @@ class LosGuidance:
     def __post_init__(self):
         # a NaN speed or gain reached the velocity controller as a NaN reference, refused there, far from the cause
         for name, value in vars(self).items():
-            ok = isinstance(value, Real) and not isinstance(value, bool) and math.isfinite(value)
-            if not ok or value < 0 or (value == 0 and name != "integral_gain"):
-                least = ">= 0" if name == "integral_gain" else "> 0"
-                raise InputError(f"LosGuidance.{name} must be a finite number {least}, not {value!r}")
+            require_finite("LosGuidance", name, value, zero_ok=name == "integral_gain")
         self.path = np.zeros((0, 2))
         self.leg, self.y_int = 0, 0.0
 

@@ -17,11 +17,10 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from numbers import Real
 
 import numpy as np
 
-from usvsim.core.errors import InputError
+from usvsim.core.errors import require_finite
 
 
 def wrap_angle(angle_rad: float) -> float:
@@ -36,9 +35,7 @@ def _clamp(x: float, limit: float) -> float:
 def _check_positive(owner, *names: str) -> None:
     """InputError unless each field is a finite number > 0 (a NaN gain froze the vessel without a word)."""
     for name in names:
-        value = getattr(owner, name)
-        if isinstance(value, bool) or not isinstance(value, Real) or not math.isfinite(value) or value <= 0:
-            raise InputError(f"{type(owner).__name__}.{name} must be a finite number > 0, not {value!r}")
+        require_finite(type(owner).__name__, name, getattr(owner, name))
 
 
 @dataclass(frozen=True)

@@ -19,9 +19,7 @@ Per axis (x = u, v or r at the CoM, body FLU; m = mass or yaw inertia):
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
-from numbers import Real
 
 import numpy as np
 
@@ -46,7 +44,7 @@ from usvsim.control.velocity_kernels import (
     back_calculate,
     velocity_step,
 )  # fmt: skip
-from usvsim.core.errors import InputError
+from usvsim.core.errors import require_finite
 
 AXES = ("surge", "sway", "yaw")
 
@@ -67,12 +65,8 @@ class AxisTuning:
         # checked as the scenario keys are: a NaN gain left the boat still under any command, a negative bandwidth
         # drove it backwards (-1.18 m/s for +1 m/s), and max_velocity=0 was taken for "derive it"
         for name, value in vars(self).items():
-            if value is None:
-                continue
-            ok = isinstance(value, Real) and not isinstance(value, bool) and math.isfinite(value)
-            if not ok or value < 0 or (value == 0 and name not in ("kp", "ki")):
-                least = ">= 0" if name in ("kp", "ki") else "> 0"
-                raise InputError(f"AxisTuning.{name} must be a finite number {least} (None: derived), not {value!r}")  # fmt: skip
+            if value is not None:
+                require_finite("AxisTuning", name, value, zero_ok=name in ("kp", "ki"), note=" (None: derived)")
 
 
 def actuator_time_constant(thrusters) -> float:

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import math
+
 MAX_MESSAGE_CHARS = 600  # an error names what is wrong; it never echoes the user's input at length
 
 
@@ -55,6 +57,17 @@ class DivergenceError(UsvsimError):
 class InputError(UsvsimError, ValueError):
     """A bad value given to the Python API (a pose, a twist, a model section): `except UsvsimError` and
     `except ValueError` both catch it."""
+
+
+def require_finite(owner: str, name: str, value, zero_ok: bool = False, note: str = "") -> None:
+    """InputError unless `value` is a finite real number > 0 (>= 0 with `zero_ok`): a Python API field checked as the
+    scenario keys are (a NaN gain froze a vessel or made NaN commands far from the cause). `note` follows the bound
+    in the message."""
+    from numbers import Real
+
+    ok = isinstance(value, Real) and not isinstance(value, bool) and math.isfinite(value)
+    if not ok or value < 0 or (value == 0 and not zero_ok):
+        raise InputError(f"{owner}.{name} must be a finite number {'>= 0' if zero_ok else '> 0'}{note}, not {value!r}")
 
 
 class UnknownNameError(UsvsimError, KeyError):
