@@ -191,13 +191,12 @@ def run(
 
 @dataclass
 class _Recording:
-    """The recording options of `usvsim run`; `filter` is set by `_open_run`."""
+    """The recording options of `usvsim run`."""
 
     path: Path | None
     force: bool
     topics: list[str] | None
     compression: str | None
-    filter: TopicFilter | None = None
 
 
 def _open_run(stack: ExitStack, scenario: str, seed: int, recording: _Recording, options):
@@ -206,15 +205,15 @@ def _open_run(stack: ExitStack, scenario: str, seed: int, recording: _Recording,
     from usvsim.cli.outputs import check_output
     from usvsim.config.loader import source_of
     from usvsim.core.errors import ScenarioError
-    from usvsim.io.mcap_recorder import McapRecorder
+    from usvsim.io.mcap_recorder import COMPRESSIONS, McapRecorder
     from usvsim.simulation import Simulation
 
     recorder, record, force = None, recording.path, recording.force
     try:
         topics = [t.strip() for text in recording.topics for t in text.split(",") if t.strip()] \
             if recording.topics is not None else None  # fmt: skip
-        recording.filter = TopicFilter(topics, "--record-topics")
-        if recording.compression not in (None, "zstd", "lz4", "none"):
+        wanted = TopicFilter(topics, "--record-topics")
+        if recording.compression not in (None, *COMPRESSIONS):  # before the (slow) build
             raise UsvsimError(f"--record-compression must be zstd, lz4 or none, got {recording.compression!r}")
         if record:
             check_output(record, force)  # before the (slow) build
@@ -235,9 +234,9 @@ def _open_run(stack: ExitStack, scenario: str, seed: int, recording: _Recording,
         if path:  # the scenario's path too: it was checked and then not written (QA)
             configured_recording = sim.scenario.outputs.recording
             if topics is None and configured_recording.topics is not None:
-                recording.filter = TopicFilter(configured_recording.topics, "outputs.recording.topics")
+                wanted = TopicFilter(configured_recording.topics, "outputs.recording.topics")
             compression: Any = recording.compression or configured_recording.compression  # checked above
-            recorder = McapRecorder(path, compression=compression, topics=recording.filter)
+            recorder = McapRecorder(path, compression=compression, topics=wanted)
             stack.callback(recorder.close)
             sim.subscribe(recorder.write)
         bridges = open_bridges(sim, options)

@@ -41,6 +41,7 @@ from usvsim.messages.ros import message_definition, typestore
 
 METADATA_VERSION = 8
 _COMPRESSION = {"zstd": CompressionType.ZSTD, "lz4": CompressionType.LZ4, "none": CompressionType.NONE}
+COMPRESSIONS = tuple(_COMPRESSION)  # the names `compression` takes
 # rmw QoS enum values, as rosbag2 metadata version 8 writes them.
 _RELIABILITY = {"reliable": 1, "best_effort": 2}
 _DURABILITY = {"transient_local": 1, "volatile": 2}
