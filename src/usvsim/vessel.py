@@ -40,7 +40,7 @@ class World(Protocol):
 
     def teleport(self, index: int, pose, twist) -> None: ...
 
-    def settle_hydrostatics(self) -> None: ...
+    def set_buoyancy(self, index: int, model) -> None: ...
 
 
 class Thruster:
@@ -145,12 +145,11 @@ class Body:
         be built for this hull (voxels too fine) raises InputError and leaves the current one."""
         section = _validated(model, Buoyancy, "buoyancy")
         try:
-            self._world.marine.set_buoyancy(self.index, section)
+            self._world.set_buoyancy(self.index, section)
         except InputError:
             raise
         except ValueError as exc:  # voxelize.check_grid: a bare ValueError, and the model was switched half
             raise InputError(f"buoyancy {model!r}: {exc}") from None
-        self._world.settle_hydrostatics()  # displaced_volume reads the new model at once
 
 
 def _validated(model, annotation, what: str):

@@ -81,6 +81,36 @@ def test_switching_buoyancy_keeps_the_weight_balance(scenario_of):
     assert sim.vessels["boat"].buoyancy.type == "voxels" and np.isfinite(sim.data.qpos).all()
 
 
+@pytest.mark.parametrize("first, second", [("froude_krylov", "hydrostatic"), ("hydrostatic", "froude_krylov")])
+def test_switching_wave_pressure_runs_exactly_the_new_model(scenario_of, first, second):
+    """A run-time switch of `wave_pressure` moves the boat as a simulation started with it (it was ignored: the
+    pressure heads kept the scenario's model), and a reset restores the scenario's."""
+    sims = [Simulation(scenario(scenario_of, buoyancy={"type": "triangles", "wave_pressure": w}))
+            for w in (first, second, first)]  # fmt: skip
+    sims[0].vessels["boat"].set_buoyancy({"type": "triangles", "wave_pressure": second})
+    for sim in sims:
+        sim.run(2.0)
+    np.testing.assert_array_equal(sims[0].data.qpos, sims[1].data.qpos)
+    assert not np.allclose(sims[0].data.qpos, sims[2].data.qpos, rtol=0, atol=1e-6)  # the models differ here
+    sims[0].reset()
+    sims[2].reset()
+    sims[0].run(2.0)
+    sims[2].run(2.0)
+    np.testing.assert_array_equal(sims[0].data.qpos, sims[2].data.qpos)
+
+
+def test_froude_krylov_on_a_patch_vessel_is_refused_at_run_time(scenario_of):
+    vessel = {"name": "boat", "model": "wamv", "water_sampling": {"mode": "patch"}}
+    sim = Simulation(scenario_of({"environment": SEA, "vessels": [vessel]}))
+    before = sim.vessels["boat"].buoyancy
+    with pytest.raises(ValueError, match="boat's water is sampled on a patch .* froude_krylov needs "
+                                         "water_sampling.mode: direct"):  # fmt: skip
+        sim.vessels["boat"].set_buoyancy({"type": "triangles", "wave_pressure": "froude_krylov"})
+    assert sim.vessels["boat"].buoyancy is before
+    sim.vessels["boat"].set_buoyancy({"type": "triangles", "wave_pressure": "hydrostatic"})  # allowed
+    sim.run(0.5)
+
+
 def test_bad_model_switch_is_a_clear_error(scenario_of):
     sim = Simulation(scenario(scenario_of))
     with pytest.raises(ValueError, match="unknown type 'kernel'; expected one of 'state_space', 'kerner', 'fossen'"):

@@ -163,10 +163,7 @@ class World:
         self._direct_vertices = ~np.isin(self.hulls.vert_body, list(self._patches))
         vessels = self.scenario.vessels
         buoyancy = [v.buoyancy for v in vessels] + [TriangleBuoyancy()] * (n - len(vessels))
-        fk = [i for i, b in enumerate(buoyancy) if getattr(b, "wave_pressure", "") == "froude_krylov"]
-        self._fk_vertices = np.isin(self.hulls.vert_body, fk) & self._direct_vertices  # Froude–Krylov heads
-        self._fk_all, self._head = bool(self._fk_vertices.all()), np.zeros(len(self.hulls.vertices_body))
-        self._fk_any = bool(self._fk_vertices.any())
+        self._head = np.zeros(len(self.hulls.vertices_body))
         self._eta = np.zeros(len(self.hulls.vertices_body))  # surface heights of the one-call FFT path
         for i, b in enumerate(buoyancy[: len(vessels)]):
             if isinstance(b, VoxelBuoyancy):  # too fine a grid: a MemoryError (or the OOM killer) otherwise
@@ -179,6 +176,7 @@ class World:
         self.marine = MarineModels([fb.model for fb in floating], buoyancy, hydro, self.hulls, self.model,
                                    self.qvel_adr, self.rho, self.g, self.rho_air)  # fmt: skip
         self._scenario_models = (list(buoyancy), list(hydro))
+        self._wave_pressure_masks()
         self._update_kinematics()
         self.settle_hydrostatics()
 
@@ -289,6 +287,27 @@ class World:
                 raise InputError(f"'{names[i]}' would be {length:.3g} m from its anchor, beyond its mooring line "
                                  f"({reach:.3g} m): place it within the line's reach")  # fmt: skip
 
+    def set_buoyancy(self, index: int, model) -> None:
+        """Switch body `index` to another buoyancy model (a TriangleBuoyancy or VoxelBuoyancy section) now: its
+        wave pressure too. A patch-sampled vessel refuses an explicit `froude_krylov` (as a scenario file does:
+        a patch holds surface heights only); a model that cannot be built leaves the current one (the error
+        raised)."""
+        if (index in self._patches and "wave_pressure" in getattr(model, "model_fields_set", ())
+                and getattr(model, "wave_pressure", "") == "froude_krylov"):  # fmt: skip
+            raise InputError(f"buoyancy: {self.scenario.vessels[index].name}'s water is sampled on a patch (surface "
+                             "heights only): froude_krylov needs water_sampling.mode: direct; use wave_pressure: "
+                             "hydrostatic")  # fmt: skip
+        self.marine.set_buoyancy(index, model)
+        self._wave_pressure_masks()
+        self.settle_hydrostatics()  # displaced_volume reads the new model at once
+
+    def _wave_pressure_masks(self) -> None:
+        """Which hull vertices take Froude–Krylov pressure heads (ocean/pressure.py): those of bodies whose active
+        buoyancy model asks for them and whose water is sampled directly (patch vessels are hydrostatic)."""
+        fk = [i for i, b in enumerate(self.marine.buoyancy) if getattr(b, "wave_pressure", "") == "froude_krylov"]
+        self._fk_vertices = np.isin(self.hulls.vert_body, fk) & self._direct_vertices
+        self._fk_all, self._fk_any = bool(self._fk_vertices.all()), bool(self._fk_vertices.any())
+
     def _restore_scenario_models(self) -> None:
         buoyancy, hydro = self._scenario_models
         for i, (b, h) in enumerate(zip(buoyancy, hydro)):
@@ -296,6 +315,7 @@ class World:
                 self.marine.set_buoyancy(i, b)
             if self.marine.hydrodynamics[i] is not h:
                 self.marine.set_hydrodynamics(i, h)
+        self._wave_pressure_masks()
 
     def _water_patches(self) -> dict[int, WaterPatch]:
         return {i: WaterPatch(self.ocean, v.water_sampling.resolution, v.water_sampling.margin_m)
