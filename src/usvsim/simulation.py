@@ -25,6 +25,7 @@ from usvsim.core.errors import Names, UsvsimError
 from usvsim.ground_truth import GroundTruth
 from usvsim.messages.envelope import Envelope
 from usvsim.rendering.wakes import WakeTracks
+from usvsim.scene_markers import SceneMarkers
 from usvsim.sensors import SensorSuite
 from usvsim.sensors.readings import Reading
 from usvsim.traffic import Traffic, kinematic_bodies
@@ -54,6 +55,8 @@ class Simulation:
                                                 for name, c in self._controller_configs.items()})  # fmt: skip
         rec = scenario.outputs.recording
         self.ground_truth = GroundTruth(world, *rec.rates_hz(world.clock.step_ns))
+        markers = scenario.outputs.markers
+        self.markers = SceneMarkers(world, markers.scene, markers.bodies_rate(world.clock.step_ns))  # RViz / Foxglove scene
         self.traffic = Traffic(world, self.controllers)  # other ships: tracks, pilots, awareness, AIS
         # the vessels' recent tracks for the drawn wakes (rendering/wakes.py); the world carries them to the cameras
         world.traffic = self.traffic  # the renderer evaluates the traffic ships' tracks (lamps, wakes)
@@ -143,7 +146,8 @@ class Simulation:
         self.wakes.record(world)  # vessels' tracks for the drawn wakes (a clock check; a sample per 0.25 s)
         measurements = self.traffic.on_step(world, bool(self._subscribers)) + self.sensors.on_step(world)  # IMU: every step
         if self._subscribers:
-            self._emit(self.ground_truth.due(world.clock.steps, world.clock.now_ns) + measurements)
+            steps, now_ns = world.clock.steps, world.clock.now_ns
+            self._emit(self.ground_truth.due(steps, now_ns) + self.markers.due(steps, now_ns) + measurements)
 
     def reset(self, seed: int | None = None, poses: Mapping[str, Any] | None = None) -> None:
         """A new episode from t = 0 that is bit for bit a fresh `Simulation(scenario, seed)` (seed None: the
@@ -214,7 +218,8 @@ class Simulation:
         if not self._announced and self._subscribers:
             self._announced = True
             clock = self.world.clock
-            self._emit([*self._latched(), *(self.ground_truth.due(0, 0) if clock.steps == 0 else [])])
+            first = [*self.ground_truth.due(0, 0), *self.markers.due(0, 0)] if clock.steps == 0 else []
+            self._emit([*self._latched(), *first])
 
     def subscribe(self, callback: Callable[[Envelope], None]) -> Callable[[], None]:
         """Receive every message the simulation emits; returns a function that unsubscribes."""
@@ -258,11 +263,11 @@ class Simulation:
             warnings.warn(f"{line}; {path} has none", UserWarning, stacklevel=3)
 
     def _latched(self) -> list[Envelope]:
-        """The episode marker and /tf_static: what a subscriber joining mid-episode has missed. Stamped 0 (the
-        episode's start), published now: a recording started at t = 5 s began with 5 s of nothing."""
+        """The episode marker, /tf_static and the scene markers: what a subscriber joining mid-episode has missed.
+        Stamped 0 (the episode's start), published now: a recording started at t = 5 s began with 5 s of nothing."""
         gt = self.ground_truth
         static = gt.static_transforms(self.sensors.static_transforms())
-        latched = [gt.episode(self.episode, self.world.seed), *static]
+        latched = [gt.episode(self.episode, self.world.seed), *static, *self.markers.static()]
         for envelope in latched:
             envelope.publish_ns = self.world.clock.now_ns
         return latched

@@ -75,9 +75,12 @@ def test_run_records_a_readable_mcap(tmp_path):
         messages = read(out)
         topics = {t for t, _, _ in messages}
         assert topics == {"/clock", "/tf", "/tf_static", "/wamv/ground_truth/odometry", "/otter/ground_truth/odometry",
-                          "/usvsim/episode"}  # fmt: skip
+                          "/usvsim/episode", "/usvsim/markers", "/usvsim/markers/bodies"}  # fmt: skip
         assert count(messages, "/clock") == 301  # 100 Hz from t = 0 to 3 s inclusive
         assert count(messages, "/wamv/ground_truth/odometry") == 151  # 50 Hz
+        assert count(messages, "/usvsim/markers") == 1 and count(messages, "/usvsim/markers/bodies") == 31  # 10 Hz
+        scene = next(m for t, _, m in messages if t == "/usvsim/markers")
+        assert {k.ns for k in scene.markers} == {"vessel/wamv", "vessel/otter", "obstacles"}
         last = [m for t, _, m in messages if t == "/clock"][-1]
         assert (last.clock.sec, last.clock.nanosec) == (3, 0)
 

@@ -51,7 +51,8 @@ def _decoded(path: Path) -> list[tuple[str, int, object]]:
 def _stamp_ns(topic: str, msg) -> int:
     if topic == "/clock":
         return msg.clock.sec * 10**9 + msg.clock.nanosec
-    header = msg.transforms[0].header if topic.startswith("/tf") else msg.header
+    header = msg.transforms[0].header if topic.startswith("/tf") else \
+        msg.markers[0].header if topic.startswith("/usvsim/markers") else msg.header  # fmt: skip
     return header.stamp.sec * 10**9 + header.stamp.nanosec
 
 
@@ -72,8 +73,8 @@ def test_a_recording_started_mid_episode_starts_then(tmp_path):
     for name, start_ns in (("late.mcap", 1_000_000_000), ("later.mcap", 1_500_000_000)):
         messages = _decoded(tmp_path / name)
         assert min(log for _, log, _ in messages) == start_ns
-        assert [t for t, _, _ in messages[:2]] == ["/usvsim/episode", "/tf_static"]  # latched, stamped 0
-        for topic, log, msg in messages[2:]:
+        assert [t for t, _, _ in messages[:3]] == ["/usvsim/episode", "/tf_static", "/usvsim/markers"]  # latched,
+        for topic, log, msg in messages[3:]:  # stamped 0
             assert start_ns < _stamp_ns(topic, msg) <= log, (name, topic)
         x0 = [m.pose.pose.position.x for t, _, m in messages if t == "/wamv/ground_truth/odometry"][0]
         assert x0 > 1.0  # under way: the first odometry is the boat at ~start_ns, stamped so

@@ -36,14 +36,13 @@ from foxglove.messages import (
 )
 
 from usvsim.core.transforms import matrix_from_quat, quat_multiply
-from usvsim.world.builder import kinematic_geoms
+from usvsim.world.shapes import drawn_parts, static_parts
 
 if TYPE_CHECKING:
     from usvsim.simulation import Simulation
     from usvsim.vessels.parts import Part
 
 WORLD_FRAME = "world"
-VISUAL_GROUP = 1  # world/builder.py: visual geoms (group 1) never collide
 WATER_ALPHA = 0.85
 TROUGH_RGB, CREST_RGB = np.array([0.02, 0.15, 0.28]), np.array([0.45, 0.65, 0.72])
 
@@ -128,14 +127,8 @@ class SceneBuilder:
         entities = []
         for name, vessel in self.sim.vessels.items():
             prims = Primitives()
-            parts = vessel.model.visuals
-            for part in parts:
+            for part in drawn_parts(vessel.model):  # its visuals, or its physics hull
                 prims.add_part(part)
-            if not len(prims):  # no drawable visuals: draw the physics hull
-                hull = vessel.model.hull
-                prims.add(
-                    "mesh", (), (0, 0, 0), (1, 0, 0, 0), (0.8, 0.8, 0.8, 1.0), hull.vertices, hull.faces
-                )
             entities.append(prims.entity(f"vessel/{name}", f"{name}/base_link", stamp_ns, frame_locked=True))
         obstacles = static_geoms(self.sim.model)
         if len(obstacles):
@@ -212,30 +205,8 @@ def grid_indices(n: int) -> list[int]:
 def static_geoms(model: mujoco.MjModel) -> Primitives:
     """The world body's visual geoms (static obstacles), world frame."""
     prims = Primitives()
-    kinds = {int(mujoco.mjtGeom.mjGEOM_BOX): "box", int(mujoco.mjtGeom.mjGEOM_CYLINDER): "cylinder",
-             int(mujoco.mjtGeom.mjGEOM_SPHERE): "sphere", int(mujoco.mjtGeom.mjGEOM_MESH): "mesh"}  # fmt: skip
-    moving = kinematic_geoms(model)[1]  # traffic ships: world-body geoms that move, not obstacles
-    static = (model.geom_bodyid == 0) & (model.geom_group == VISUAL_GROUP)
-    static[moving] = False
-    for g in np.flatnonzero(static):
-        kind = kinds.get(int(model.geom_type[g]))
-        if kind is None:
-            continue
-        vertices = faces = None
-        if kind == "mesh":
-            m = int(model.geom_dataid[g])
-            va, vn = model.mesh_vertadr[m], model.mesh_vertnum[m]
-            fa, fn = model.mesh_faceadr[m], model.mesh_facenum[m]
-            vertices, faces = model.mesh_vert[va : va + vn], model.mesh_face[fa : fa + fn]
-        prims.add(
-            kind,
-            model.geom_size[g],
-            model.geom_pos[g],
-            model.geom_quat[g],
-            model.geom_rgba[g],
-            vertices,
-            faces,
-        )
+    for part in static_parts(model):
+        prims.add_part(part)
     return prims
 
 

@@ -240,6 +240,8 @@ def _check_rates(scenario: Scenario, source: str) -> None:
     rates += [(f"vessels[{i}].sensors[{k}].rate_hz", sensor.rate_hz)
               for i, v in enumerate(scenario.vessels) for k, sensor in enumerate(v.sensors)]  # fmt: skip
     rates.append(("traffic.awareness.rate_hz", scenario.traffic.awareness.rate_hz))
+    if scenario.outputs.markers.bodies_rate_hz:  # null: fitted to the step; 0: off
+        rates.append(("outputs.markers.bodies_rate_hz", scenario.outputs.markers.bodies_rate_hz))
     for key, rate in rates:
         try:
             steps_per_period(rate, step)

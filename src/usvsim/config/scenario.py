@@ -6,7 +6,7 @@ from typing import Annotated, Literal
 
 from pydantic import Field, model_validator
 
-from usvsim.config.base import KeyedValueError, PositiveFloat, Section, TupleOf
+from usvsim.config.base import KeyedValueError, NonNegativeFloat, PositiveFloat, Section, TupleOf
 from usvsim.config.environment import Environment
 from usvsim.config.geo import Geo
 from usvsim.config.objects import WorldObject
@@ -85,11 +85,28 @@ class Tf(Section):
     odom_to_base_link: bool = Field(default=True, description="dynamic <vessel>/odom → <vessel>/base_link (true pose)")
 
 
+class Markers(Section):
+    """The scene as visualization_msgs/MarkerArray for RViz and Foxglove, live over ROS 2 and in recordings
+    (scene_markers.py)."""
+
+    scene: bool = Field(default=True, description="/usvsim/markers: the vessels (in their base_link frames, moved by "
+                        "/tf) and the static obstacles (in world); latched, once per episode")  # fmt: skip
+    bodies_rate_hz: NonNegativeFloat | None = Field(
+        default=None, description="/usvsim/markers/bodies: buoys and other floating bodies that are not vessels, at "
+        "their poses in world, Hz of simulation time (its period a whole number of physics steps); null: 10 Hz, or "
+        "the nearest rate below whose period is a whole number of steps; 0: off")  # fmt: skip
+
+    def bodies_rate(self, step_ns: int) -> float:
+        """The bodies' marker rate (Hz; 0 off) at a physics step of `step_ns`."""
+        return rate_at_most(10.0, step_ns) if self.bodies_rate_hz is None else self.bodies_rate_hz
+
+
 class Outputs(Section):
     """What the simulation writes besides its sensors' messages."""
 
     recording: Recording = Recording()
     tf: Tf = Tf()
+    markers: Markers = Field(default=Markers(), description="the scene drawn in RViz and Foxglove from ROS 2 topics")
 
 
 class Scenario(Section):
@@ -102,7 +119,7 @@ class Scenario(Section):
                                      "under their names)")
     objects: TupleOf[WorldObject] = Field(default=(), description="buoys, docks, walls, piers, berths, mesh obstacles")
     geo: Geo | None = Field(default=None, description="a real place from geospatial files (docs/geo.md)")
-    outputs: Outputs = Field(default=Outputs(), description="recording and TF")
+    outputs: Outputs = Field(default=Outputs(), description="recording, TF and scene markers")
     rendering: Rendering = Field(default=Rendering(), description="sky, sun, water look, fog, camera effects")
     traffic: Traffic = Field(default=Traffic(), description="scripted ships, AIS, situational awareness")
 
@@ -120,7 +137,8 @@ class Scenario(Section):
                 raise KeyedValueError(key, f"{name!r} is already the name of {seen[name]}; names of vessels, objects "
                                       "and traffic ships must be unique (repeated: " + ", ".join(_repeated(keys)) + ")")
             seen[name] = key.removesuffix(".name")
-        own = {"/clock", "/tf", "/tf_static", "/usvsim/episode", "/reset"}  # ground_truth.py, commands.py
+        own = {"/clock", "/tf", "/tf_static", "/usvsim/episode", "/reset", "/usvsim/markers",
+               "/usvsim/markers/bodies"}  # ground_truth.py, commands.py, scene_markers.py
         own |= {f"/{v.name}/{t}" for v in self.vessels for t in ("ground_truth/odometry", "cmd_vel")}
         for key, topic in (("ais", self.traffic.ais.topic), ("awareness", self.traffic.awareness.topic)):
             if topic in own:

@@ -35,12 +35,14 @@ TF_QOS = QosProfile(depth=100)  # tf2 DynamicListenerQoS
 TF_STATIC_QOS = QosProfile(durability="transient_local", depth=1)  # tf2 StaticBroadcasterQoS
 CLOCK_QOS = QosProfile(depth=1)
 EPISODE_TOPIC = "/usvsim/episode"  # the episode marker (usvsim.ground_truth), latched like /tf_static
-_TOPIC_QOS = {"/tf_static": TF_STATIC_QOS, "/tf": TF_QOS, "/clock": CLOCK_QOS, EPISODE_TOPIC: TF_STATIC_QOS}
+MARKERS_TOPIC = "/usvsim/markers"  # the scene's vessels and obstacles (usvsim.scene_markers), latched
+_TOPIC_QOS = {"/tf_static": TF_STATIC_QOS, "/tf": TF_QOS, "/clock": CLOCK_QOS, EPISODE_TOPIC: TF_STATIC_QOS,
+              MARKERS_TOPIC: TF_STATIC_QOS}  # fmt: skip
 
 
 def qos_for_topic(topic: str) -> QosProfile:
-    """Default offered QoS of `topic`: `/tf_static` and the episode marker transient_local depth 1, everything
-    else volatile."""
+    """Default offered QoS of `topic`: `/tf_static`, the episode marker and the scene markers transient_local
+    depth 1, everything else volatile."""
     return _TOPIC_QOS.get(topic, SENSOR_QOS)
 
 
@@ -53,7 +55,7 @@ class Envelope:
     threaded consumers should touch `cdr` once before handing the envelope over.
     """
 
-    __slots__ = ("_cdr", "msg", "msgtype", "publish_ns", "qos", "stamp_ns", "topic")
+    __slots__ = ("_cdr", "_msg", "msgtype", "publish_ns", "qos", "stamp_ns", "topic")
     msgtype: str  # set in __init__: given, or the message's own
 
     def __init__(
@@ -78,7 +80,7 @@ class Envelope:
             self.msgtype = msg.__msgtype__
         self.stamp_ns = int(stamp_ns)
         self.publish_ns = self.stamp_ns if publish_ns is None else int(publish_ns)
-        self.msg = msg
+        self._msg = msg
         self.qos = qos if qos is not None else qos_for_topic(topic)
         self._cdr = cdr
 
@@ -90,10 +92,15 @@ class Envelope:
             self._cdr = fast(self.msg) if fast else bytes(typestore().serialize_cdr(self.msg, self.msgtype))
         return self._cdr
 
+    @property
+    def msg(self) -> Any:
+        """The message object; an envelope built from CDR bytes only deserializes them on first access."""
+        if self._msg is None:
+            self._msg = typestore().deserialize_cdr(self._cdr, self.msgtype)
+        return self._msg
+
     def decoded(self) -> Any:
-        """The message object, deserializing the CDR if the envelope was built from bytes only."""
-        if self.msg is None:
-            self.msg = typestore().deserialize_cdr(self._cdr, self.msgtype)
+        """The message object (`msg`)."""
         return self.msg
 
     def __repr__(self) -> str:
