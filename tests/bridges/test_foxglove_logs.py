@@ -19,3 +19,26 @@ def test_invalid_client_frames_are_cut_short_and_rate_limited_per_client():
     assert len(passed) == 2 * PER_MINUTE  # two clients, each limited on its own
     assert all(len(r.getMessage()) < EXCERPT_CHARS + 100 for r in passed)
     assert "suppressed" in passed[-1].getMessage()
+
+
+class _Bridge:
+    def __init__(self):
+        self.stats = {"client_messages": 0, "client_refused": 0}
+
+    def _count(self, key: str) -> None:
+        self.stats[key] += 1
+
+
+def test_messages_on_unknown_channels_count_into_the_only_open_bridge():
+    """The SDK refuses them before any listener sees them and only logs it: they went uncounted. The record names no
+    server, so with two bridges open in the process neither counts it (rather than the wrong one)."""
+    from usvsim.bridges.foxglove_logs import UnknownChannels
+
+    counter, one, two = UnknownChannels(), _Bridge(), _Bridge()
+    counter.bridges.add(one)
+    assert counter.filter(record("Received message for unknown channel: 9"))  # still logged (and limited)
+    counter.filter(record("Invalid message from 127.0.0.1:40000: ..."))  # not a message on an unknown channel
+    assert one.stats == {"client_messages": 1, "client_refused": 1}
+    counter.bridges.add(two)
+    counter.filter(record("Received message for unknown channel: 3"))
+    assert one.stats["client_refused"] == 1 and two.stats["client_refused"] == 0

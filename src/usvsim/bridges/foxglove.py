@@ -15,7 +15,9 @@ Channels:
   multiply the scene's cost and bandwidth).
 - server time (`time` capability) = simulation time, so Foxglove's clock follows the simulation.
 - `clientPublish`: clients may publish to the command topics of `sim.commands.topics` (e.g. the Teleop panel
-  on `/<vessel>/cmd_vel`), as `cdr` or `json`; everything is validated and counted by the command inbox.
+  on `/<vessel>/cmd_vel`), as `cdr` or `json`; everything is validated and counted by the command inbox. A
+  message on a channel the client never advertised is refused by the SDK and counted here too
+  (`client_refused`, foxglove_logs.py).
 
 Non-blocking: `channel.log` only queues; the SDK's server threads send. Each client has a bounded queue
 (`backlog` messages): the oldest data message is dropped when it is full. The SDK server listens on an
@@ -33,6 +35,7 @@ import json
 import logging
 import threading
 import time
+from collections.abc import Callable
 from types import SimpleNamespace
 from typing import TYPE_CHECKING, Any
 
@@ -81,11 +84,12 @@ class _OncePerClient(logging.Filter):
         return True
 
 
-def _quiet_send_errors() -> None:
+def _quiet_send_errors(bridge: FoxgloveBridge) -> Callable[[], None]:
     sdk = logging.getLogger(SDK_SEND_LOGGER)
     if not any(isinstance(f, _OncePerClient) for f in sdk.filters):
         sdk.addFilter(_OncePerClient())
-    foxglove_logs.install()  # invalid client frames: short excerpts, a few lines per client and minute
+    # invalid client frames: short excerpts, a few lines per client and minute; messages on unknown channels counted
+    return foxglove_logs.install(bridge)
 
 
 class _RosChannel:
@@ -145,7 +149,7 @@ class FoxgloveBridge:
         except OSError as exc:  # port taken, bad address
             self._server.stop()
             raise OSError(f"cannot start the Foxglove server on {host}:{port}: {str(exc)[:160]}") from None
-        _quiet_send_errors()
+        self._unwatch_logs = _quiet_send_errors(self)
         self._latch_static_transforms()
         self._unsubscribe = sim.subscribe(self._on_envelope)
         self._closed = False
@@ -171,6 +175,7 @@ class FoxgloveBridge:
             pass
         self._server.stop()
         self._proxy.close()
+        self._unwatch_logs()
         for ch in [*(t.channel for t in self._topics.values()), self._scene_channel, self._water_channel]:
             ch.close()
 

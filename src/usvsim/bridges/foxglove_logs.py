@@ -1,11 +1,20 @@
 """Foxglove SDK log records about clients, made safe: never more than a short excerpt of what a client sent,
-and at most a few lines per client and minute (a client flooding invalid frames cannot flood the log)."""
+and at most a few lines per client and minute (a client flooding invalid frames cannot flood the log).
+
+The SDK drops a client's message on a channel the client never advertised before any listener sees it, and says
+so only in this log ("Received message for unknown channel: 9"); `UnknownChannels` counts those records into the
+bridge's `client_messages` and `client_refused`, as every other refused client message is counted. The record
+does not say which server it came from: with one Foxglove bridge in the process (`usvsim run`, `usvsim task`) it is
+that bridge's; with several open at once it cannot be told whose, and none counts it."""
 
 from __future__ import annotations
 
 import logging
 import re
 import time
+import weakref
+from collections.abc import Callable
+from typing import Any
 
 CLIENT_LOGGER = "foxglove.websocket.connected_client"
 EXCERPT_CHARS = 160
@@ -41,7 +50,35 @@ class ClientLogLimiter(logging.Filter):
         return True
 
 
-def install() -> None:
+UNKNOWN_CHANNEL = "Received message for unknown channel"
+
+
+class UnknownChannels(logging.Filter):
+    """Counts the SDK's "Received message for unknown channel" records into the one open bridge (see above)."""
+
+    def __init__(self) -> None:
+        super().__init__()
+        self.bridges: weakref.WeakSet[Any] = weakref.WeakSet()
+
+    def filter(self, record: logging.LogRecord) -> bool:
+        if record.getMessage().startswith(UNKNOWN_CHANNEL) and len(self.bridges) == 1:
+            bridge = next(iter(self.bridges))
+            bridge._count("client_messages")
+            bridge._count("client_refused")
+        return True  # counted, then limited like any other record about a client
+
+
+def install(bridge: Any = None) -> Callable[[], None]:
+    """Limit the SDK's records about clients; with `bridge`, count its messages on unknown channels until the
+    returned function is called (at the bridge's close)."""
     logger = logging.getLogger(CLIENT_LOGGER)
+    counter = next((f for f in logger.filters if isinstance(f, UnknownChannels)), None)
+    if counter is None:  # first: a record the limiter drops is still counted
+        counter = UnknownChannels()
+        logger.filters.insert(0, counter)
     if not any(isinstance(f, ClientLogLimiter) for f in logger.filters):
         logger.addFilter(ClientLogLimiter())
+    if bridge is None:
+        return lambda: None
+    counter.bridges.add(bridge)
+    return lambda: counter.bridges.discard(bridge)
