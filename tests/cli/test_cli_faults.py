@@ -135,12 +135,10 @@ def test_a_viewer_that_cannot_open_leaves_no_recording_behind(tmp_path, monkeypa
 
 def test_a_stop_during_the_set_up_is_taken_before_the_first_step(tmp_path, monkeypatch):
     """SIGTERM while the run was still setting up (kernels compiling, DDS starting) killed the process and left a
-    recording with only its header (`usvsim recover` needed); now the run stops before its first step, the
-    recording closed complete, exit 143."""
+    recording with only its header (`usvsim recover` needed); then the run stopped before its first step but left a
+    recording of no step, so the next try needed --force. Now it stops before its first step, exit 143, and keeps
+    no file (nothing was simulated)."""
     import signal
-
-    from mcap.reader import make_reader
-    from readers import read_with_mcap_ros2
 
     import usvsim.cli.app as cli_app
 
@@ -155,10 +153,25 @@ def test_a_stop_during_the_set_up_is_taken_before_the_first_step(tmp_path, monke
     out = tmp_path / "x.mcap"
     result = invoke("run", "harbor", "--duration", "5", "--record", str(out))
     assert result.exit_code == 143, result.output
-    assert "stopped (SIGTERM): simulated 0.00 s" in result.output
-    with out.open("rb") as f:  # complete: its summary written (a file cut short has none)
-        assert make_reader(f).get_summary() is not None
-    assert {t for t, _, _ in read_with_mcap_ros2(out)} <= {"/tf_static", "/usvsim/episode"}  # no step was taken
+    assert "stopped (SIGTERM): simulated 0.00 s" in result.stdout
+    assert f"no step was taken: {out} not kept" in result.stdout and "recorded" not in result.stdout
+    assert not out.exists()
+
+
+def test_a_run_whose_bridge_cannot_start_leaves_no_recording_behind(tmp_path):
+    """`usvsim run --record x.mcap --foxglove` with the port taken failed in one line but left an empty x.mcap:
+    the next try said 'x.mcap exists; pass --force'."""
+    import socket
+
+    out, scenario = tmp_path / "x.mcap", tmp_path / "tiny.yaml"
+    scenario.write_text("version: 1\nvessels: [{name: a, model: otter}]\n")
+    with socket.socket() as taken:
+        taken.bind(("127.0.0.1", 0))
+        taken.listen()
+        result = invoke("run", str(scenario), "--duration", "0.1", "--record", str(out), "--foxglove",
+                        "--foxglove-port", str(taken.getsockname()[1]))  # fmt: skip
+    one_line_error(result, "cannot start the Foxglove server")
+    assert not out.exists()
 
 
 def test_a_slow_first_step_is_told_apart_from_the_speed(tmp_path, monkeypatch):

@@ -162,10 +162,11 @@ def run(
         except KeyboardInterrupt as exc:
             interrupted = getattr(exc, "signum", signal.SIGINT)
         except (UsvsimError, OSError) as exc:
-            if recorder is not None and steps.n == 0:  # no step ran (no display for --view): the empty file
-                stack.close()  # left behind made the next try need --force
-                recorder.path.unlink(missing_ok=True)
+            if steps.n == 0:  # no step ran (no display for --view)
+                _discard_recording(stack, recorder)
             fail(exc)
+        if interrupted and steps.n == 0:  # stopped during the set-up
+            _discard_recording(stack, recorder)
         stack.close()
     wall = time.perf_counter() - start
     simulated = steps.n * sim.clock.dt  # over every episode of the run (sim.time restarts at a reset)
@@ -179,7 +180,9 @@ def run(
         typer.echo(f"usvsim: note: the first step took {steps.first_s:.1f} s (a first run compiles the physics "
                    f"kernels and keeps them for the next runs){rest}", err=True)  # fmt: skip
     print_traffic_report(sim, Console(soft_wrap=True))  # a result: stdout, beside "done: ..."
-    if recorder:
+    if recorder and not recorder.path.exists():
+        typer.echo(f"no step was taken: {recorder.path} not kept")
+    elif recorder:
         typer.echo(f"recorded {recorder.message_count} messages to {recorder.path}")
         for line in recorder.topic_filter.unmatched():  # a misspelt name recorded nothing, in silence
             console.print(f"usvsim: warning: {line}", highlight=False, soft_wrap=True, markup=False)
@@ -187,6 +190,14 @@ def run(
         typer.echo(f"{type(bridge).__name__}: {_stats_line(bridge.stats)}")
     if interrupted:
         raise typer.Exit(exit_status(interrupted))  # 130 for Ctrl-C, 143 for SIGTERM, as the shell reports them
+
+
+def _discard_recording(stack: ExitStack, recorder) -> None:
+    """Close everything and delete the recording of a run that took no step (it failed or was stopped during its
+    set-up): the file of no step left behind made the next try need --force."""
+    stack.close()
+    if recorder is not None:
+        recorder.path.unlink(missing_ok=True)
 
 
 @dataclass
@@ -245,6 +256,7 @@ def _open_run(stack: ExitStack, scenario: str, seed: int, recording: _Recording,
             if hasattr(bridge, "url"):  # where to point Foxglove (with --foxglove-port 0, the port chosen)
                 console.print(f"usvsim: Foxglove: open {bridge.url}", highlight=False, markup=False)
     except (UsvsimError, OSError) as exc:
+        _discard_recording(stack, recorder)  # a bridge that cannot start (port taken) left an empty file behind
         fail(exc)
     return sim, recorder, bridges
 
