@@ -198,3 +198,20 @@ def test_far_ships_report_true_course_and_heading(scenario_of):
     positions = [r for r in reports if r["msg_type"] == 1]
     assert positions and all(r["course"] == pytest.approx(0.3, abs=0.051) for r in positions)
     sim.close()
+
+
+def test_ais_messages_are_in_a_frame_of_the_recorded_tf_tree(scenario_of, tmp_path):
+    """/ais was stamped in frame 'ais', which no transform names: tf2 and Foxglove could not place it. Its sentences
+    carry geodetic positions; the frame is the world's (ENU at the scenario origin), as for /traffic/situation."""
+    from readers import read_with_mcap_ros2
+
+    sim = Simulation(scenario(scenario_of))
+    with sim.record(tmp_path / "ais.mcap"):
+        sim.run(12.0)
+    sim.close()
+    messages = read_with_mcap_ros2(tmp_path / "ais.mcap")  # an independent reader (mcap_ros2)
+    edges = {(tf.header.frame_id, tf.child_frame_id) for topic, _, m in messages if topic in ("/tf", "/tf_static")
+             for tf in m.transforms}  # fmt: skip
+    tf_frames = {frame for edge in edges for frame in edge}
+    ais_frames = {m.header.frame_id for topic, _, m in messages if topic == "/ais"}
+    assert ais_frames and ais_frames <= tf_frames, (ais_frames, edges)

@@ -1,5 +1,6 @@
 """`AisPublisher`: every transmitting ship's AIS reports on schedule, as nmea_msgs/Sentence on `traffic.ais.topic`
-(frame `ais`) and, when `udp_port` is set, as UDP datagrams (one sentence + CRLF each) to 127.0.0.1.
+(frame `world`, as the other traffic topics: a frame of the TF tree; `ais` was none) and, when `udp_port` is set,
+as UDP datagrams (one sentence + CRLF each) to 127.0.0.1.
 
 Each transmitter keeps its next position-report and static-report times; the interval after a report
 follows its speed and rate of turn at that report (ais.py). First reports are spread at random over the
@@ -30,6 +31,7 @@ if TYPE_CHECKING:
 
 
 POSITION, STATIC = 0, 1  # kinds of scheduled report
+AIS_FRAME = "world"  # the sentences hold geodetic positions; `world` is ENU at the scenario origin, root of TF
 
 
 @dataclass
@@ -150,7 +152,8 @@ class AisPublisher:
         if not publish or not sentences:
             return []
         cls, stamp = ros.msg_class("nmea_msgs/msg/Sentence"), world.clock.now_ns
-        return [Envelope(self.cfg.topic, stamp, cls(header=ros.header(stamp, "ais"), sentence=s)) for s in sentences]
+        messages = [cls(header=ros.header(stamp, AIS_FRAME), sentence=s) for s in sentences]
+        return [Envelope(self.cfg.topic, stamp, msg) for msg in messages]
 
     def close(self) -> None:
         if self.sock is not None:
