@@ -8,7 +8,7 @@ Command topics (absolute ROS names; `<v>` a vessel, `<t>` one of its thrusters):
 | `/<v>/thrusters/<t>/thrust` | std_msgs/msg/Float64 | normalized thrust u in [-1, 1] (refreshes the watchdog) |
 | `/<v>/thrusters/<t>/angle` | std_msgs/msg/Float64 | azimuth angle, rad, REP 103 (positive turns the thrust CCW seen from above) |
 | `/<v>/cmd_vel` | geometry_msgs/msg/Twist | base_link velocity, body FLU: linear.x, linear.y (m/s), angular.z (rad/s) |
-| `/reset` | std_msgs/msg/Empty | back to the scenario's initial state |
+| `/reset` | std_msgs/msg/Empty | back to the scenario's initial state, with the next seed (`Simulation.reset_seeds`) |
 
 More topics can be added with `register(topic, msgtype, parse, apply)` before the bridges open (e.g. a task's
 `/vrx/perception/landmark`, VRX's thruster topics): `parse(msg)` runs in the bridge's thread and returns a

@@ -65,7 +65,8 @@ class Simulation:
         self.traffic.fleet.watch(self.sensors.sensors)  # kinematic ships are placed before steps they are seen after
         for name, vessel in world.vessels.items():
             vessel.sensors = self.sensors.of_vessel(name)
-        self.commands = CommandInbox(world, self.controllers, lambda: self._new_episode(None, None, False))
+        self.commands = CommandInbox(world, self.controllers, self._reset_command)
+        self._reset_seeds = "next"
         self.episode = 0  # index of the current episode: 0 at construction, +1 at every reset
         self._subscribers: list[Callable[[Envelope], None]] = []
         self._announced = False  # the episode marker, /tf_static and the t = 0 messages go before the first step
@@ -157,6 +158,28 @@ class Simulation:
         pose), the command inbox (queued commands dropped). Subscribers stay; the episode marker goes out
         first (see ground_truth.py)."""
         self._new_episode(seed, poses, True)
+
+    @property
+    def reset_seeds(self) -> str:
+        """The seed of a reset asked for at run time (`/reset` over ROS 2, ROS-TCP or Foxglove; R in the viewer):
+        "next" (the default) runs the current seed + 1, so a run with seed s gives episodes s, s + 1, s + 2...
+        (reproducible, each a fresh start with its seed); "same" repeats the current seed (the same waves, gusts and
+        noise every episode). `reset(seed)` from Python takes the seed it is given (None: the current one)."""
+        return self._reset_seeds
+
+    @reset_seeds.setter
+    def reset_seeds(self, value: str) -> None:
+        if value not in ("next", "same"):
+            raise UsvsimError(f"reset_seeds must be 'next' or 'same', not {value!r}")
+        self._reset_seeds = value
+
+    def next_reset_seed(self) -> int:
+        """The seed the next reset asked for at run time uses (`/reset`, R in the viewer): see `reset_seeds`."""
+        return self.world.seed + 1 if self._reset_seeds == "next" else self.world.seed
+
+    def _reset_command(self) -> None:
+        """A `/reset` (from the command inbox; its queue is kept: commands after the reset still apply)."""
+        self._new_episode(self.next_reset_seed(), None, False)
 
     def _new_episode(self, seed: int | None, poses: Mapping[str, Any] | None, clear_queue: bool) -> None:
         world = self.world

@@ -7,6 +7,7 @@ import threading
 
 import pytest
 
+from usvsim.core.errors import UsvsimError
 from usvsim.messages.ros import msg_class, typestore
 from usvsim.simulation import Simulation
 
@@ -138,3 +139,32 @@ def test_a_reset_topic_announces_the_new_episode_before_its_first_step(sim):
     assert after[0][0] == "/usvsim/episode"
     clocks = [stamp for topic, stamp in after if topic == "/clock"]
     assert clocks[0] == 0 and clocks == sorted(clocks) and len(set(clocks)) == len(clocks)
+
+
+EMPTY = struct.pack("<4sB", b"\x00\x01\x00\x00", 0)  # std_msgs/msg/Empty
+
+
+def test_each_reset_topic_starts_the_next_seed_unless_asked_for_the_same(scenario_of):
+    """Every /reset replayed the run's seed: the same waves, wind gusts and sensor noise each episode, so a
+    controller trained or tested through /reset saw one sea. Now the k-th reset runs seed + k (reproducible), each
+    episode equal to a fresh start with that seed; `reset_seeds = "same"` keeps the old behaviour."""
+    import json
+
+    config = {"environment": {"sea": {"type": "jonswap", "hs_m": 1.0, "tp_s": 5.0}},
+              "vessels": [{"name": "wamv", "model": "wamv"}]}  # fmt: skip
+    sim, markers = Simulation(scenario_of(config), seed=5), []
+    sim.subscribe(lambda env: markers.append(json.loads(env.msg.data)) if env.topic == "/usvsim/episode" else None)
+    for _ in range(2):
+        sim.run(0.1)
+        assert sim.commands.post_cdr("/reset", EMPTY)
+    sim.run(0.1)
+    assert [(m["episode"], m["seed"]) for m in markers] == [(0, 5), (1, 6), (2, 7)]
+    fresh = Simulation(scenario_of(config), seed=7)
+    fresh.run(0.1)
+    assert sim.vessels["wamv"].position.tolist() == fresh.vessels["wamv"].position.tolist()  # bit for bit
+    sim.reset_seeds = "same"
+    assert sim.commands.post_cdr("/reset", EMPTY)
+    sim.run(0.1)
+    assert (markers[-1]["episode"], markers[-1]["seed"]) == (3, 7)
+    with pytest.raises(UsvsimError, match="reset_seeds"):
+        sim.reset_seeds = "random"

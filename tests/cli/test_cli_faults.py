@@ -66,9 +66,13 @@ class ResetAfterOneSecond:
         self._unsubscribe()
 
 
-def test_a_reset_mid_run_does_not_lengthen_the_run(tmp_path, monkeypatch):
+@pytest.mark.parametrize(("given", "seeds"), [([], [3, 4]), (["--reset-seed", "same", "--ros2"], [3, 3])])
+def test_a_reset_mid_run_does_not_lengthen_the_run(tmp_path, monkeypatch, given, seeds):
     """`usvsim run --duration 3` with a /reset at t = 1 s ran 1 + 3 s: the duration counted from the new episode.
-    It is the run's total simulated time: 1 s of the first episode and 2 s of the second."""
+    It is the run's total simulated time: 1 s of the first episode and 2 s of the second. The reset runs the next
+    seed (it replayed the run's seed: the same sea every episode) unless --reset-seed same asks for it."""
+    import json
+
     from readers import read_with_mcap_ros2
 
     import usvsim.cli.bridges
@@ -78,13 +82,20 @@ def test_a_reset_mid_run_does_not_lengthen_the_run(tmp_path, monkeypatch):
     scenario.write_text("version: 1\nworld: {physics_rate_hz: 100}\noutputs: {recording: {clock_rate_hz: 100}}\n"
                         "vessels: [{name: otter, model: otter}]\n")  # fmt: skip
     out = tmp_path / "run.mcap"
-    result = invoke("run", str(scenario), "--duration", "3", "--record", str(out))
+    result = invoke("run", str(scenario), "--duration", "3", "--record", str(out), "--seed", "3", *given)
     assert result.exit_code == 0, result.output
     assert "simulated 3.00 s over 2 episodes" in result.stdout and "resets_sent 1" in result.stdout
-    clocks = [m.clock.sec + m.clock.nanosec / 1e9 for t, _, m in read_with_mcap_ros2(out) if t == "/clock"]
+    messages = read_with_mcap_ros2(out)
+    assert [json.loads(m.data)["seed"] for t, _, m in messages if t == "/usvsim/episode"] == seeds
+    clocks = [m.clock.sec + m.clock.nanosec / 1e9 for t, _, m in messages if t == "/clock"]
     restart = clocks.index(0.0, 1)
     assert clocks[restart - 1] == 1.0 and clocks[-1] == 2.0  # 100 + 200 steps
     assert len(clocks) == 101 + 201
+
+
+def test_reset_seed_is_checked_and_needs_something_that_can_reset():
+    one_line_error(invoke("run", "--reset-seed", "random"), "--reset-seed", "next or same")
+    one_line_error(invoke("run", "--reset-seed", "same"), "--reset-seed", "--view")  # no /reset can come
 
 
 def test_run_help_says_the_duration_is_the_total():

@@ -82,9 +82,12 @@ def test_pause_single_step_and_reset(harbor):
     assert driver.advance(1.0) == 2
     driver.key("space", "press")
     assert driver.advance(10.0) == driver.max_steps_per_frame  # a long hiccup is capped, not caught up
+    seed = harbor.seed
     driver.key("r", "press")  # the boat moved > 2 m: the reset acts
     driver.step()
     assert harbor.time == pytest.approx(0.01) and driver.was_reset  # reset, then this step
+    assert harbor.seed == seed + 1  # as a /reset: the run's next seed (it replayed the same sea every time)
+    harbor.reset(seed=seed)
     driver.key("r", "release")
     driver.key("escape", "press")
     assert driver.quit

@@ -79,6 +79,10 @@ def run(
                                  "(default: outputs.recording.compression, zstd)"),
     ] = None,
     seed: Annotated[int, typer.Option(help="random seed", min=0)] = 0,
+    reset_seed: Annotated[
+        str, typer.Option(help="the seed of each reset asked for at run time (/reset, R in the viewer): next (seed + 1 "
+                          "each time: episodes seed, seed + 1, ...) or same (the run's seed again)"),
+    ] = "next",
     view: Annotated[
         bool, typer.Option(help="open the interactive viewer (W/S/A/D drive, R reset, Space pause)")
     ] = False,
@@ -120,6 +124,10 @@ def run(
         options.check_used({name for name, value in locals().items() if name in defaults and value != defaults[name]})
     except UsvsimError as exc:
         fail(exc)
+    if reset_seed not in ("next", "same"):
+        fail(UsvsimError(f"--reset-seed must be next or same, got {reset_seed!r}"))
+    if reset_seed != "next" and not (view or ros2 or ros_tcp or foxglove):  # no reset can come: ignored in silence
+        fail(UsvsimError("--reset-seed applies to resets from /reset (--ros2, --ros-tcp, --foxglove) or R (--view)"))
     if not 0 <= duration <= 1e7:
         fail(UsvsimError(f"--duration must be a finite number of seconds in [0, 1e7], got {duration}"))
     if (screenshot or video) and not view:
@@ -151,6 +159,7 @@ def run(
     with ExitStack() as stack, StopSignals() as setup:
         recording = _Recording(record, force, record_topics, record_compression)
         sim, recorder, bridges = _open_run(stack, scenario, seed, recording, options)
+        sim.reset_seeds = reset_seed
         interrupted = 0  # the signal that stopped the run (SIGINT: Ctrl-C; SIGTERM: kill, timeout, docker stop)
         start, steps = time.perf_counter(), _StepCount()
         try:

@@ -137,6 +137,6 @@ class ManualDriver:
             self.vessel.position, float(self.vessel.rpy[2]), start_pos, start_yaw
         ):
             return False
-        self.sim.reset()
+        self.sim.reset(seed=self.sim.next_reset_seed())  # as a /reset does (Simulation.reset_seeds)
         self.axes, self.was_reset = DriveAxes(reset=self.axes.reset), True
         return True
