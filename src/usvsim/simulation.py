@@ -257,12 +257,15 @@ class Simulation:
         return unsubscribe
 
     @contextmanager
-    def record(self, path: str | Path, topics: Iterable[str] | None = None, compression: str | None = None) -> Iterator[Any]:
+    def record(self, path: str | Path, topics: Iterable[str] | None = None, compression: str | None = None,
+               epoch_ns: int | None = None) -> Iterator[Any]:  # fmt: skip
         """Record to an MCAP file while the block runs: the file `usvsim run --record` writes (rosbag2
         layout), limited to `topics` if given (names or patterns such as "/tf*", io/topic_filter.py; one that
         matched no message is a warning at exit); `topics` and `compression` default to the scenario's
-        `outputs.recording` (all topics, zstd). Started after the first step, it first writes the latched
-        messages (episode marker, /tf_static). Yields the `McapRecorder`; the file is complete at exit."""
+        `outputs.recording` (all topics, zstd). Log times are `epoch_ns` + simulation time (default: the wall
+        clock at the start; 0 or a fixed epoch for byte-identical files; see io/mcap_recorder.py). Started after
+        the first step, it first writes the latched messages (episode marker, /tf_static). Yields the
+        `McapRecorder`; the file is complete at exit."""
         import warnings
 
         from usvsim.io.mcap_recorder import McapRecorder
@@ -272,7 +275,7 @@ class Simulation:
         wanted = TopicFilter(topics, "record: topics") if topics is not None \
             else TopicFilter(configured.topics, "outputs.recording.topics")  # fmt: skip
         compression = configured.compression if compression is None else compression
-        recorder = McapRecorder(path, compression=compression, topics=wanted)  # type: ignore[arg-type]
+        recorder = McapRecorder(path, compression=compression, topics=wanted, epoch_ns=epoch_ns)  # type: ignore[arg-type]
         if self._announced:
             for envelope in self._latched():
                 recorder.write(envelope)

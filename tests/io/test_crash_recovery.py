@@ -8,9 +8,10 @@ import resource
 import signal
 import subprocess
 import sys
+import time
 
 import pytest
-from readers import read_with_mcap_ros2, read_with_rosbags
+from readers import read_with_mcap_ros2, read_with_rosbags, rosbag2_metadata
 from typer.testing import CliRunner
 
 from usvsim.cli.app import app
@@ -37,11 +38,12 @@ def _recover(path, tmp_path):
 
 
 def _clock_stamps_s(messages) -> list[float]:
-    return sorted(t / 1e9 for topic, t, _ in messages if topic == "/clock")
+    """/clock in simulation seconds (its value: the log times are the recording's epoch + simulation time)."""
+    return sorted(m.clock.sec + m.clock.nanosec / 1e9 for topic, _, m in messages if topic == "/clock")
 
 
 def test_kill_9_loses_at_most_one_flush_interval(tmp_path):
-    path = tmp_path / "killed.mcap"
+    path, started_ns = tmp_path / "killed.mcap", time.time_ns()
     child = subprocess.Popen([sys.executable, "-c", CHILD, str(path)], stdout=subprocess.PIPE, text=True)
     try:
         reported = 0.0
@@ -60,6 +62,9 @@ def test_kill_9_loses_at_most_one_flush_interval(tmp_path):
     clock = _clock_stamps_s(by_mcap)
     assert clock[-1] >= reported - 1.0  # at most the flush interval (0.5 s) plus one chunk is lost
     assert all(abs(b - a - 0.01) < 1e-6 for a, b in zip(clock, clock[1:]))  # nothing missing before that
+    epoch = int(rosbag2_metadata(out)["custom_data"]["usvsim.log_time_epoch_ns"])  # the killed recorder's, kept
+    assert started_ns <= epoch <= time.time_ns()
+    assert [t - epoch for topic, t, _ in by_mcap if topic == "/clock"][:3] == [0, 10_000_000, 20_000_000]
 
 
 def _limit_file_size():

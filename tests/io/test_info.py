@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import re
+from datetime import UTC, datetime, timedelta
 
 from mcap.reader import make_reader
 from typer.testing import CliRunner
@@ -23,7 +24,9 @@ def test_info_lists_every_topic_with_its_count_and_rate(tmp_path):
     expected = {c.topic: summary.statistics.channel_message_counts[c.id] for c in summary.channels.values()}
     result = invoke("info", out)
     assert result.exit_code == 0, result.output
-    assert "log time 0.000 to 2.000 s (2.000 s)" in result.stdout and "1 episode marker(s)" in result.stdout
+    when = re.search(r"log time 0\.000 to 2\.000 s after (\S+)Z \(2\.000 s\)", result.stdout)  # simulation time
+    assert when is not None and "1 episode marker(s)" in result.stdout, result.stdout  # and the epoch: the run's date
+    assert abs(datetime.fromisoformat(when.group(1)).replace(tzinfo=UTC) - datetime.now(UTC)) < timedelta(hours=1)
     assert "zstd chunks" in result.stdout and "profile ros2" in result.stdout
     rows = {
         m[0]: (m[1], int(m[2]), m[3])

@@ -11,6 +11,7 @@ import yaml
 from mcap.reader import make_reader
 from readers import read_with_mcap_ros2, read_with_rosbags, rosbag2_metadata
 
+from usvsim.core.errors import InputError
 from usvsim.io.mcap_recorder import McapRecorder
 from usvsim.messages import ros
 from usvsim.messages.envelope import Envelope
@@ -64,10 +65,13 @@ EXPECTED_COUNTS = {
 }
 
 
+EPOCH = 1_767_225_600 * 10**9  # 2026-01-01T00:00:00Z: log time = EPOCH + simulation time
+
+
 @pytest.fixture
 def recording(tmp_path: Path) -> Path:
     path = tmp_path / "run.mcap"
-    with McapRecorder(path) as rec:
+    with McapRecorder(path, epoch_ns=EPOCH) as rec:
         for env in scenario_envelopes():
             rec.write(env)
         assert rec.message_counts == EXPECTED_COUNTS
@@ -75,9 +79,10 @@ def recording(tmp_path: Path) -> Path:
 
 
 def check_messages(messages: list[tuple[str, int, object]], steps: int = STEPS) -> None:
-    """Values, stamps, frames and quaternion order (x, y, z, w) of every message."""
+    """Values, stamps, frames and quaternion order (x, y, z, w) of every message; log time - EPOCH = the stamps."""
     counts: dict[str, int] = {}
-    for topic, log_time, msg in messages:
+    for topic, epoch_log_time, msg in messages:
+        log_time = epoch_log_time - EPOCH
         counts[topic] = counts.get(topic, 0) + 1
         if topic == "/clock":
             assert ros.time_to_ns(msg.clock) == log_time
@@ -144,7 +149,8 @@ def test_rosbag2_layout(recording: Path):
     assert "&id" not in text and "*id" not in text
     assert meta["relative_file_paths"] == ["run.mcap"]
     assert meta["message_count"] == sum(EXPECTED_COUNTS.values())
-    assert meta["starting_time"]["nanoseconds_since_epoch"] == DT_NS
+    assert meta["starting_time"]["nanoseconds_since_epoch"] == EPOCH + DT_NS  # since 1970: it read 1970-01-01
+    assert meta["custom_data"] == {"usvsim.log_time_epoch_ns": str(EPOCH)}
     assert meta["duration"]["nanoseconds"] == (STEPS - 1) * DT_NS
     topics = {t["topic_metadata"]["name"]: t for t in meta["topics_with_message_count"]}
     assert {name: t["message_count"] for name, t in topics.items()} == EXPECTED_COUNTS
@@ -153,7 +159,7 @@ def test_rosbag2_layout(recording: Path):
 
 def test_interrupted_run_leaves_complete_file(tmp_path: Path):
     path = tmp_path / "interrupted.mcap"
-    rec = McapRecorder(path, compression="lz4", chunk_size=4096)  # several chunks before the interrupt
+    rec = McapRecorder(path, compression="lz4", chunk_size=4096, epoch_ns=EPOCH)  # several chunks before the interrupt
     written = 0
     with pytest.raises(KeyboardInterrupt):
         try:
@@ -175,7 +181,7 @@ def test_interrupted_run_leaves_complete_file(tmp_path: Path):
 
 def test_ctrl_c_during_close_is_deferred(tmp_path: Path, monkeypatch):
     path = tmp_path / "sigint.mcap"
-    rec = McapRecorder(path, compression="none")
+    rec = McapRecorder(path, compression="none", epoch_ns=EPOCH)
     for env in scenario_envelopes(steps=3):
         rec.write(env)
     real_finish = rec._writer.finish
@@ -210,3 +216,31 @@ def test_recorder_writes_cached_cdr_and_rejects_type_change(tmp_path: Path, monk
     assert len(calls) == 1
     with (tmp_path / "once.mcap").open("rb") as f:
         assert [m.data for _, _, m in make_reader(f).iter_messages()] == [other_consumer]
+
+
+def test_log_times_are_the_wall_clock_by_default_and_the_stamps_simulation_time(tmp_path: Path):
+    """Log times started at 0: Foxglove's timeline and `ros2 bag info` showed 1970-01-01. By default the epoch is the
+    wall clock when the recorder is created (as `ros2 bag record` logs receive times); header stamps and /clock stay
+    simulation time from 0. The epoch is in the file (metadata `usvsim`, rosbag2 custom_data)."""
+    import time
+
+    path, before = tmp_path / "wall.mcap", time.time_ns()
+    with McapRecorder(path) as rec:
+        for env in scenario_envelopes(steps=3):
+            rec.write(env)
+    assert before <= rec.epoch_ns <= time.time_ns()
+    with path.open("rb") as f:
+        reader = make_reader(f)
+        epoch = int(next(m for m in reader.iter_metadata() if m.name == "usvsim").metadata["log_time_epoch_ns"])
+    assert epoch == rec.epoch_ns
+    messages = read_with_mcap_ros2(path)
+    clocks = [(log, ros.time_to_ns(m.clock)) for topic, log, m in messages if topic == "/clock"]
+    assert clocks == [(epoch + k * DT_NS, k * DT_NS) for k in range(1, 4)]
+    assert rosbag2_metadata(path)["starting_time"]["nanoseconds_since_epoch"] == epoch + DT_NS
+
+
+@pytest.mark.parametrize("epoch", [-1, 2**62 + 1, 1.5, True, "0"])
+def test_a_bad_epoch_is_refused(tmp_path: Path, epoch):
+    with pytest.raises(InputError, match="epoch_ns"):
+        McapRecorder(tmp_path / "x.mcap", epoch_ns=epoch)
+    assert not (tmp_path / "x.mcap").exists()

@@ -26,11 +26,12 @@ def contents(path: Path):
 
 def test_python_recording_equals_the_cli_recording(tmp_path):
     cli_path, api_path = tmp_path / "cli.mcap", tmp_path / "api.mcap"
-    result = CliRunner().invoke(app, ["run", "harbor", "--seed", "4", "--duration", "2", "--record", str(cli_path)])
+    result = CliRunner().invoke(app, ["run", "harbor", "--seed", "4", "--duration", "2", "--record", str(cli_path),
+                                      "--record-epoch", "2026-01-01T00:00:00Z"])  # fmt: skip
     assert result.exit_code == 0, result.output
     sim = Simulation.from_scenario("harbor", seed=4)
     try:
-        with sim.record(api_path):
+        with sim.record(api_path, epoch_ns=1_767_225_600 * 10**9):  # the same epoch: byte-identical messages
             sim.run(2.0)
     finally:
         sim.close()
@@ -63,10 +64,10 @@ def test_a_recording_started_mid_episode_starts_then(tmp_path):
     try:
         sim.vessels["wamv"].command(1.0)
         sim.run(1.0)  # nobody subscribed: nothing announced yet
-        with sim.record(tmp_path / "late.mcap"):
+        with sim.record(tmp_path / "late.mcap", epoch_ns=0):  # log time = simulation time
             sim.run(0.1)
         sim.run(0.4)
-        with sim.record(tmp_path / "later.mcap"):  # announced by the first recording
+        with sim.record(tmp_path / "later.mcap", epoch_ns=0):  # announced by the first recording
             sim.run(0.1)
     finally:
         sim.close()
@@ -94,3 +95,26 @@ def test_relative_topic_names_are_recorded_absolute(tmp_path):
         sim.close()
     topics = set(recorder.message_counts)
     assert {"/my_imu", "/a/fix"} <= topics and all(t.startswith("/") for t in topics)
+
+
+def test_record_epoch_sets_the_log_times_and_leaves_the_stamps(tmp_path):
+    """`usvsim run --record` logged at simulation time from 0 (Foxglove: 1970-01-01); now at the wall clock by
+    default, at `--record-epoch` when given (0: log time = simulation time). /clock holds simulation time in all."""
+    import time
+
+    runs = {"now": tmp_path / "now.mcap", "0": tmp_path / "zero.mcap", "2026-01-01T00:00:00Z": tmp_path / "d.mcap"}
+    before = time.time_ns()
+    for epoch, path in runs.items():
+        result = CliRunner().invoke(app, ["run", "harbor", "--duration", "0.2", "--record", str(path),
+                                          "--record-epoch", epoch])  # fmt: skip
+        assert result.exit_code == 0, result.output
+    after = time.time_ns()
+    for epoch, path in runs.items():
+        clocks = [(log, _stamp_ns(t, m)) for t, log, m in _decoded(path) if t == "/clock"]
+        assert [stamp for _, stamp in clocks] == [k * 10_000_000 for k in range(21)]  # simulation time, from 0
+        offsets = {log - stamp for log, stamp in clocks}
+        assert len(offsets) == 1  # one epoch per recording
+        if epoch == "now":
+            assert before <= offsets.pop() <= after
+        else:
+            assert offsets == {0 if epoch == "0" else 1_767_225_600 * 10**9}

@@ -84,6 +84,9 @@ def test_cli_records_the_topics_asked_for_with_the_compression_asked_for(tmp_pat
     (["--record", "x.mcap", "--record-compression", "gzip"], ["zstd, lz4 or none"]),
     (["--record", "x.mcap", "--record-topics", "clock"], ["not a topic name"]),
     (["--record", "x.mcap", "--record-topics", ","], ["no topic given"]),
+    (["--record-epoch", "0"], ["apply to a recording"]),
+    (["--record", "x.mcap", "--record-epoch", "yesterday"], ["--record-epoch", "ISO 8601"]),
+    (["--record", "x.mcap", "--record-epoch", "-5"], ["--record-epoch", "1970-01-01"]),
 ])  # fmt: skip
 def test_cli_recording_option_mistakes_are_one_line(tmp_path, monkeypatch, args, words):
     monkeypatch.chdir(tmp_path)

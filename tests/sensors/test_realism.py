@@ -35,7 +35,7 @@ def test_no_message_is_logged_before_it_could_exist(tmp_path):
             f, decoder_factories=[DecoderFactory()]
         ).iter_decoded_messages():
             stamp = time_to_ns(decoded.header.stamp)
-            seen.setdefault(channel.topic, []).append((message.log_time, stamp, decoded))
+            seen.setdefault(channel.topic, []).append((message.log_time - rec.epoch_ns, stamp, decoded))
     clouds, imus = seen["/wamv/lidar/points"], seen["/wamv/imu/data"]
     assert len(clouds) == 5 and len(imus) == 23  # the last two IMU samples are still in flight
     for log_time, stamp, cloud in clouds:

@@ -78,11 +78,17 @@ def run(
         str | None, typer.Option(help="chunk compression of the recording: zstd, lz4 or none, all open in ros2 bag "
                                  "(default: outputs.recording.compression, zstd)"),
     ] = None,
+    record_epoch: Annotated[
+        str, typer.Option(help="the recording's log times are this epoch + simulation time: now (the wall clock, "
+                          "so Foxglove shows the date of the run), seconds since 1970 (0: log time = simulation "
+                          "time) or an ISO 8601 date such as 2026-01-01T00:00:00Z (byte-identical files); "
+                          "header stamps and /clock are simulation time from 0 either way"),
+    ] = "now",  # fmt: skip
     seed: Annotated[int, typer.Option(help="random seed", min=0)] = 0,
     reset_seed: Annotated[
         str, typer.Option(help="the seed of each reset asked for at run time (/reset, R in the viewer): next (seed + 1 "
                           "each time: episodes seed, seed + 1, ...) or same (the run's seed again)"),
-    ] = "next",
+    ] = "next",  # fmt: skip
     view: Annotated[
         bool, typer.Option(help="open the interactive viewer (W/S/A/D drive, R reset, Space pause)")
     ] = False,
@@ -126,7 +132,7 @@ def run(
         fail(exc)
     if reset_seed not in ("next", "same"):
         fail(UsvsimError(f"--reset-seed must be next or same, got {reset_seed!r}"))
-    if reset_seed != "next" and not (view or ros2 or ros_tcp or foxglove):  # no reset can come: ignored in silence
+    if reset_seed != "next" and not (view or ros2 or ros_tcp or foxglove):  # else ignored in silence
         fail(UsvsimError("--reset-seed applies to resets from /reset (--ros2, --ros-tcp, --foxglove) or R (--view)"))
     if not 0 <= duration <= 1e7:
         fail(UsvsimError(f"--duration must be a finite number of seconds in [0, 1e7], got {duration}"))
@@ -157,7 +163,7 @@ def run(
     # closes bridges, then the recorder, then the simulation, on every path; a stop during the set-up (kernels
     # compiling, DDS starting) is taken before the first step (it killed the process, the recording a bare header)
     with ExitStack() as stack, StopSignals() as setup:
-        recording = _Recording(record, force, record_topics, record_compression)
+        recording = _Recording(record, force, record_topics, record_compression, record_epoch)
         sim, recorder, bridges = _open_run(stack, scenario, seed, recording, options)
         sim.reset_seeds = reset_seed
         interrupted = 0  # the signal that stopped the run (SIGINT: Ctrl-C; SIGTERM: kill, timeout, docker stop)
@@ -217,6 +223,7 @@ class _Recording:
     force: bool
     topics: list[str] | None
     compression: str | None
+    epoch: str = "now"
 
 
 def _open_run(stack: ExitStack, scenario: str, seed: int, recording: _Recording, options):
@@ -225,7 +232,7 @@ def _open_run(stack: ExitStack, scenario: str, seed: int, recording: _Recording,
     from usvsim.cli.outputs import check_output
     from usvsim.config.loader import source_of
     from usvsim.core.errors import ScenarioError
-    from usvsim.io.mcap_recorder import COMPRESSIONS, McapRecorder
+    from usvsim.io.mcap_recorder import COMPRESSIONS, McapRecorder, parse_epoch
     from usvsim.simulation import Simulation
 
     recorder, record, force = None, recording.path, recording.force
@@ -235,6 +242,7 @@ def _open_run(stack: ExitStack, scenario: str, seed: int, recording: _Recording,
         wanted = TopicFilter(topics, "--record-topics")
         if recording.compression not in (None, *COMPRESSIONS):  # before the (slow) build
             raise UsvsimError(f"--record-compression must be zstd, lz4 or none, got {recording.compression!r}")
+        epoch_ns = parse_epoch(recording.epoch)
         if record:
             check_output(record, force)  # before the (slow) build
         sim = Simulation.from_scenario(scenario, seed=seed)
@@ -249,14 +257,15 @@ def _open_run(stack: ExitStack, scenario: str, seed: int, recording: _Recording,
                 raise ScenarioError(source_of(sim.scenario), "outputs.recording.path", str(exc)) from None
         elif path:
             check_output(path, force)
-        if not path and (topics is not None or recording.compression is not None):  # ignored in silence
-            raise UsvsimError("--record-topics and --record-compression apply to a recording: add --record FILE.mcap")
+        if not path and (topics is not None or recording.compression is not None or recording.epoch != "now"):
+            raise UsvsimError("--record-topics, --record-compression and --record-epoch apply to a recording: add "
+                              "--record FILE.mcap")  # fmt: skip
         if path:  # the scenario's path too: it was checked and then not written (QA)
             configured_recording = sim.scenario.outputs.recording
             if topics is None and configured_recording.topics is not None:
                 wanted = TopicFilter(configured_recording.topics, "outputs.recording.topics")
             compression: Any = recording.compression or configured_recording.compression  # checked above
-            recorder = McapRecorder(path, compression=compression, topics=wanted)
+            recorder = McapRecorder(path, compression=compression, topics=wanted, epoch_ns=epoch_ns)
             stack.callback(recorder.close)
             sim.subscribe(recorder.write)
         bridges = open_bridges(sim, options)
@@ -265,7 +274,8 @@ def _open_run(stack: ExitStack, scenario: str, seed: int, recording: _Recording,
             if hasattr(bridge, "url"):  # where to point Foxglove (with --foxglove-port 0, the port chosen)
                 console.print(f"usvsim: Foxglove: open {bridge.url}", highlight=False, markup=False)
     except (UsvsimError, OSError) as exc:
-        _discard_recording(stack, recorder)  # a bridge that cannot start (port taken) left an empty file behind
+        # a bridge that cannot start (port taken) left an empty recording behind
+        _discard_recording(stack, recorder)
         fail(exc)
     return sim, recorder, bridges
 

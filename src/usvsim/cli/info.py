@@ -16,7 +16,7 @@ from usvsim.messages.envelope import EPISODE_TOPIC
 def info(file: Annotated[Path, typer.Argument(help="an MCAP recording")]) -> None:
     """Describe a recording: topics with type, message count and mean rate; duration, episodes, compression."""
     try:
-        summary, header = _read_summary(file)
+        summary, header, epoch_ns = _read_summary(file)
     except UsvsimError as exc:
         fail(exc)
     stats = summary.statistics
@@ -26,9 +26,9 @@ def info(file: Annotated[Path, typer.Argument(help="an MCAP recording")]) -> Non
     episodes = sum(n for cid, n in counts.items() if summary.channels[cid].topic == EPISODE_TOPIC)
     typer.echo(f"{file}: {file.stat().st_size / 1e6:.1f} MB, written by {header.library or 'unknown'} "
                f"(profile {header.profile or 'none'}), {'/'.join(kinds) + ' chunks' if kinds else 'no chunks'}")  # fmt: skip
-    typer.echo(f"log time {stats.message_start_time / 1e9:.3f} to {stats.message_end_time / 1e9:.3f} s "
-               f"({duration_s:.3f} s), {stats.message_count} messages, {episodes} episode marker(s)"
-               if stats else "no statistics record")  # fmt: skip
+    typer.echo(f"log time {(stats.message_start_time - epoch_ns) / 1e9:.3f} to {(stats.message_end_time - epoch_ns) / 1e9:.3f}"
+               f" s after {_utc(epoch_ns)} ({duration_s:.3f} s), {stats.message_count} messages, {episodes} episode "
+               "marker(s)" if stats else "no statistics record")  # fmt: skip
     rows = [("topic", "type", "messages", "per second")]
     for channel in sorted(summary.channels.values(), key=lambda c: c.topic):
         n = counts.get(channel.id, 0)
@@ -43,6 +43,14 @@ def info(file: Annotated[Path, typer.Argument(help="an MCAP recording")]) -> Non
                 for k, (cell, w) in enumerate(zip(row, widths, strict=True))
             ).rstrip()
         )
+
+
+def _utc(ns: int) -> str:
+    """The recording's epoch (simulation time 0 in log time) as an ISO 8601 UTC date and time."""
+    from datetime import UTC, datetime, timedelta
+
+    when = datetime(1970, 1, 1, tzinfo=UTC) + timedelta(microseconds=ns // 1000)
+    return when.strftime("%Y-%m-%dT%H:%M:%S.%f")[:-3] + "Z"
 
 
 def _read_summary(file: Path):
@@ -66,9 +74,12 @@ def _read_summary(file: Path):
         try:
             reader = make_reader(f)
             header, summary = reader.get_header(), reader.get_summary()
+            epochs = [m.metadata.get("log_time_epoch_ns", "") for m in reader.iter_metadata()
+                      if m.name == "usvsim"]  # fmt: skip
         except Exception:  # whatever the damage: the file has no readable summary
             summary = header = None
     if summary is None or header is None:
         raise UsvsimError(f"{file} was cut short (no summary: killed, or the disk filled up); "
                           f"'usvsim recover {file}' rewrites what it holds into a complete file")  # fmt: skip
-    return summary, header
+    # a file without the record (older usvsim): log time = simulation time
+    return summary, header, int(epochs[0]) if epochs and epochs[0].isdigit() else 0

@@ -4,10 +4,16 @@ Layout (what rosbag2_storage_mcap writes and reads, ros2-interop.md §5):
 - header profile `ros2`; one schema per message type, named `pkg/msg/Type`, encoding `ros2msg`,
   data = the full concatenated `.msg` definition; channels with message_encoding `cdr` and metadata
   `offered_qos_profiles` (metadata-version-8 YAML string) and `topic_type_hash` (RIHS01);
-- messages carry the envelope's CDR bytes unchanged, logTime = publishTime = the envelope's `publish_ns`
-  (the simulation time it was emitted, never before its header stamp) plus an episode offset: each
+- messages carry the envelope's CDR bytes unchanged, logTime = publishTime = `epoch_ns` + the envelope's
+  `publish_ns` (the simulation time it was emitted, never before its header stamp) + an episode offset: each
   episode marker (`/usvsim/episode`, sent at a reset) after the first moves the offset to 1 ns past the
   last log time, so log times keep increasing while stamps and /clock restart at 0;
+- `epoch_ns` (ns since 1970-01-01 UTC) is by default the wall clock when the recorder is created, as `ros2 bag
+  record` logs receive times, so Foxglove's timeline and `ros2 bag info` show the date of the run (log times from
+  0 read as 1970). Header stamps and /clock stay simulation time from 0 (what nodes with use_sim_time expect),
+  identical from run to run; give a fixed `epoch_ns` (0: log time = simulation time) for byte-identical files.
+  The epoch is written in a metadata record `usvsim` (`log_time_epoch_ns`, before the first message) and in
+  the rosbag2 metadata's `custom_data`;
 - at close, a metadata record `rosbag2` with `serialized_metadata` (the bag information YAML), then
   the summary and footer.
 
@@ -25,6 +31,7 @@ from __future__ import annotations
 
 import signal
 import threading
+import time
 from collections.abc import Iterator
 from contextlib import contextmanager, suppress
 from dataclasses import dataclass
@@ -94,11 +101,13 @@ class McapRecorder:
         flush_interval_s: float = 0.5,
         ros_distro: str = "jazzy",
         topics: TopicFilter | None = None,
+        epoch_ns: int | None = None,
     ) -> None:
         from usvsim import __version__
 
         if compression not in _COMPRESSION:
             raise InputError(f"compression must be one of {sorted(_COMPRESSION)}, got {compression!r}")
+        self.epoch_ns = time.time_ns() if epoch_ns is None else check_epoch_ns(epoch_ns)
         self.path = Path(path)
         self.topic_filter = topics if topics is not None else TopicFilter(None)
         self.ros_distro = ros_distro
@@ -106,9 +115,11 @@ class McapRecorder:
         self._schemas: dict[str, int] = {}
         self._start_ns: int | None = None
         self._end_ns = 0
-        self._flush_interval_ns, self._flushed_ns = int(flush_interval_s * 1e9), 0
+        self._flush_interval_ns, self._flushed_ns = int(flush_interval_s * 1e9), self.epoch_ns
         self._closed = self._failed = False
-        self._offset_ns = 0  # added to stamps: log times increase across episodes
+        # added to publish times: the epoch, and what keeps log times increasing across episodes
+        self._offset_ns = self.epoch_ns
+        self._epoch_written = False
         try:
             self._file = self.path.open("wb")
         except OSError as exc:  # the CLI printed "[Errno 2] No such file or directory: '/proc/x.mcap'"
@@ -143,6 +154,9 @@ class McapRecorder:
     def _append(self, topic: _Topic, stamp: int, data: bytes) -> None:
         topic.count += 1
         try:
+            if not self._epoch_written:  # before the first message: kept by `usvsim recover`
+                self._epoch_written = True
+                self._writer.add_metadata("usvsim", {"log_time_epoch_ns": str(self.epoch_ns)})
             self._writer.add_message(topic.channel_id, stamp, data, stamp, topic.count)
             if stamp - self._flushed_ns >= self._flush_interval_ns:
                 self._writer.flush()  # the chunk in progress goes to the OS: a hard kill loses at most this
@@ -239,7 +253,7 @@ class McapRecorder:
                     "message_count": self.message_count,
                 }
             ],
-            "custom_data": {},
+            "custom_data": {"usvsim.log_time_epoch_ns": str(self.epoch_ns)},
             "ros_distro": self.ros_distro,
         }
         return yaml.safe_dump(info, sort_keys=False)
@@ -254,6 +268,43 @@ class McapRecorder:
         if not getattr(self, "_closed", True):
             with suppress(Exception):
                 self.close()
+
+
+# 2116-02-20; log times are 64-bit ns (signed in rosbag2): this leaves 146 years of run after it
+MAX_EPOCH_NS = 2**62
+
+
+def check_epoch_ns(epoch_ns: object) -> int:
+    """`epoch_ns` as an int, or an InputError: a whole number of ns since 1970-01-01 UTC, 0 to MAX_EPOCH_NS."""
+    if isinstance(epoch_ns, bool) or not isinstance(epoch_ns, int) or not 0 <= epoch_ns <= MAX_EPOCH_NS:
+        raise InputError(f"epoch_ns must be a whole number of nanoseconds since 1970-01-01 UTC, 0 to 2**62 "
+                         f"(the year 2116), got {epoch_ns!r}")  # fmt: skip
+    return int(epoch_ns)
+
+
+def parse_epoch(text: str) -> int | None:
+    """`--record-epoch`: "now" (None: the wall clock), seconds since 1970-01-01 UTC ("0": log time = simulation
+    time), or an ISO 8601 date and time ("2026-01-01T00:00:00Z"; without a zone, UTC) → ns; else an InputError."""
+    from datetime import UTC, datetime
+    from decimal import Decimal, InvalidOperation
+
+    text = text.strip()
+    if text.lower() == "now":
+        return None
+    try:
+        ns = Decimal(text) * 10**9  # exact: a float lost the nanoseconds of today's dates
+    except InvalidOperation:
+        try:
+            when = datetime.fromisoformat(text)
+        except ValueError:
+            raise InputError(f"--record-epoch must be now, seconds since 1970-01-01 UTC or an ISO 8601 date and time "
+                             f"such as 2026-01-01T00:00:00Z, got {text[:40]!r}") from None  # fmt: skip
+        when = when if when.tzinfo is not None else when.replace(tzinfo=UTC)
+        delta = when - datetime(1970, 1, 1, tzinfo=UTC)
+        ns = Decimal((delta.days * 86400 + delta.seconds) * 10**6 + delta.microseconds) * 1000
+    if not ns.is_finite() or not 0 <= ns <= MAX_EPOCH_NS:
+        raise InputError(f"--record-epoch must be from 1970-01-01 to 2116-02-20 (UTC), got {text[:40]!r}")
+    return int(ns)
 
 
 @contextmanager

@@ -11,7 +11,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from pathlib import Path
 
-from mcap.records import Channel, Footer, Message, Schema
+from mcap.records import Channel, Footer, Message, Metadata, Schema
 from mcap.stream_reader import StreamReader
 
 from usvsim.core.errors import UsvsimError
@@ -41,10 +41,14 @@ def recover(source: Path, target: Path) -> Recovered:
     schemas: dict[int, Schema] = {}
     topics: dict[int, _Topic] = {}
     complete = False
-    with source.open("rb") as f, McapRecorder(target) as out:
+    # epoch 0 for a file without an epoch record (older usvsim: log time = simulation time)
+    with source.open("rb") as f, McapRecorder(target, epoch_ns=0) as out:
         try:
             for record in StreamReader(f, skip_magic=False, emit_chunks=False, validate_crcs=True).records:
-                if isinstance(record, Schema):
+                if isinstance(record, Metadata) and record.name == "usvsim" and not out.message_count:
+                    # written before the first message
+                    out.epoch_ns = int(record.metadata["log_time_epoch_ns"])
+                elif isinstance(record, Schema):
                     schemas[record.id] = record
                 elif isinstance(record, Channel) and record.id not in topics:
                     topics[record.id] = _register(out, record, schemas[record.schema_id])
