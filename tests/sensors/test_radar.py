@@ -223,3 +223,48 @@ def test_a_ship_dead_ahead_is_one_arpa_track(scenario_of):
     assert tr.bearing == pytest.approx(math.atan2(rel[0], rel[1]), abs=math.radians(1.0))
     assert tr.range == pytest.approx(np.linalg.norm(rel), abs=10.0 + 2 * radar.bin_m)  # its near end (length 20)
     sim.close()
+
+
+def test_pieces_of_one_echo_closer_than_join_m_are_one_plot():
+    """An echo broken along a ship's length (pieces not touching, even dilated by JOIN_CELLS) is one plot when the
+    pieces are closer than arpa.join_m (50 m), at their power-weighted centroid with the strongest piece's time;
+    pieces farther apart, or join_m 0, stay separate. 5 m bins, bow east: pieces on spokes 359-1 at 252.5 m and
+    282.5 m, 5 empty bins between (equal-ish: a piece 5x stronger would hide the other from the CA-CFAR)."""
+    from usvsim.config.sensors import Arpa
+    from usvsim.sensors.radar.arpa import plots
+
+    n, bins = 360, 100
+
+    def cfg(join_m):
+        return SimpleNamespace(arpa=Arpa(range_min_m=0.0, join_m=join_m), range_max_m=500.0)
+
+    power = np.ones((n, bins))
+    power[np.ix_([359, 0, 1], [50])] = 1000.0
+    power[np.ix_([359, 0, 1], [56])] = 1000.0
+    power[0, 56] = 1200.0  # the stronger piece
+    times, pose = np.arange(n) * 0.01, np.zeros((n, 3))
+    (one,) = plots(power, pose, times, cfg(50.0))
+    assert one.pos == pytest.approx([(3000.0 * 252.5 + 3200.0 * 282.5) / 6200.0, 0.0], abs=1e-6)
+    assert one.power == pytest.approx(6200.0) and one.time_s == 0.0
+    assert len(plots(power, pose, times, cfg(0.0))) == 2
+    assert len(plots(power, pose, times, cfg(25.0))) == 2
+
+
+def test_a_ship_seen_end_on_is_one_arpa_track(scenario_of):
+    """A 30 m ship 800 m out crossing at 5 m/s, seen nearly end-on: its echo breaks into pieces 30-34 m apart
+    (found by QA: two confirmed tracks 33 m apart, one coasting at 4.55 m/s); joined, it is one track with the
+    ship's course and speed."""
+    ship = {"name": "crosser", "mmsi": 257000002, "length_m": 30.0, "beam_m": 8.0,
+            "motion": {"type": "constant", "position": [800.0, -200.0], "course_deg": 270.0, "speed_mps": 5.0}}  # fmt: skip
+    sim = Simulation(radar_scenario(scenario_of, [ship], rpm=24, spokes=1024, range_bins=512, range_max_m=1500.0,
+                                    horizontal_beamwidth_deg=1.8, vertical_beamwidth_deg=22.0, mount={"position": [0.0, 0.0, 2.5]}), seed=0)  # fmt: skip
+    radar = sim.sensors["wamv/radar"]
+    counts = []
+    for _ in range(8):
+        sim.run(2.5)
+        counts.append(len(radar.revolution.tracker.confirmed()))
+    assert counts[-1] == 1 and max(counts) == 1
+    (track,) = radar.revolution.tracker.confirmed()
+    assert np.hypot(*track.vel) == pytest.approx(5.0, abs=0.3)
+    assert math.degrees(math.atan2(track.vel[0], track.vel[1])) % 360.0 == pytest.approx(270.0, abs=3.0)
+    sim.close()

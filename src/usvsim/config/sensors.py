@@ -338,6 +338,8 @@ class Arpa(Section):
     training_bins: Annotated[int, Field(ge=2, le=64)] = 16
     min_cells: Annotated[int, Field(ge=1)] = 3
     range_min_m: NonNegativeFloat = Field(default=30.0, description="no plots nearer (sea clutter around the own ship)")
+    join_m: NonNegativeFloat = Field(default=50.0, description="plots of one turn closer than this are one target "
+                                     "(a ship's echo breaks up along its length), m; 0: no joining")
     gate_m: PositiveFloat = 30.0
     alpha: Annotated[float, Field(gt=0, le=1)] = 0.6
     beta: Annotated[float, Field(gt=0, le=1)] = 0.3

@@ -6,7 +6,8 @@ of `training_bins` bins on each side beyond 2 guard bins, and over the noise flo
 one plot at their power-weighted centroid (range mean, azimuth mean on the unit circle), placed in the world (ENU)
 with the antenna pose and time of the spoke at that centroid.
 
-Detections within JOIN_CELLS of each other belong to one plot (a ship's bow, stern and superstructure);
+Detections within JOIN_CELLS of each other belong to one plot (a ship's bow, stern and superstructure), and plots
+of one turn closer than `join_m` are one (the pieces an echo breaks into along a ship's length);
 plots nearer than `range_min_m` (the clutter around the own ship) and of fewer than `min_cells` cells are dropped (a target fills the beam, so it spans several spokes; a
 clutter spike fills one cell). Tracks: nearest-pair association within `gate_m` of each track's prediction, α-β filter per track (state:
 ENU position and velocity), tentative until `confirm_hits` updates, dropped after `drop_misses` turns without a
@@ -22,6 +23,8 @@ from typing import cast
 
 import numpy as np
 from scipy import ndimage
+from scipy.sparse import csr_matrix
+from scipy.sparse.csgraph import connected_components
 
 from usvsim.messages import ros
 
@@ -86,6 +89,25 @@ def plots(power: np.ndarray, pose: np.ndarray, time_s: np.ndarray, cfg) -> list[
         a = yaw + centre[j]
         out.append(Plot(np.array([x + rng[j] * math.cos(a), y + rng[j] * math.sin(a)]), float(time_s[spoke[j]]),
                         float(weight[j])))  # fmt: skip
+    return join_near(out, cfg.arpa.join_m)
+
+
+def join_near(found: list[Plot], join_m: float) -> list[Plot]:
+    """Plots closer than join_m (chains of them: single linkage) merged into one at their power-weighted centroid,
+    with the time of the strongest. A ship's echo breaks up along its length (CA-CFAR: its strong end raises the
+    training mean of the weaker cells beside it), and each piece would start a track of its own (found by QA: a
+    30 m ship 800 m out seen end-on gave pieces 30-34 m apart and two confirmed tracks)."""
+    if join_m <= 0.0 or len(found) < 2:
+        return found
+    pos = np.array([p.pos for p in found])
+    near = np.linalg.norm(pos[:, None, :] - pos[None, :, :], axis=2) < join_m
+    _, group = cast(tuple[int, np.ndarray], connected_components(csr_matrix(near), directed=False))
+    out = []
+    for g in range(int(group.max()) + 1):
+        members = [found[i] for i in np.flatnonzero(group == g)]
+        power = np.array([p.power for p in members])
+        centroid = (power[:, None] * np.array([p.pos for p in members])).sum(axis=0) / power.sum()
+        out.append(Plot(centroid, members[int(np.argmax(power))].time_s, float(power.sum())))
     return out
 
 
