@@ -207,3 +207,17 @@ def test_a_physics_ships_pilot_stops_at_a_zero_speed_waypoint_and_holds():
     for pos in ((100.5, 0.0), (100.0, 30.0), (0.0, 0.0)):
         assert pilot.reference(pos, 0.3) == (0.0, 0.0, 0.0)
     assert LosPilot([(0, 0), (100, 0)], [0.0, 0.0], 20.0, 20.0).reference((0.0, 0.0), 1.0) == (0.0, 0.0, 0.0)
+
+
+def test_an_ais_csv_position_jump_is_one_error_naming_the_row(tmp_path):
+    """A row 11 km from the one before it 1 s earlier (a 0.1° latitude glitch) was replayed at 11 km/s; a ship
+    sails at most 100 m/s (the limit of every ship speed), so it is refused naming the row. 99 m/s passes."""
+    text = "time,lat,lon,sog,cog,heading\n0,59.42083,10.43278,5,90,90\n1,59.52083,10.43278,5,90,90\n"
+    (tmp_path / "t.csv").write_text(text)
+    with pytest.raises(ScenarioError, match=r"row 3 is 11\d{3} m from row 2 only 1 s before .*a position jump") as info:
+        read_ais_csv(tmp_path / "t.csv", GeodeticOrigin(), "s.yaml", "traffic.ships[0].motion.path")
+    assert str(info.value).startswith("s.yaml: traffic.ships[0].motion.path: ") and "\n" not in str(info.value)
+    origin = GeodeticOrigin()
+    write_csv(tmp_path / "ok.csv", origin, [(0, 0.0, 0.0, 5, 0, 0), (10, 0.0, 990.0, 5, 0, 0)])
+    track = read_ais_csv(tmp_path / "ok.csv", origin)
+    np.testing.assert_allclose(at(track, 10.0)[0], [0.0, 990.0], atol=1e-3)

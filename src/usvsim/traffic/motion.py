@@ -188,6 +188,7 @@ def read_ais_csv(path: Path, origin, source: str = "", key: str = "") -> Track:
     if np.any(far):
         raise ScenarioError(source, key, f"{path}: row {_first(far, lines)} is more than {MAX_COORDINATE_M / 1000:.0f} km "
                             "from the world origin (world.origin)")  # fmt: skip
+    _refuse_jumps(e, n, t, lines, path, where)
     # true course and heading → bearings from the world's y axis (north at the origin only: ais.grid_bearing_deg)
     lat0, lon0 = origin.latitude_deg, origin.longitude_deg
     course = np.radians(grid_bearing_deg(lat, lon, cog, lat0, lon0))
@@ -195,6 +196,20 @@ def read_ais_csv(path: Path, origin, source: str = "", key: str = "") -> Track:
     heading = grid_bearing_deg(lat, lon, np.where(hdg == AIS_NO_HEADING, cog, hdg), lat0, lon0)
     yaw = 0.5 * np.pi - np.radians(heading)
     return hermite_track(t, np.stack([e, n], axis=1), vel, yaw)
+
+
+def _refuse_jumps(e: np.ndarray, n: np.ndarray, t: np.ndarray, lines: list[int], path: Path, where) -> None:
+    """A row further from the one before than a ship sails in the time between (faster than cfg.MAX_SHIP_SPEED_MPS,
+    the limit of every other ship speed) is an error naming it: the replayed ship flew there (found by QA: a
+    0.1° latitude glitch 1 s later was replayed at 11 km/s), as a position glitch in a real AIS log would."""
+    dt = np.diff(t)
+    step = np.hypot(np.diff(e), np.diff(n))
+    fast = step > cfg.MAX_SHIP_SPEED_MPS * dt
+    if np.any(fast):
+        i = int(np.argmax(fast))
+        _fail(where, f"{path}: row {lines[i + 1]} is {step[i]:.0f} m from row {lines[i]} only {dt[i]:g} s before "
+                     f"({step[i] / dt[i]:.0f} m/s; ships sail at most {cfg.MAX_SHIP_SPEED_MPS} m/s): a position jump; "
+                     "fix or remove the row")  # fmt: skip
 
 
 def make_track(motion, origin, base: Path, source: str = "", key: str = ""):
