@@ -59,6 +59,9 @@ def test_a_bad_value_is_shown_in_plain_words(data, path, words):
     ({"vessels": [{"name": "a", "model": "wamv"}], "traffic": {"ships": [_ship("a")]}}, "traffic.ships[0].name",
      "already the name of vessels[0]"),  # the message said "vessels and objects" of a traffic ship
     ({"traffic": {"ships": [_ship("a"), _ship("b", 257000001)]}}, "traffic.ships[1].mmsi", "already the mmsi of ships[0]"),
+    ({"vessels": [{"name": "v", "model": "wamv"}], "traffic": {"ships": [_ship("a")], "ais": {"own_ship": {
+        "vessel": "v", "mmsi": 257000001}}}}, "traffic.ais.own_ship.mmsi",
+     "already the mmsi of ships[0], which transmits too"),  # was accepted: two transmitters under one MMSI (qa19)
     ({"vessels": [{"name": "a", "model": "wamv", "sensors": [{"type": "imu", "name": "i"}, {"type": "gnss", "name": "i"}]}]},
      "vessels[0].sensors[1].name", "already the name of sensors[0]"),
     ({"vessels": [{"name": "a", "model": "wamv", "hull_mesh": "x.stl"}]}, "vessels[0].hull_mesh", "only for model 'custom'"),

@@ -215,3 +215,14 @@ def test_ais_messages_are_in_a_frame_of_the_recorded_tf_tree(scenario_of, tmp_pa
     tf_frames = {frame for edge in edges for frame in edge}
     ais_frames = {m.header.frame_id for topic, _, m in messages if topic == "/ais"}
     assert ais_frames and ais_frames <= tf_frames, (ais_frames, edges)
+
+
+def test_the_own_ships_ais_may_share_the_mmsi_of_its_silent_traffic_entry(scenario_of):
+    """An Imazu scenario's own ship is a traffic entry (ais disabled) with OWN_MMSI: its AIS (traffic.ais.own_ship)
+    under that MMSI is one transmitter, accepted; only a second *transmitting* ship with it is refused."""
+    from usvsim.traffic.imazu import OWN_MMSI, imazu_scenario
+
+    data = imazu_scenario(1)
+    data["traffic"]["ais"] = {"own_ship": {"vessel": "own", "mmsi": OWN_MMSI}}
+    scenario = scenario_of({k: v for k, v in data.items() if k != "version"})
+    assert scenario.traffic.ais.own_ship.mmsi == scenario.traffic.ships[0].mmsi == OWN_MMSI

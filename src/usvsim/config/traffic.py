@@ -153,6 +153,11 @@ class Traffic(Section):
             if repeat is not None:
                 raise KeyedValueError(f"ships[{repeat}].{key}", f"{values[repeat]} is already the {key} of "
                                       f"ships[{values.index(values[repeat])}]; each ship needs its own {key}")
+        own = self.ais.own_ship
+        same = next((i for i, s in enumerate(self.ships) if own and s.ais.enabled and s.mmsi == own.mmsi), None)
+        if own is not None and same is not None:  # two transmitters under one MMSI: receivers merge them into one ship
+            raise KeyedValueError("ais.own_ship.mmsi", f"{own.mmsi} is already the mmsi of ships[{same}], which "
+                                  "transmits too; each transmitter needs its own mmsi")  # fmt: skip
         if self.ais.topic == self.awareness.topic:
             raise ValueError(f"ais.topic and awareness.topic must differ (one topic carries one message type), "
                              f"both are {self.ais.topic}")  # fmt: skip
