@@ -226,3 +226,11 @@ def test_the_own_ships_ais_may_share_the_mmsi_of_its_silent_traffic_entry(scenar
     data["traffic"]["ais"] = {"own_ship": {"vessel": "own", "mmsi": OWN_MMSI}}
     scenario = scenario_of({k: v for k, v in data.items() if k != "version"})
     assert scenario.traffic.ais.own_ship.mmsi == scenario.traffic.ships[0].mmsi == OWN_MMSI
+
+
+def test_static_voyage_data_has_no_eta_and_this_ais_version():
+    """Type 5 (ITU-R M.1371-5 annex 8, message 5): ETA not available is month 0, day 0, hour 24, minute 60 (it was hour 0 and
+    minute 0: an ETA of midnight), AIS version 2 (M.1371-5; it was 0, M.1371-1); pyais decodes them."""
+    msg = decode(*ais.static_sentences(257000001, "x", 70, "CALL", 20.0, 6.0, 1.5, "A", 0)).asdict()
+    assert (msg["month"], msg["day"], msg["hour"], msg["minute"]) == (0, 0, 24, 60)
+    assert msg["ais_version"] == 2 and msg["callsign"] == "CALL" and msg["draught"] == 1.5

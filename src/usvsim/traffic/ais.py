@@ -154,8 +154,11 @@ def static_sentences(mmsi: int, name: str, ship_type: int, callsign: str, length
     dims = _dimensions(length_m, beam_m)
     kw = {"talker_id": "AI", "sentence_type": "VDM", "radio_channel": channel}
     if ais_class == "A":
-        data = {"type": 5, "mmsi": mmsi, "shipname": shipname, "callsign": callsign, "ship_type": ship_type,
-                "draught": min(draft_m, 25.5), "epfd": 1, **dims}  # fmt: skip
+        # ITU-R M.1371-5 annex 8, message 5: AIS version 2 (this edition); no ETA: month 0, day 0, hour 24, minute 60 (pyais's
+        # defaults, hour 0 and minute 0, read as an ETA of midnight)
+        data = {"type": 5, "mmsi": mmsi, "ais_version": 2, "shipname": shipname, "callsign": callsign,
+                "ship_type": ship_type, "draught": min(draft_m, 25.5), "epfd": 1, "month": 0, "day": 0, "hour": 24,
+                "minute": 60, **dims}  # fmt: skip
         return encode_dict(data, seq_id=seq_id % 10, **kw)
     part_a = encode_dict({"type": 24, "mmsi": mmsi, "partno": 0, "shipname": shipname}, **kw)
     part_b = encode_dict({"type": 24, "mmsi": mmsi, "partno": 1, "ship_type": ship_type, "callsign": callsign,
