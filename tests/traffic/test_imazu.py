@@ -84,3 +84,13 @@ def test_usvsim_scenarios_lists_all_22():
     assert result.exit_code == 0
     listed = {word for line in result.output.splitlines() for word in line.split() if word.startswith("imazu_")}
     assert {f"imazu_{k:02d}" for k in range(1, 23)} <= listed
+
+
+def test_the_documented_encounter_times_and_the_repeated_case():
+    """docs/traffic.md: on straight tracks the closest approaches of the 22 cases fall between 134 and 498 s (own
+    ship 2 m/s, encounter 300 s), and case 22 repeats case 15 (as in colav-simulator's files and TUD-RL's set). Each
+    TCPA is checked by hand for case 1: 1119.43 m closing at 4 m/s."""
+    times = [t for case in IMAZU for t in encounter_time_s(case)]
+    assert round(min(times)) == 134 and round(max(times)) == 498
+    assert encounter_time_s(1)[0] == pytest.approx(13060 * 0.2 * 300 / 700 / 4.0)
+    assert IMAZU[22] == IMAZU[15] and len({IMAZU[c] for c in IMAZU}) == 21

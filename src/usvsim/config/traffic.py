@@ -78,7 +78,7 @@ Motion = Annotated[Route | Constant | AisReplay, Field(discriminator="type")]
 
 
 class ShipAis(Section):
-    """What this ship transmits: class A (types 1/2/3 + 5) or B (type 18 + 24)."""
+    """What this ship transmits: class A (types 1 + 5) or B (types 18 + 24)."""
 
     enabled: bool = True
     ais_class: Literal["A", "B"] = "A"

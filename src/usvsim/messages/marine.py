@@ -8,7 +8,8 @@ types and Foxglove channels work for them like for any ROS 2 type):
 - `usvsim_msgs/RadarTrack`, `RadarTrackArray`: an ARPA-style target list from the radar tracker.
 
 Units: SI, radians. Bearings and courses are nautical (clockwise from north; relative bearings clockwise
-from the own ship's heading, starboard positive), as on a radar display and in AIS. `cpa` (m) and `tcpa` (s) of
+from the own ship's heading, starboard positive), as on a radar display and in AIS, with north the world frame's y
+axis (grid north: AIS's true courses differ from them by the meridians' convergence away from the world origin). `cpa` (m) and `tcpa` (s) of
 both target types are the straight-line prediction from the relative position and velocity, given for every
 target as an ARPA shows them: tcpa < 0: opening, the closest point is past; tcpa = 0 with cpa = range: no
 relative motion. A CPA is a warning only with its TCPA: the alarm rule (cpa < a limit and 0 <= tcpa <= a limit)
