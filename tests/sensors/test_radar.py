@@ -64,6 +64,12 @@ def test_target_in_its_range_bin_and_spoke_and_in_the_arpa_list(scenario_of, tmp
     sectors = [m for t, _, m in messages if t == "/wamv/radar"]
     assert len(sectors) == 32 and sum(len(s.intensities) for s in sectors) == int(3.2 * 512)  # 1 turn/s
     assert len(sectors[0].intensities[0].echoes) == 256
+    # marine_sensor_msgs: range_min / range_max are the ranges of a ray's first and last samples (bin centres), so
+    # sample j is at range_min + j (range_max - range_min) / (bins - 1): the target's strongest sample at its range
+    s = sectors[0]
+    assert (s.range_min, s.range_max) == pytest.approx((0.5 * radar.bin_m, 1000.0 - 0.5 * radar.bin_m))
+    assert s.range_min + b * (s.range_max - s.range_min) / 255 == pytest.approx((b + 0.5) * radar.bin_m)
+    assert abs(s.range_min + b * (s.range_max - s.range_min) / 255 - near_face) <= radar.bin_m
     first = len(sectors[0].intensities)
     assert sectors[1].angle_start == pytest.approx(-first * 2 * math.pi / 512, abs=1e-5)
     assert sectors[1].angle_increment == pytest.approx(-2 * math.pi / 512)  # clockwise

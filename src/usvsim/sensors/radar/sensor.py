@@ -144,6 +144,9 @@ class Radar(Sensor):
         return ~blocked[:, ray_of_bin]
 
     def _sector(self, stamp_ns: int, k0: int, echoes: np.ndarray):
+        """RadarSector of spokes k0.. (marine_sensor_msgs: range_min and range_max are the ranges of each ray's first
+        and last samples, here the centres of the first and last range bins, where the ARPA puts an echo too; they
+        were 0 and range_max_m, half a bin off at each end)."""
         step = 2.0 * math.pi / self.n
         spoke_ns = int(round(1.0 / self.spokes_per_ns))
         duration = ros.msg_class("builtin_interfaces/msg/Duration")
@@ -151,5 +154,5 @@ class Radar(Sensor):
         return self.sector_cls(
             header=ros.header(stamp_ns, self.frame_id), angle_start=float(-(k0 % self.n) * step),
             angle_increment=float(-step), time_increment=duration(sec=spoke_ns // 10**9, nanosec=spoke_ns % 10**9),
-            scan_time=duration(sec=turn_ns // 10**9, nanosec=turn_ns % 10**9), range_min=0.0,
-            range_max=float(self.cfg.range_max_m), intensities=[self.echo_cls(echoes=row) for row in echoes])  # fmt: skip
+            scan_time=duration(sec=turn_ns // 10**9, nanosec=turn_ns % 10**9), range_min=float(self.bin_centres[0]),
+            range_max=float(self.bin_centres[-1]), intensities=[self.echo_cls(echoes=row) for row in echoes])  # fmt: skip
