@@ -195,6 +195,28 @@ def test_a_ship_that_runs_into_the_own_ship_collides(scenario_of):
     assert sim.vessels["wamv"].position[1] < -3.0  # pushed south by the ship
 
 
+def test_the_report_says_when_a_ships_hull_touched_the_own_ship(scenario_of):
+    """The report's distances are between reference points (a 25 m ship passes 8 m off through the own ship), so it
+    also gives the first and last samples (>= 10 Hz) at which a target's hull touched the own ship, against
+    MuJoCo's contacts of every step (`Simulation.contacts`); a ship that never touched has None, and a reset clears
+    them. A 20 m ferry from 30 m north at 4 m/s meets the WAM-V after ~4.4 s and shoves it south."""
+    sc = scenario_of({"vessels": [OWN], "traffic": {"ships": [
+        ship("ferry", 257000001, {"type": "constant", "position": [0, 30], "course_deg": 180, "speed_mps": 4},
+             length_m=20, beam_m=6),
+        ship("tug", 257000002, {"type": "constant", "position": [300, 100], "course_deg": 270, "speed_mps": 3})]}})  # fmt: skip
+    sim = Simulation(sc)
+    times = []
+    sim.run(9.0, on_step=lambda s: times.extend(s.time for a, b, _ in s.contacts() if {a, b} == {"wamv", "ferry"}))
+    report = sim.traffic.report()
+    assert times and 3.0 < times[0] < 6.0
+    assert report["ferry"]["first_contact_s"] == pytest.approx(times[0], abs=0.1 + 1e-9)
+    assert report["ferry"]["last_contact_s"] == pytest.approx(times[-1], abs=0.1 + 1e-9)
+    assert report["tug"]["first_contact_s"] is None and report["tug"]["last_contact_s"] is None
+    sim.reset()
+    sim.run(1.0)
+    assert sim.traffic.report()["ferry"]["first_contact_s"] is None
+
+
 def test_overlap_warning_names_the_ship_not_the_static_world(scenario_of):
     # the ferry (40 x 10 m) starts on top of the own ship; a tug far away overlaps nothing
     sc = scenario_of({"vessels": [OWN], "traffic": {"ships": [

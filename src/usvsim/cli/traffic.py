@@ -77,6 +77,10 @@ def print_report(sim, console) -> None:
         table.add_row(name, _num(r["min_distance_m"]), _num(r["t_min_distance_s"]), _num(r["min_cpa_m"]),
                       _num(r["tcpa_at_min_cpa_s"]), _num(r["range_m"]), _tcpa(r))  # fmt: skip
     console.print(table)
+    for name, r in report.items():  # the table's distances are between reference points, not hulls
+        if r["first_contact_s"] is not None:
+            console.print(f"hull contact: {name} touched the own ship from t = {r['first_contact_s']:.1f} s to "
+                          f"{r['last_contact_s']:.1f} s")  # fmt: skip
     limit = sim.traffic.situation.cfg.tcpa_limit_s
     console.print(f"min CPA: the least CPA predicted while 0 <= TCPA <= {limit:g} s (traffic.awareness.tcpa_limit_s), "
                   "at that TCPA; '-': none was. range, TCPA: at the end of the run ('opening': the closest point is "

@@ -204,6 +204,17 @@ class Fleet:
     def __len__(self) -> int:
         return len(self.ships)
 
+    def hull_geoms(self, world: World) -> np.ndarray:
+        """(ngeom,) the ship index owning each MuJoCo geom that collides as a ship's hull, -1 elsewhere: a kinematic
+        ship's hull prism, a full-physics ship's vessel geoms."""
+        out = np.full(world.model.ngeom, -1, np.int64)
+        for k, box in zip(self.kinematic, self._geoms.box):
+            if box >= 0:
+                out[box] = k
+        for k, (vessel, _) in self.pilots.items():
+            out[world.model.geom_bodyid == world.vessels[vessel].index + 1] = k
+        return out
+
     def watch(self, sensors) -> None:
         """Which sensors may see the ships (all but the IMU and the navigation sensors), at which steps: the ships
         are placed before every step after which one of them samples (see `before_step`)."""

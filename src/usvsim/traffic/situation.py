@@ -6,7 +6,8 @@ samples are exact, a closest pass of straight relative motion between two sample
 between samples puts the chord at most its sagitta off (L²/8R for an arc of length L and radius R), and nothing
 is extrapolated), when it happened, the least CPA
 predicted with 0 <= TCPA <= `tcpa_limit_s` (ARPA's CPA/TCPA alarm window) and the TCPA it came with, and the
-range, CPA, TCPA and relative speed at the last sample. The message's `cpa` (m) and `tcpa` (s) are every
+range, CPA, TCPA and relative speed at the last sample, and the first and last samples at which the target's
+hull touched the own ship (MuJoCo's contacts). The message's `cpa` (m) and `tcpa` (s) are every
 target's straight-line prediction as an ARPA shows it, whatever its TCPA: negative TCPA: opening, the closest
 point is past; 0 with CPA = range: no relative motion."""
 
@@ -48,6 +49,11 @@ class SituationPublisher:
         # report samples: every message step and at least REPORT_RATE_HZ (steps of at most 1 / REPORT_RATE_HZ)
         self.sample_every = math.gcd(self.every, max(1, int(NS_PER_S / REPORT_RATE_HZ // world.clock.step_ns)))
         self.targets = np.array([k for k, s in enumerate(fleet.ships) if s.vessel != own], np.int64)
+        owner = fleet.hull_geoms(world)  # hull contacts: the target j of each geom (-1: none), the own ship's geoms
+        self._target_of_geom = np.full(len(owner), -1, np.int64)
+        for j, k in enumerate(self.targets):
+            self._target_of_geom[owner == k] = j
+        self._own_geom = world.model.geom_bodyid == self.own.index + 1
         self._own, self._out = np.zeros(5), np.zeros((len(self.targets), 10))
         self.reset(world)
 
@@ -55,6 +61,7 @@ class SituationPublisher:
         n = len(self.targets)
         self.min_dist, self.t_min, self.min_cpa = np.full(n, np.inf), np.zeros(n), np.full(n, np.inf)
         self.tcpa_at_min_cpa, self._last, self.sampled = np.full(n, np.nan), np.zeros((n, 4)), False
+        self.first_contact, self.last_contact = np.full(n, np.nan), np.full(n, np.nan)
         # the relative positions at the start (the fleet was placed for t = 0 before): where the first chord starts
         self._prev = self.fleet.pos_enu[self.targets] - world.state.pos[self.own.index, :2]
         self._prev_s = world.time
@@ -87,12 +94,24 @@ class SituationPublisher:
         # velocity reported distances that never happened once the own ship had turned)
         self._run(world, max(world.time - self._prev_s, 0.0))
         self._prev_s = world.time
+        if world.data.ncon:
+            self._contacts(world)
         self.sampled = True
         self._last[:, :3] = self._out[:, [aw.RANGE, aw.CPA, aw.TCPA]]
         self._last[:, 3] = np.hypot(self._out[:, aw.VX], self._out[:, aw.VY])
         if not publish or world.clock.steps % self.every != 0:  # building the message costs more than the rest of the traffic for 50 ships
             return []
         return [Envelope(self.cfg.topic, world.clock.now_ns, self._message(world.clock.now_ns, self.compute(world)))]
+
+    def _contacts(self, world: World) -> None:
+        """Targets whose hull touches the own ship now (MuJoCo's contacts of the last step) set their first and last
+        contact times."""
+        n = world.data.ncon
+        g1, g2 = world.data.contact.geom1[:n], world.data.contact.geom2[:n]
+        hit = np.r_[self._target_of_geom[g2[self._own_geom[g1]]], self._target_of_geom[g1[self._own_geom[g2]]]]
+        hit = np.unique(hit[hit >= 0])
+        self.first_contact[hit] = np.where(np.isnan(self.first_contact[hit]), world.time, self.first_contact[hit])
+        self.last_contact[hit] = world.time
 
     def _message(self, stamp_ns: int, s: dict) -> object:
         target_cls = ros.msg_class("usvsim_msgs/msg/TrafficTarget")
@@ -115,8 +134,10 @@ class SituationPublisher:
     def report(self) -> dict[str, dict[str, float | None]]:
         """Per target: min_distance_m and t_min_distance_s (when, s of simulated time); min_cpa_m and
         tcpa_at_min_cpa_s, the least CPA predicted with 0 <= TCPA <= tcpa_limit_s and its TCPA (None: none was);
-        range_m, cpa_m, tcpa_s and relative_speed_mps at the last sample (None before the first). Metres,
-        seconds, m/s."""
+        range_m, cpa_m, tcpa_s and relative_speed_mps at the last sample (None before the first); first_contact_s
+        and last_contact_s, the first and last samples at which its hull touched the own ship (None: never; the
+        reference points' least distance says nothing of the hulls: a 25 m ship's passes 8 m off through the own
+        ship). Metres, seconds, m/s."""
 
         def opt(x):
             return float(x) if self.sampled and np.isfinite(x) else None
@@ -125,7 +146,8 @@ class SituationPublisher:
                     "min_distance_m": opt(self.min_dist[j]), "t_min_distance_s": opt(self.t_min[j]),
                     "min_cpa_m": opt(self.min_cpa[j]), "tcpa_at_min_cpa_s": opt(self.tcpa_at_min_cpa[j]),
                     "range_m": opt(self._last[j, 0]), "cpa_m": opt(self._last[j, 1]), "tcpa_s": opt(self._last[j, 2]),
-                    "relative_speed_mps": opt(self._last[j, 3])}
+                    "relative_speed_mps": opt(self._last[j, 3]), "first_contact_s": opt(self.first_contact[j]),
+                    "last_contact_s": opt(self.last_contact[j])}
                 for j, k in enumerate(self.targets)}  # fmt: skip
 
 
