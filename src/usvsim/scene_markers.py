@@ -16,9 +16,9 @@ from __future__ import annotations
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
+from numba import njit
 
 from usvsim.core.clock import steps_per_period
-from usvsim.core.transforms import quat_multiply
 from usvsim.messages.envelope import MARKERS_TOPIC, Envelope
 from usvsim.messages.markers import MovingMarkers, marker_array, part_marker
 from usvsim.world.shapes import drawn_parts, static_parts
@@ -39,9 +39,10 @@ class SceneMarkers:
         self.scene = scene
         self.bodies = [b for name, b in world.bodies.items() if name not in world.vessels]
         self.every = steps_per_period(bodies_rate_hz, world.clock.step_ns) if bodies_rate_hz and self.bodies else 0
-        self._static: Any = None  # the /usvsim/markers message (the geometry never changes)
+        self._static: tuple[Any, bytes] | None = None  # the /usvsim/markers message and its CDR (never change)
         self._moving: MovingMarkers | None = None  # the bodies' array, made on first use
         self._parts: tuple[np.ndarray, np.ndarray, np.ndarray] = (np.zeros(0, np.intp), np.zeros((0, 3)), np.zeros((0, 4)))
+        self._poses = np.zeros((0, 7))  # per marker: x, y, z, qx, qy, qz, qw in world
 
     def static(self) -> list[Envelope]:
         """The latched `/usvsim/markers` message (stamp 0), or nothing when turned off."""
@@ -55,8 +56,9 @@ class SceneMarkers:
                             for k, p in enumerate(parts)]  # fmt: skip
             markers += [part_marker(p, 0, WORLD_FRAME, "obstacles", k)
                         for k, p in enumerate(static_parts(self.world.model))]  # fmt: skip
-            self._static = marker_array([m for m in markers if m is not None])
-        return [Envelope(MARKERS_TOPIC, 0, self._static)]
+            msg = marker_array([m for m in markers if m is not None])
+            self._static = (msg, Envelope(MARKERS_TOPIC, 0, msg).cdr)  # ~150 kB for the harbour: serialized once
+        return [Envelope(MARKERS_TOPIC, 0, self._static[0], cdr=self._static[1])]
 
     def due(self, steps: int, stamp_ns: int) -> list[Envelope]:
         """`/usvsim/markers/bodies` when its period divides the physics step count `steps` (its CDR bytes made by
@@ -64,14 +66,9 @@ class SceneMarkers:
         if not self.every or steps % self.every:
             return []
         moving = self._moving if self._moving is not None else self._build_moving()
-        index, part_pos, part_quat = self._parts
-        state = self.world.state
-        rot, body_pos = state.rot[index], state.pos[index]
-        positions = body_pos + np.einsum("nij,nj->ni", rot, part_pos)
-        body_quat = self.world.data.qpos[self.world.qpos_adr[index][:, None] + np.arange(3, 7)]  # (w, x, y, z)
-        body_quat = body_quat / np.linalg.norm(body_quat, axis=1, keepdims=True)  # as World.body_quat
-        quats = quat_multiply(body_quat.T, part_quat.T).T
-        return [Envelope(BODIES_TOPIC, stamp_ns, msgtype=MARKER_ARRAY, cdr=moving.cdr(stamp_ns, positions, quats))]
+        world = self.world
+        _place_parts(world.state.pos, world.state.rot, world.data.qpos, world.qpos_adr, *self._parts, self._poses)
+        return [Envelope(BODIES_TOPIC, stamp_ns, msgtype=MARKER_ARRAY, cdr=moving.cdr(stamp_ns, self._poses))]
 
     def _build_moving(self) -> MovingMarkers:
         markers, index, pos, quat = [], [], [], []
@@ -85,5 +82,26 @@ class SceneMarkers:
                     quat.append(part.quat)
         self._parts = (np.array(index, dtype=np.intp), np.array(pos, float).reshape(-1, 3),
                        np.array(quat, float).reshape(-1, 4))  # fmt: skip
+        self._poses = np.zeros((len(markers), 7))
         self._moving = MovingMarkers(markers)
         return self._moving
+
+
+@njit(cache=True)
+def _place_parts(pos, rot, qpos, qpos_adr, index, part_pos, part_quat, out):
+    """out[k] = the world pose of part k (x, y, z m; quaternion x, y, z, w) of body index[k]: its body-frame pose
+    `part_pos`, `part_quat` (w, x, y, z) placed by the body's base_link pose (pos, rot: World's state; the
+    orientation from the free joint's quaternion in qpos, normalized as World.body_quat)."""
+    for k in range(len(index)):
+        b = index[k]
+        for i in range(3):
+            out[k, i] = pos[b, i] + rot[b, i, 0] * part_pos[k, 0] + rot[b, i, 1] * part_pos[k, 1] \
+                + rot[b, i, 2] * part_pos[k, 2]
+        a = qpos_adr[b] + 3
+        n = np.sqrt(qpos[a] ** 2 + qpos[a + 1] ** 2 + qpos[a + 2] ** 2 + qpos[a + 3] ** 2)
+        aw, ax, ay, az = qpos[a] / n, qpos[a + 1] / n, qpos[a + 2] / n, qpos[a + 3] / n
+        bw, bx, by, bz = part_quat[k, 0], part_quat[k, 1], part_quat[k, 2], part_quat[k, 3]
+        out[k, 3] = aw * bx + ax * bw + ay * bz - az * by
+        out[k, 4] = aw * by - ax * bz + ay * bw + az * bx
+        out[k, 5] = aw * bz + ax * by - ay * bx + az * bw
+        out[k, 6] = aw * bw - ax * bx - ay * by - az * bz

@@ -44,4 +44,4 @@ def test_patched_bytes_equal_the_serializers(stamp_ns):
                                 pose=pose(position=point(p), orientation=quaternion(q)))
             for m, p, q in zip(markers, positions, quats)]  # fmt: skip
     expected = bytes(typestore().serialize_cdr(marker_array(want), "visualization_msgs/msg/MarkerArray"))
-    assert moving.cdr(stamp_ns, positions, quats) == expected
+    assert moving.cdr(stamp_ns, np.hstack([positions, quats[:, 1:], quats[:, :1]])) == expected

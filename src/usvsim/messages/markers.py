@@ -91,23 +91,26 @@ class MovingMarkers:
             marked.append(dataclasses.replace(m, header=h, pose=pose(position=point(values[:3]),
                                                                      orientation=_xyzw(values[3:]))))  # fmt: skip
         data = bytes(typestore().serialize_cdr(marker_array(marked), "visualization_msgs/msg/MarkerArray"))
-        self._stamp_at = np.array([_find(data, struct.pack("<iI", self._SEC + k, self._NSEC + k)) for k in range(n)])
-        self._pose_at = np.array([[_find(data, struct.pack("<d", self._POSE + 8.0 * k + j)) for j in range(7)]
-                                  for k in range(n)])  # fmt: skip
-        self._template = data
-        self.n = n
+        stamps = np.array([_find(data, struct.pack("<iI", self._SEC + k, self._NSEC + k)) for k in range(n)]) - 4
+        poses = np.array([[_find(data, struct.pack("<d", self._POSE + 8.0 * k + j)) for j in range(7)]
+                          for k in range(n)]) - 4  # fmt: skip
+        if np.any(stamps % 4) or np.any(poses % 8):  # CDR aligns from the byte after the 4-byte header
+            raise RuntimeError("MovingMarkers: a stamp or pose field is not aligned as CDR aligns it")
+        self._sec_at = (stamps // 4).astype(np.intp)  # in 32-bit words after the header; nanosec: the next word
+        self._pose_at = (poses // 8).reshape(-1).astype(np.intp)  # in doubles after the header
+        self._template, self.n = data, n
+        self._words, self._doubles = (len(data) - 4) // 4, (len(data) - 4) // 8
 
-    def cdr(self, stamp_ns: int, positions: np.ndarray, quats_wxyz: np.ndarray) -> bytes:
-        """The array's bytes with every marker stamped `stamp_ns` and posed at `positions` (n, 3) m, `quats_wxyz`
-        (n, 4)."""
-        buf = np.frombuffer(bytearray(self._template), dtype=np.uint8)
+    def cdr(self, stamp_ns: int, poses: np.ndarray) -> bytes:
+        """The array's bytes with every marker stamped `stamp_ns` and posed at `poses` (n, 7): x, y, z (m) and the
+        quaternion x, y, z, w (ROS order)."""
+        buf = bytearray(self._template)
         sec, nanosec = divmod(int(stamp_ns), 1_000_000_000)
-        stamp = np.frombuffer(struct.pack("<iI", sec, nanosec), dtype=np.uint8)
-        buf[self._stamp_at[:, None] + np.arange(8)] = stamp
-        q = np.asarray(quats_wxyz, float)
-        values = np.ascontiguousarray(np.hstack([np.asarray(positions, float), q[:, 1:], q[:, :1]]), dtype="<f8")
-        buf[self._pose_at[:, :, None] + np.arange(8)] = values.view(np.uint8).reshape(self.n, 7, 8)
-        return buf.tobytes()
+        words = np.frombuffer(buf, dtype="<u4", offset=4, count=self._words)
+        words[self._sec_at] = sec & 0xFFFFFFFF  # int32 seconds, two's complement
+        words[self._sec_at + 1] = nanosec
+        np.frombuffer(buf, dtype="<f8", offset=4, count=self._doubles)[self._pose_at] = np.ravel(poses)
+        return bytes(buf)
 
 
 def _find(data: bytes, pattern: bytes) -> int:
