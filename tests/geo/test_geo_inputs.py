@@ -244,3 +244,26 @@ def test_the_cache_key_follows_the_geo_code(place, monkeypatch):
     before = scene._cache_key(geo, frame, place["land"].parent)
     monkeypatch.setattr(scene, "_code_digest", lambda: "another version of usvsim/geo")
     assert scene._cache_key(geo, frame, place["land"].parent) != before
+
+
+@pytest.mark.parametrize("key", ["land", "structures", "marks", "bathymetry"])
+@pytest.mark.parametrize("kind", ["geojson", "shp", "csv"])
+def test_an_empty_file_is_an_error_not_a_place_without_it(place, tmp_path, key, kind):
+    """An empty land file (a clip that missed the area) was taken as "no land", silently; empty soundings were
+    numpy's "ValueError: need at least one array to concatenate"."""
+    import pyogrio
+
+    path = tmp_path / f"empty.{kind}"
+    if kind == "geojson":
+        path.write_text('{"type": "FeatureCollection", "features": []}')
+    elif kind == "csv":
+        path.write_text("lon,lat,depth,height,color\n")
+    else:
+        geometry = "Point" if key in ("marks", "bathymetry") else "Polygon"
+        pyogrio.raw.write(path, np.array([], dtype=object), field_data=[], fields=[], geometry_type=geometry,
+                          crs="EPSG:4326")  # fmt: skip
+    geo = geo_section(place)
+    spec = {"file": str(path), "crs": "EPSG:4326"} if kind == "csv" else {"file": str(path)}
+    geo[key] = [spec] if key in ("structures", "marks") else {**spec, "values": "depth"} if key == "bathymetry" else spec
+    with pytest.raises(UsvsimError, match=rf"empty.{kind}: the file holds no features \(empty; .*drop this entry"):
+        Simulation(parse_scenario({**scenario_data(place), "geo": geo}, "test.yaml"))

@@ -43,6 +43,10 @@ def read_features(path: Path, layer: str | None, crs: str | None, frame: GeoFram
         raise GeoError(f"{path}: the file's CRS is {file_crs} but the scenario says crs: {crs}; drop one")
     if not (file_crs or crs):
         raise GeoError(f"{path}: the file has no CRS; give one with `crs:` (e.g. EPSG:4326)")
+    if len(wkb) == 0:  # an export or clip that missed the area read as "no land" (soundings: a ValueError), silently
+        what = f"its layer {layer!r}" if layer is not None else "the file"
+        raise GeoError(f"{path}: {what} holds no features (empty; an export or clip that missed the area?); "
+                       "if the place has none, drop this entry from geo:")
     with np.errstate(invalid="ignore"):  # NaN coordinates: shapely warned "invalid value encountered in from_wkb"
         geoms = shapely.from_wkb(wkb)
     coords, owner = shapely.get_coordinates(geoms, return_index=True)
