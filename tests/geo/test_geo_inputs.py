@@ -267,3 +267,24 @@ def test_an_empty_file_is_an_error_not_a_place_without_it(place, tmp_path, key, 
     geo[key] = [spec] if key in ("structures", "marks") else {**spec, "values": "depth"} if key == "bathymetry" else spec
     with pytest.raises(UsvsimError, match=rf"empty.{kind}: the file holds no features \(empty; .*drop this entry"):
         Simulation(parse_scenario({**scenario_data(place), "geo": geo}, "test.yaml"))
+
+
+def test_soundings_default_to_depths_like_their_default_depth_column(place, tmp_path):
+    """`value_property` defaulted to `depth` but `values` to `elevation`: a CSV with the default column and no
+    `values:` was read as elevations and the run stopped ('are they depths? then set values: depth'). A raster
+    without `values:` still holds elevations (GEBCO)."""
+    from usvsim.config.geo import Bathymetry
+
+    x, y = np.meshgrid(np.linspace(-380, 380, 8), np.linspace(-380, 80, 6))
+    lat, lon, _ = GeoFrame(*ORIGIN).to_geodetic(x.ravel(), y.ravel()).T
+    rows = ["lon,lat,depth"] + [f"{a:.9f},{b:.9f},7.5" for a, b in zip(lon, lat)]
+    (tmp_path / "soundings.csv").write_text("\n".join(rows) + "\n")
+    geo = {**geo_section(place), "bathymetry": {"file": str(tmp_path / "soundings.csv"), "crs": "EPSG:4326"}}
+    scenario = parse_scenario({**scenario_data(place), "geo": geo}, "test.yaml")
+    assert scenario.geo.bathymetry.values == "depth"
+    sim = Simulation(scenario)
+    assert sim.world.depth_at([0.0], [-100.0])[0] == pytest.approx(7.5, abs=1e-9)
+    sim.close()
+    assert Bathymetry(file="gebco.tif").values == "elevation"
+    assert Bathymetry(file="soundings.gpkg").values == "depth"
+    assert Bathymetry(file="soundings.gpkg", values="elevation").values == "elevation"  # an explicit choice stays

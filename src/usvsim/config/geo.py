@@ -9,6 +9,7 @@ Heights are metres above the still-water level (z up); depths are metres below i
 from __future__ import annotations
 
 import math
+from pathlib import PurePath
 from typing import Annotated, Literal
 
 from pydantic import Field, model_validator
@@ -42,14 +43,33 @@ class Land(Source):
     top_resolution_m: PositiveFloat = Field(default=25.0, description="grid of the land's top surface under a DEM")
 
 
+RASTER_SUFFIXES = (".tif", ".tiff", ".vrt", ".asc", ".img", ".nc")
+
+
+def is_raster(file: str | PurePath) -> bool:
+    """Whether a bathymetry or DEM file is read as a raster (by its suffix); else as a vector file."""
+    return PurePath(file).suffix.lower() in RASTER_SUFFIXES
+
+
 class Bathymetry(Source):
     """The seabed: a raster (GeoTIFF), or soundings / depth contours (points or lines of a vector file, value in
     `value_property`, interpolated linearly). `values: elevation` (z up, negative under water) or `depth`
-    (positive down)."""
+    (positive down); by default `elevation` for a raster (GEBCO, NOAA DEMs) and `depth` for soundings and
+    contours (charts), whose default `value_property` is `depth` too."""
 
     band: int = Field(default=1, ge=1, description="raster band")
     value_property: str = Field(default="depth", description="property holding a sounding's or contour's value")
-    values: Literal["elevation", "depth"] = "elevation"
+    values: Literal["elevation", "depth"] | None = Field(
+        default=None, description="null: elevation for a raster, depth for soundings and contours")
+
+    @model_validator(mode="before")
+    @classmethod
+    def _default_values(cls, data):
+        """Soundings with their default `depth` property were read as elevations under the old default
+        `values: elevation` (the run stopped: 'are they depths? then set values: depth'; qa20)."""
+        if isinstance(data, dict) and data.get("values") is None and isinstance(data.get("file"), str) and data["file"]:
+            data = {**data, "values": "elevation" if is_raster(data["file"]) else "depth"}
+        return data
 
 
 class Structures(Source):

@@ -21,11 +21,11 @@ from pathlib import Path
 import numpy as np
 import shapely
 
-from usvsim.config.geo import Geo
+from usvsim.config.geo import Geo, is_raster
 from usvsim.geo import extrude
 from usvsim.geo.frame import GeoError, GeoFrame
 from usvsim.geo.raster import Raster, read_raster
-from usvsim.geo.soundings import Soundings, is_raster, read_soundings
+from usvsim.geo.soundings import Soundings, read_soundings
 from usvsim.geo.terrain import Terrain, land_mask, vertex_grid
 from usvsim.geo.vector import read_features
 from usvsim.vessels.parts import Mesh

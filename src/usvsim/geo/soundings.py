@@ -16,12 +16,6 @@ import shapely
 from usvsim.geo.frame import GeoError, GeoFrame
 from usvsim.geo.vector import read_features
 
-RASTER_SUFFIXES = (".tif", ".tiff", ".vrt", ".asc", ".img", ".nc")
-
-
-def is_raster(path: Path) -> bool:
-    return path.suffix.lower() in RASTER_SUFFIXES
-
 
 @dataclass(frozen=True)
 class Soundings:
