@@ -411,6 +411,35 @@ def test_a_scene_value_that_is_no_number_is_one_line(tmp_path, scene, shown):
     assert load_randomization(tmp_path / "ok.yaml").scene["vessel_yaw_deg"].choice == (1, 2.5)
 
 
+@pytest.mark.parametrize(
+    ("scene", "words"),
+    [("camera_pitch_deg: 200", "camera_pitch_deg: 200 is outside -90..90"),
+     ("camera_pitch_deg: {uniform: [-300, 0]}", "camera_pitch_deg: -300 is outside -90..90"),
+     ("vessel_yaw_deg: {normal: [0, 5], clip: [-400, 10]}", "vessel_yaw_deg: -400 is outside -360..360"),
+     ("vessel_offset_m: 1.0e+9", "vessel_offset_m: 1e[+]09 is outside -1000..1000"),
+     ("buoy_offset_m: {normal: [2000, 1]}", "buoy_offset_m: 2000 is outside -1000..1000"),
+     ("camera_height_m: {choice: [0, -50]}", "camera_height_m: -50 is outside -20..20")],
+)  # fmt: skip
+def test_a_scene_value_out_of_its_bounds_is_one_line(tmp_path, scene, words):
+    """Scene values had no bounds: a camera pitched 200° (upside down), an offset of 1e9 m were rendered
+    without a word, and a buoy moved 1e7 m made MuJoCo diverge (qa20)."""
+    (tmp_path / "r.yaml").write_text(f"version: 1\nscene:\n  {scene}\n")
+    with pytest.raises(UsvsimError, match=f"^randomization {tmp_path / 'r.yaml'}: scene.{words} [(]"):
+        load_randomization(tmp_path / "r.yaml")
+    args = ["dataset", "buoy_field", "--frames", "1", "--resolution", "64x48", "--out", str(tmp_path / "s")]
+    result = CliRunner().invoke(app, [*args, "--randomize", str(tmp_path / "r.yaml")])
+    assert result.exit_code == 2 and "is outside" in result.output and not (tmp_path / "s").exists()
+
+
+def test_a_scene_draw_out_of_bounds_stops_the_run_naming_it(tmp_path):
+    """A normal without clip is checked by its mean; a draw past the bounds stops the run with one line."""
+    (tmp_path / "r.yaml").write_text("version: 1\nscene:\n  camera_pitch_deg: {normal: [0, 1000]}\n")
+    assert load_randomization(tmp_path / "r.yaml").scene["camera_pitch_deg"].normal == (0, 1000)
+    with pytest.raises(UsvsimError, match=r"scene.camera_pitch_deg: -?[0-9.]+ is outside -90..90 .*\(drawn; give the "
+                                          r"normal a clip: \[low, high\]\); stopped at frame 0"):  # fmt: skip
+        generate(DatasetSpec("buoy_field", 3, tmp_path / "set", randomize=str(tmp_path / "r.yaml"), resolution=(64, 48)))
+
+
 def test_generate_refuses_a_folder_holding_a_set_unless_forced(tmp_path):
     """generate() wrote a 2-frame set over a 4-frame one without a word: frames 2 and 3 stayed in images/ and
     labels/ beside annotations listing 2 images (QA; the CLI refused, and the detection-robustness experiment,

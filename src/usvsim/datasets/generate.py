@@ -20,7 +20,7 @@ from concurrent.futures import ThreadPoolExecutor
 from dataclasses import asdict, dataclass
 from functools import partial
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, cast
 
 import mujoco
 import numpy as np
@@ -34,7 +34,14 @@ from usvsim.datasets.amodal import AmodalCounter
 from usvsim.datasets.fog_sight import FogSight
 from usvsim.datasets.labels import Labeller
 from usvsim.datasets.look import LookAdapter
-from usvsim.datasets.randomization import Choice, Normal, Uniform, draw, draw_all, load_randomization, nested
+from usvsim.datasets.randomization import (
+    check_scene,
+    draw,
+    draw_all,
+    load_randomization,
+    nested,
+    support_ends,
+)
 from usvsim.datasets.writers import FORMATS, SPLITS, DatasetWriter, WriteError
 from usvsim.sensors.base import OPTICAL_ROT
 from usvsim.sensors.camera.clip import camera_planes
@@ -141,11 +148,19 @@ def _move(sim: Simulation, body_index: int, dx: float, dy: float, dyaw_rad: floa
     sim.data.qpos[adr + 3 : adr + 7] = quat_multiply(turn, sim.data.qpos[adr + 3 : adr + 7])
 
 
-def draw_scene(scene: dict, buoys: list[str], rng: np.random.Generator) -> dict:
-    """Concrete scene values: per buoy [dx, dy], vessel [dx, dy], yaw and camera jitter (0 where not given)."""
+def draw_scene(scene: dict, buoys: list[str], rng: np.random.Generator, randomize: str | None = None) -> dict:
+    """Concrete scene values: per buoy [dx, dy], vessel [dx, dy], yaw and camera jitter (0 where not given); a
+    UsvsimError naming the key when a draw (a normal without clip) falls outside its bounds."""
 
     def one(key):
-        return draw(scene[key], rng) if key in scene else 0.0
+        if key not in scene:
+            return 0.0
+        value = cast(float, draw(scene[key], rng))  # a number: the file's scene values are checked at load
+        try:
+            check_scene(key, value)
+        except ValueError as exc:
+            raise UsvsimError(f"randomization {randomize}: {exc} (drawn; give the normal a clip: [low, high])") from None
+        return value
 
     out: dict[str, Any] = {"buoy_offset_m": {b: [one("buoy_offset_m"), one("buoy_offset_m")] for b in buoys}}
     out["vessel_offset_m"] = [one("vessel_offset_m"), one("vessel_offset_m")]
@@ -284,7 +299,7 @@ class DatasetGenerator:
         sim = self.sim
         sim.reset(seed=int(self.rng.integers(2**31)))  # a new ocean (wave phases) every episode
         look = updated_look(sim.scenario.rendering, draw_all(self.rnd.look, self.rng), self.spec.randomize)
-        scene = draw_scene(self.rnd.scene, self.buoys, self.rng)
+        scene = draw_scene(self.rnd.scene, self.buoys, self.rng, self.spec.randomize)
         apply_scene(sim, scene, self.cameras[0][0])
         sim.run(self.spec.settle_s)
         return look, scene
@@ -344,17 +359,6 @@ def updated_look(rendering, values: dict, randomize: str | None):
         what = "unknown key" if err["type"] == "extra_forbidden" else f"{err['msg']}, got {err.get('input')!r}"
         raise UsvsimError(f"randomization {randomize}: look.{path}: {what} (keys of the scenario's "
                           "rendering: section, docs/rendering.md)") from None  # fmt: skip
-
-
-def support_ends(value) -> tuple:
-    """The values a distribution reaches at its ends (a normal without clip: its mean only)."""
-    if isinstance(value, Uniform):
-        return value.uniform
-    if isinstance(value, Normal):
-        return value.clip if value.clip else (value.normal[0],)
-    if isinstance(value, Choice):
-        return value.choice
-    return (value,)
 
 
 def _camera_stems(cameras: list[tuple[str, str]]) -> list[str]:

@@ -42,6 +42,13 @@ SCENE = {  # scene parameters: what each one changes (added to the scenario's va
     "camera_height_m": "camera height jitter along the vessel's z axis (m)",
     "camera_pitch_deg": "camera pitch jitter (deg, positive looks down)",
 }
+SCENE_BOUNDS = {  # what a scene value may be (a pitch of 200° turned the camera upside down; an offset of 1e7 m
+    "buoy_offset_m": (-1000.0, 1000.0),  # made MuJoCo diverge; none was refused, qa20)
+    "vessel_offset_m": (-1000.0, 1000.0),
+    "vessel_yaw_deg": (-360.0, 360.0),  # a full turn either way: {uniform: [0, 360]} is any heading
+    "camera_height_m": (-20.0, 20.0),
+    "camera_pitch_deg": (-90.0, 90.0),
+}
 Pair = Annotated[tuple[float, float], Field(min_length=2, max_length=2)]
 
 
@@ -86,15 +93,32 @@ class Randomization(Section):
     @model_validator(mode="after")
     def _scene_numbers(self):
         """Scene values are numbers added to the scenario's (a `choice: [a, b]` of strings was a numpy
-        UFuncTypeError traceback at the first frame)."""
+        UFuncTypeError traceback at the first frame), within SCENE_BOUNDS at every end of their range (a normal
+        without clip: its mean; its draws are checked by `check_scene`)."""
         for key, value in self.scene.items():
-            values = value.choice if isinstance(value, Choice) else (value,)
-            for v in values:
-                if isinstance(v, (Uniform, Normal)):
-                    continue
+            for v in support_ends(value):
                 if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
                     raise ValueError(f"scene.{key}: {_shown(v)} is not a number ({SCENE[key]})")
+                check_scene(key, v)
         return self
+
+
+def check_scene(key: str, value: float) -> None:
+    """A ValueError naming the scene key when `value` lies outside its SCENE_BOUNDS."""
+    low, high = SCENE_BOUNDS[key]
+    if not low <= value <= high:
+        raise ValueError(f"scene.{key}: {value:g} is outside {low:g}..{high:g} ({SCENE[key]})")
+
+
+def support_ends(value) -> tuple:
+    """The values a distribution reaches at its ends (a normal without clip: its mean only)."""
+    if isinstance(value, Uniform):
+        return value.uniform
+    if isinstance(value, Normal):
+        return value.clip if value.clip else (value.normal[0],)
+    if isinstance(value, Choice):
+        return value.choice
+    return (value,)
 
 
 def draw(value: Value, rng: np.random.Generator):
