@@ -359,6 +359,38 @@ def test_two_vessels_cameras_of_one_name_write_separate_files(tmp_path):
         assert (root / "masks" / "instance" / "train" / f"000000_{vessel}-camera.png").is_file()
 
 
+def test_scene_randomization_moves_every_cameras_vessel(tmp_path):
+    """Only the first camera's vessel was moved and turned: the otter's camera saw the scene from the same place
+    in every frame (qa20). Each camera's vessel now gets its own drawn offset and yaw."""
+    scenario = tmp_path / "two.yaml"
+    cam = "{type: camera, name: camera, width: 32, height: 24, rate_hz: 10, streams: [rgb]}"
+    scenario.write_text(
+        "version: 1\nname: two\nvessels:\n"
+        f"  - {{name: wamv, model: wamv, sensors: [{cam}]}}\n"
+        f"  - {{name: otter, model: otter, pose: {{position: [8.0, 1.0, 0.0], yaw_deg: 90.0}}, sensors: [{cam}]}}\n"
+    )
+    rnd = tmp_path / "r.yaml"
+    rnd.write_text("version: 1\nscene:\n  vessel_offset_m: {uniform: [-3, 3]}\n  vessel_yaw_deg: {uniform: [-40, 40]}\n")
+    moved = generate(DatasetSpec(str(scenario), 1, tmp_path / "a", randomize=str(rnd), settle_s=0.0, formats=("yolo",)))
+    still = generate(DatasetSpec(str(scenario), 1, tmp_path / "b", settle_s=0.0, formats=("yolo",)))
+    a = json.loads((moved / "meta" / "000000_wamv-camera.json").read_text())
+    b = json.loads((still / "meta" / "000000_wamv-camera.json").read_text())
+    offsets, yaws = a["scene"]["vessel_offset_m"], a["scene"]["vessel_yaw_deg"]
+    assert set(offsets) == set(yaws) == {"wamv", "otter"} and offsets["wamv"] != offsets["otter"]
+    from usvsim.simulation import Simulation
+
+    sim = Simulation.from_scenario(str(scenario))
+    for vessel in ("wamv", "otter"):  # the free joint's position: the body origin, which the turn does not move
+        adr = sim.model.jnt_qposadr[sim.model.body_jntadr[sim.vessels[vessel].index + 1]]
+        shift = np.subtract(a["qpos"][adr : adr + 2], b["qpos"][adr : adr + 2])
+        assert shift == pytest.approx(offsets[vessel], abs=1e-9)
+        qa, qb = (np.array(m["vessels"][vessel]["quat_wxyz"]) for m in (a, b))
+        turn = 2.0 * math.degrees(math.atan2(np.linalg.norm(np.cross(qb[1:], qa[1:]) + qb[0] * qa[1:] - qa[0] * qb[1:]),
+                                             float(qa @ qb)))  # fmt: skip
+        assert turn == pytest.approx(abs(yaws[vessel]), abs=1e-6)
+    sim.close()
+
+
 @pytest.mark.parametrize(
     ("args", "words"),
     [

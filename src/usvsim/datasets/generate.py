@@ -2,7 +2,7 @@
 
 Run: the randomization's `environment` values are drawn once and merged into the scenario, which is built
 without its sensors (only the dataset's cameras render, and only the frames written). Episode: the
-simulation is reset, the scene and look values are drawn, buoys and the camera's vessel are moved by the drawn
+simulation is reset, the scene and look values are drawn, buoys and each camera's vessel are moved by the drawn
 offsets, and physics runs `settle_s`; later frames of the episode follow `frame_interval_s` apart. Frame:
 each camera renders RGB, depth and segmentation from its (jittered) pose under the drawn look; masks and
 labels come from the segmentation (datasets/labels.py); the look's image effects, masks and files
@@ -148,9 +148,11 @@ def _move(sim: Simulation, body_index: int, dx: float, dy: float, dyaw_rad: floa
     sim.data.qpos[adr + 3 : adr + 7] = quat_multiply(turn, sim.data.qpos[adr + 3 : adr + 7])
 
 
-def draw_scene(scene: dict, buoys: list[str], rng: np.random.Generator, randomize: str | None = None) -> dict:
-    """Concrete scene values: per buoy [dx, dy], vessel [dx, dy], yaw and camera jitter (0 where not given); a
-    UsvsimError naming the key when a draw (a normal without clip) falls outside its bounds."""
+def draw_scene(scene: dict, buoys: list[str], rng: np.random.Generator, randomize: str | None = None,
+               vessels: tuple[str, ...] = ()) -> dict:  # fmt: skip
+    """Concrete scene values: per buoy [dx, dy], per camera vessel [dx, dy] and yaw (each vessel its own draws),
+    and the camera jitter (0 where not given); a UsvsimError naming the key when a draw (a normal without clip)
+    falls outside its bounds. With one vessel the draws are those of the first version (same seed, same set)."""
 
     def one(key):
         if key not in scene:
@@ -163,18 +165,20 @@ def draw_scene(scene: dict, buoys: list[str], rng: np.random.Generator, randomiz
         return value
 
     out: dict[str, Any] = {"buoy_offset_m": {b: [one("buoy_offset_m"), one("buoy_offset_m")] for b in buoys}}
-    out["vessel_offset_m"] = [one("vessel_offset_m"), one("vessel_offset_m")]
-    for key in ("vessel_yaw_deg", "camera_height_m", "camera_pitch_deg"):
+    out["vessel_offset_m"] = {v: [one("vessel_offset_m"), one("vessel_offset_m")] for v in vessels}
+    out["vessel_yaw_deg"] = {v: one("vessel_yaw_deg") for v in vessels}
+    for key in ("camera_height_m", "camera_pitch_deg"):
         out[key] = one(key)
     return out
 
 
-def apply_scene(sim: Simulation, values: dict, vessel: str) -> None:
-    """Moves the buoys and the camera's vessel by drawn scene values."""
+def apply_scene(sim: Simulation, values: dict) -> None:
+    """Moves the buoys and every camera's vessel by drawn scene values (only the first camera's vessel moved: a
+    second vessel's camera saw its own vessel and the scene from the same place every frame, qa20)."""
     for name, (dx, dy) in values["buoy_offset_m"].items():
         _move(sim, sim.model.body(name).id - 1, dx, dy, 0.0)
-    dx, dy = values["vessel_offset_m"]
-    _move(sim, sim.vessels[vessel].index, dx, dy, math.radians(values["vessel_yaw_deg"]))
+    for vessel, (dx, dy) in values["vessel_offset_m"].items():
+        _move(sim, sim.vessels[vessel].index, dx, dy, math.radians(values["vessel_yaw_deg"][vessel]))
     mujoco.mj_forward(sim.model, sim.data)
     sim.world._update_kinematics()  # until [api]'s vessel.teleport lands: the one place that places bodies
 
@@ -299,8 +303,9 @@ class DatasetGenerator:
         sim = self.sim
         sim.reset(seed=int(self.rng.integers(2**31)))  # a new ocean (wave phases) every episode
         look = updated_look(sim.scenario.rendering, draw_all(self.rnd.look, self.rng), self.spec.randomize)
-        scene = draw_scene(self.rnd.scene, self.buoys, self.rng, self.spec.randomize)
-        apply_scene(sim, scene, self.cameras[0][0])
+        vessels = tuple(dict.fromkeys(vessel for vessel, _ in self.cameras))  # each camera's vessel, once
+        scene = draw_scene(self.rnd.scene, self.buoys, self.rng, self.spec.randomize, vessels)
+        apply_scene(sim, scene)
         sim.run(self.spec.settle_s)
         return look, scene
 

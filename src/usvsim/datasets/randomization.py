@@ -37,8 +37,8 @@ from usvsim.core.errors import UsvsimError
 
 SCENE = {  # scene parameters: what each one changes (added to the scenario's value)
     "buoy_offset_m": "horizontal shift of each buoy, x and y drawn separately (m)",
-    "vessel_offset_m": "horizontal shift of the camera's vessel, x and y (m)",
-    "vessel_yaw_deg": "heading of the camera's vessel, added to the scenario's yaw (deg)",
+    "vessel_offset_m": "horizontal shift of each camera's vessel, x and y drawn separately (m)",
+    "vessel_yaw_deg": "heading of each camera's vessel, added to the scenario's yaw (deg)",
     "camera_height_m": "camera height jitter along the vessel's z axis (m)",
     "camera_pitch_deg": "camera pitch jitter (deg, positive looks down)",
 }
