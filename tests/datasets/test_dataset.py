@@ -486,3 +486,73 @@ def test_generate_refuses_a_folder_holding_a_set_unless_forced(tmp_path):
     assert [p.name for p in (root / "images" / "train").iterdir()] == ["000000.png"]
     assert [p.name for p in (root / "labels" / "train").iterdir()] == ["000000.txt"]
     assert len(json.loads((root / "annotations" / "train.json").read_text())["images"]) == 1
+
+
+def _random_instances(rng, h, w, n):
+    """An instance image of n noisy blobs (holes, diagonal contacts, parts) and their labels (boxes from pixels)."""
+    import cv2
+
+    from usvsim.datasets.labels import ObjectLabel
+
+    instance = np.zeros((h, w), np.uint16)
+    labels = []
+    for k in range(1, n + 1):
+        x0, y0 = rng.integers(0, w - 4), rng.integers(0, h - 4)
+        x1, y1 = rng.integers(x0 + 1, min(w, x0 + 40) + 1), rng.integers(y0 + 1, min(h, y0 + 30) + 1)
+        blob = (rng.random((y1 - y0, x1 - x0)) < rng.uniform(0.3, 0.9)).astype(np.uint8)
+        if rng.random() < 0.5:
+            blob = cv2.medianBlur(blob * 255, 3) // 255
+        instance[y0:y1, x0:x1][blob > 0] = k
+    for k in range(1, n + 1):
+        ys, xs = np.nonzero(instance == k)
+        if len(xs):
+            box = (float(xs.min()), float(ys.min()), float(xs.max() + 1), float(ys.max() + 1))
+            labels.append(ObjectLabel(k, f"o{k}", "buoy_red", box, box, len(xs), 1.0, False))
+    return instance, labels
+
+
+@pytest.mark.parametrize("kind", ["rle", "compressed_rle", "polygon"])
+def test_every_coco_segmentation_gives_the_mask_back_through_pycocotools(kind):
+    """COCO segmentation was only uncompressed RLE: Detectron2's default (polygon masks) and Ultralytics' COCO
+    converter need polygons (qa20). Each form decodes with pycocotools to exactly the object's pixels, holes and
+    separate parts included; compressed RLE equals pycocotools' own encoding."""
+    from pycocotools import mask as mask_utils
+
+    from usvsim.datasets.writers import coco_segmentation
+
+    rng = np.random.default_rng(5)
+    checked = 0
+    for _ in range(30):
+        h, w = (int(v) for v in rng.integers(8, 90, 2))
+        instance, labels = _random_instances(rng, h, w, int(rng.integers(1, 6)))
+        for lab in labels:
+            seg = coco_segmentation(kind, instance, lab, (h, w))
+            rle = mask_utils.merge(mask_utils.frPyObjects(seg, h, w)) if kind == "polygon" else (
+                mask_utils.frPyObjects(seg, h, w) if kind == "rle" else {**seg, "counts": seg["counts"].encode()})  # fmt: skip
+            mask = instance == lab.instance
+            assert np.array_equal(mask_utils.decode(rle).astype(bool), mask)
+            assert int(mask_utils.area(rle)) == lab.visible_pixels
+            if kind == "compressed_rle":
+                assert seg["counts"] == mask_utils.encode(np.asfortranarray(mask.astype(np.uint8)))["counts"].decode()
+            if kind == "polygon":
+                assert all(len(p) >= 6 and len(p) % 2 == 0 for p in seg)
+            checked += 1
+    assert checked > 60
+
+
+def test_a_polygon_coco_set_reads_back_with_pycocotools(tmp_path):
+    from pycocotools.coco import COCO
+
+    root = generate(DatasetSpec("buoy_field", 2, tmp_path / "s", resolution=(160, 120), splits=(1.0, 0.0, 0.0),
+                                min_visible_pixels=4, coco_segmentation="polygon"))  # fmt: skip
+    coco = COCO(str(root / "annotations" / "train.json"))
+    anns = coco.loadAnns(coco.getAnnIds())
+    assert len(anns) >= 2 and all(isinstance(a["segmentation"], list) for a in anns)
+    for ann in anns:
+        info = coco.loadImgs(ann["image_id"])[0]
+        inst = np.array(Image.open(root / "masks" / "instance" / info["file_name"]))
+        assert np.array_equal(inst == ann["instance"], coco.annToMask(ann).astype(bool))
+        assert int(coco.annToMask(ann).sum()) == ann["area"]
+    assert json.loads((root / "dataset.json").read_text())["coco_segmentation"] == "polygon"
+    result = CliRunner().invoke(app, ["dataset", "buoy_field", "--out", str(tmp_path / "z"), "--coco-segmentation", "poly"])
+    assert result.exit_code == 2 and "--coco-segmentation: 'poly' is not one of rle, compressed_rle, polygon" in result.output

@@ -36,6 +36,10 @@ def dataset_command(
     renderer: Annotated[
         str | None, typer.Option(help="shader (the marine look: sky, waves, fog) or mujoco; default: the scenario's")
     ] = None,
+    coco_segmentation: Annotated[
+        str, typer.Option(help="COCO segmentation: rle (uncompressed), compressed_rle or polygon (Detectron2's "
+                               "default, Ultralytics' converter); all exact")
+    ] = "rle",
     force: Annotated[
         bool, typer.Option("--force", help="replace the data set already in --out (its files only)")
     ] = False,
@@ -74,7 +78,8 @@ def dataset_command(
     folder = Path(out)
     try:
         spec = DatasetSpec(scenario, frames, folder, tuple(f.strip() for f in format.split(",")), seed, randomize,
-                           size, fractions, min_visible_pixels, min_visible_fraction, renderer=renderer)  # fmt: skip
+                           size, fractions, min_visible_pixels, min_visible_fraction, renderer=renderer,
+                           coco_segmentation=coco_segmentation)  # fmt: skip
         load_scenario(scenario), load_randomization(randomize)  # bad input fails before the folder is made
         columns = (TextColumn("dataset"), BarColumn(), MofNCompleteColumn(), TimeRemainingColumn())
         written = [0]

@@ -42,7 +42,7 @@ from usvsim.datasets.randomization import (
     nested,
     support_ends,
 )
-from usvsim.datasets.writers import FORMATS, SPLITS, DatasetWriter, WriteError
+from usvsim.datasets.writers import COCO_SEGMENTATIONS, FORMATS, SPLITS, DatasetWriter, WriteError
 from usvsim.sensors.base import OPTICAL_ROT
 from usvsim.sensors.camera.clip import camera_planes
 from usvsim.sensors.camera.sensor import Camera
@@ -71,6 +71,7 @@ class DatasetSpec:
     horizontal_fov_deg: float | None = None  # for every camera; None: the scenario's
     amodal_masks: bool = True  # visible_fraction from amodal masks (extra passes); False: box area ratio
     renderer: str | None = None  # "shader" (the marine look) or "mujoco" for every camera; None: the scenario's
+    coco_segmentation: str = "rle"  # COCO `segmentation`: "rle" (uncompressed), "compressed_rle" or "polygon"
 
     def __post_init__(self):
         if isinstance(self.formats, str):  # "yolo,coco" was taken letter by letter
@@ -100,6 +101,9 @@ class DatasetSpec:
             object.__setattr__(self, "resolution", (int(self.resolution[0]), int(self.resolution[1])))
         if not 0.0 <= self.min_visible_fraction <= 1.0:  # NaN fails too
             raise UsvsimError(f"--min-visible-fraction must be in [0, 1], got {self.min_visible_fraction}")
+        if self.coco_segmentation not in COCO_SEGMENTATIONS:
+            raise UsvsimError(f"--coco-segmentation: {self.coco_segmentation!r} is not one of "
+                              f"{', '.join(COCO_SEGMENTATIONS)}")  # fmt: skip
         if self.renderer not in (None, "shader", "mujoco"):
             raise UsvsimError(f"--renderer: {self.renderer!r} is not one of shader, mujoco")
         if self.min_visible_pixels < 0:
@@ -224,7 +228,7 @@ class DatasetGenerator:
             self.looks.append(LookAdapter(self.sim.world, cam.renderer, cam.intrinsics))
             self.amodals.append(AmodalCounter(self.sim.model, mine, self.labellers[-1].owner))
             self.fogs.append(FogSight(cam.intrinsics))
-        self.writer = DatasetWriter(spec.out, spec.formats)
+        self.writer = DatasetWriter(spec.out, spec.formats, spec.coco_segmentation)
         self.frames_written = 0
 
     def run(self, progress: Callable[[int], None] | None = None, stop: Callable[[], str | None] | None = None) -> Path:

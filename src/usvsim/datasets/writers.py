@@ -5,7 +5,8 @@ Layout under the output folder (`<split>`: train, val, test; `<stem>`: frame num
   labels/<split>/<stem>.txt              YOLO: `class cx cy w h` per object, normalized to 0–1 (visible box)
   masks/instance/<split>/<stem>.png      uint16: object index + 1 (0: none); ids as in the COCO file
   masks/semantic/<split>/<stem>.png      uint8: class id (classes.json)
-  annotations/<split>.json               COCO: bbox = visible box, segmentation = uncompressed RLE,
+  annotations/<split>.json               COCO: bbox = visible box, segmentation = RLE (uncompressed, or
+                                         compressed) or polygons (`COCO_SEGMENTATIONS`), all exact,
                                          plus amodal_bbox, visible_fraction, truncated, object name,
                                          fog_transmittance (datasets/fog_sight.py)
   meta/<stem>.json                       everything needed to re-render the frame (look, poses, qpos, time)
@@ -29,6 +30,7 @@ from usvsim.core.errors import UsvsimError
 from usvsim.datasets.labels import CLASSES, DETECTABLE, GROUPS, ObjectLabel
 
 FORMATS = ("yolo", "coco", "masks")
+COCO_SEGMENTATIONS = ("rle", "compressed_rle", "polygon")  # how COCO `segmentation` is written; see coco_segmentation
 SPLITS = ("train", "val", "test")
 
 
@@ -151,13 +153,63 @@ def rle(flat: np.ndarray, shape, start: int = 0) -> dict:
     return {"size": [int(shape[0]), int(shape[1])], "counts": counts}
 
 
+def rle_string(counts: list[int]) -> str:
+    """COCO's compressed RLE `counts` string of run lengths (pycocotools' rleToString: each count, minus the one
+    two before it from the third on, in 5-bit groups with a continuation bit, offset by 48)."""
+    out = []
+    for i, count in enumerate(counts):
+        x, more = count - counts[i - 2] if i > 2 else count, True
+        while more:
+            c = x & 0x1F
+            x >>= 5
+            more = x != -1 if c & 0x10 else x != 0
+            out.append(chr((c | 0x20 if more else c) + 48))
+    return "".join(out)
+
+
+def polygons(mask: np.ndarray, x0: int, y0: int) -> list[list[float]]:
+    """COCO polygons (pixel-edge coordinates, [x1, y1, x2, y2, ...]) of a boolean mask whose top-left pixel is
+    (x0, y0): one polygon per connected part, its holes joined to its outline by a bridge walked there and back
+    (COCO polygons have no holes; the bridge adds nothing under an even-odd fill). The outlines run through the
+    centres of the pixels of the mask drawn at twice the resolution, a quarter pixel inside the edges:
+    pycocotools draws exactly the mask back from them (tests/datasets/test_dataset.py)."""
+    import cv2
+
+    big = np.pad(np.repeat(np.repeat(mask.astype(np.uint8), 2, axis=0), 2, axis=1), 1)
+    contours, hierarchy = cv2.findContours(big, cv2.RETR_CCOMP, cv2.CHAIN_APPROX_SIMPLE)
+    rings = [(c.reshape(-1, 2) - 0.5) / 2.0 + (x0, y0) for c in contours]  # the padding's pixel, then half pixels
+    out: list[list[float]] = []
+    links: list[list[int]] = [[int(v) for v in row] for row in np.asarray(hierarchy).reshape(-1, 4)] if (
+        hierarchy is not None) else []  # per ring: next, previous, first child, parent  # fmt: skip
+    for i, (_, _, child, parent) in enumerate(links):
+        if parent >= 0:
+            continue
+        path, start = [rings[i], rings[i][:1]], rings[i][:1]
+        while child >= 0:
+            path += [rings[child], rings[child][:1], start]
+            child = links[child][0]
+        out.append([round(float(v), 2) for v in np.concatenate(path).ravel()])
+    return out
+
+
+def coco_segmentation(kind: str, instance: np.ndarray, lab: ObjectLabel, shape) -> dict | list:
+    """An object's COCO `segmentation`: `rle` (uncompressed counts, exact), `compressed_rle` (pycocotools'
+    string form, exact, smaller) or `polygon` (exact through pycocotools; what Detectron2's default polygon
+    masks and Ultralytics' COCO converter read). Computed over the object's box only."""
+    x0, y0, x1, y1 = (int(v) for v in lab.visible_box)
+    if kind == "polygon":
+        return polygons(instance[y0:y1, x0:x1] == lab.instance, x0, y0)
+    counts = rle(instance[:, x0:x1].T.ravel() == lab.instance, shape, x0 * shape[0])
+    return counts if kind == "rle" else {**counts, "counts": rle_string(counts["counts"])}
+
+
 def _round(box) -> list[float]:
     return [round(float(v), 3) for v in box]
 
 
 class DatasetWriter:
-    def __init__(self, out: Path, formats: tuple[str, ...]):
-        self.out, self.formats = Path(out), formats
+    def __init__(self, out: Path, formats: tuple[str, ...], segmentation: str = "rle"):
+        self.out, self.formats, self.segmentation = Path(out), formats, segmentation
         self.coco: dict[str, dict] = {s: {"images": [], "annotations": []} for s in SPLITS}
         self.next_ann = 1
 
@@ -181,20 +233,18 @@ class DatasetWriter:
 
     def coco_records(self, split: str, stem: str, image_id: int, shape, instance, labels: list[ObjectLabel]):
         """COCO image record and annotations of one frame, without annotation ids (thread-safe; hand them to
-        add_coco in frame order). Each RLE is computed over the columns of the object's box only."""
+        add_coco in frame order). Each segmentation is computed over the object's box only."""
         if "coco" not in self.formats:
             return None
-        h = shape[0]
         image = {"id": image_id, "file_name": f"{split}/{stem}.png", "height": shape[0], "width": shape[1]}
         anns = []
         for lab in labels:
             x0, y0, x1, y1 = lab.visible_box
             ax0, ay0, ax1, ay1 = lab.amodal_box
-            cols = instance[:, int(x0) : int(x1)].T.ravel() == lab.instance
             anns.append({
                 "image_id": image_id, "category_id": CLASSES.index(lab.category),
                 "bbox": _round([x0, y0, x1 - x0, y1 - y0]), "area": lab.visible_pixels, "iscrowd": 0,
-                "segmentation": rle(cols, shape, int(x0) * h), "amodal_bbox": _round([ax0, ay0, ax1 - ax0, ay1 - ay0]),
+                "segmentation": coco_segmentation(self.segmentation, instance, lab, shape), "amodal_bbox": _round([ax0, ay0, ax1 - ax0, ay1 - ay0]),
                 "visible_fraction": round(lab.visible_fraction, 4), "truncated": lab.truncated, "object": lab.name,
                 "instance": lab.instance, "fog_transmittance": round(lab.fog_transmittance, 4)})  # fmt: skip
         return split, image, anns
