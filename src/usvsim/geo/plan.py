@@ -14,26 +14,40 @@ from usvsim.world.obstacles import static_parts
 LAND, WATER, STRUCTURE = "#8a9a6b", "#d8e8f0", "#9a9a96"
 
 
-def draw_plan(sim, path, size_in: float = 9.0, dpi: int = 110, marks=()) -> None:
+DEFAULT_CONTOURS_M = (1, 2, 5, 10, 20, 50, 100, 200)
+
+
+def draw_plan(sim, path, size_in: float = 9.0, dpi: int = 110, marks=(), contours_m=None, graticule: bool = True,
+              tracks=()) -> list[str]:  # fmt: skip
     """Write the plan view of a built simulation (its scenario and place) to a PNG file; `marks` are a task's
     targets (`Task.plan_marks`: x, y m ENU, heading rad or None, label), drawn as labelled markers (a triangle
-    pointing along the heading where there is one)."""
+    pointing along the heading where there is one). `contours_m`: depth contour levels (m; None: the default
+    levels within the place's depths); `graticule`: parallels and meridians labelled in degrees and minutes;
+    `tracks`: recorded tracks (geo/track.py) drawn as lines. Returns notes for the user (levels no water reaches)."""
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
+    from usvsim.geo.graticule import draw_graticule
+    from usvsim.geo.resolve import frame_of
+
     fig, ax = plt.subplots(figsize=(size_in, size_in), dpi=dpi)
     ax.set_facecolor(WATER)
-    place, scenario = sim.place, sim.scenario
+    place, scenario, notes = sim.place, sim.scenario, []
     if place is not None:
-        _draw_place(ax, place)
+        notes += _draw_place(ax, place, contours_m)
     _draw_objects(ax, scenario, sim)
     _draw_traffic(ax, scenario)
     _draw_marks(ax, marks)
+    _draw_tracks(ax, tracks)
     if place is None:
         ax.margins(0.12)
     ax.autoscale_view()
+    ax.set_aspect("equal")
+    if graticule:
+        ax.apply_aspect()  # the view as drawn, before the graticule is fitted to it
+        draw_graticule(ax, frame_of(scenario))
     span = max(np.ptp(ax.get_xlim()), np.ptp(ax.get_ylim()))
     for name, boat in sim.vessels.items():
         x, y, _ = boat.position
@@ -45,12 +59,12 @@ def draw_plan(sim, path, size_in: float = 9.0, dpi: int = 110, marks=()) -> None
     o = scenario.world.origin
     ax.set_title(f"{scenario.name}: origin {latlon_text(o.latitude_deg, o.longitude_deg)} (x east, y north, m)",
                  fontsize=9)  # fmt: skip
-    ax.set_aspect("equal")
     ax.set_xlabel("x (m, east)")
     ax.set_ylabel("y (m, north)")
     fig.tight_layout()
     fig.savefig(path)
     plt.close(fig)
+    return notes
 
 
 def latlon_text(lat_deg: float, lon_deg: float) -> str:
@@ -58,16 +72,20 @@ def latlon_text(lat_deg: float, lon_deg: float) -> str:
     return f"{abs(lat_deg):.5f}° {'S' if lat_deg < 0 else 'N'}, {abs(lon_deg):.5f}° {'W' if lon_deg < 0 else 'E'}"
 
 
-def _draw_place(ax, place) -> None:
+def _draw_place(ax, place, contours_m=None) -> list[str]:
     t = place.terrain
     e = place.settings.extent_m
     step = max(1, len(t.xs) // 400)
     z = t.z[::step, ::step]
     depth = np.where(z < 0, -z, np.nan)
-    if np.nanmax(depth) > np.nanmin(depth):
-        levels = [d for d in (1, 2, 5, 10, 20, 50, 100, 200) if np.nanmin(depth) < d < np.nanmax(depth)]
+    low, high = (np.nanmin(depth), np.nanmax(depth)) if np.isfinite(depth).any() else (0.0, 0.0)
+    levels = [d for d in (DEFAULT_CONTOURS_M if contours_m is None else contours_m) if low < d < high]
+    if levels:
         cs = ax.contour(t.xs[::step], t.ys[::step], depth, levels=levels, colors="#4a7fa0", linewidths=0.6)
         ax.clabel(cs, fmt="%g m", fontsize=7)
+    missed = [d for d in contours_m or () if d not in levels]
+    notes = [f"--contours: no contour at {', '.join(f'{d:g}' for d in missed)} m: the place's water is {low:.3g} to "
+             f"{high:.3g} m deep"] if missed else []  # fmt: skip
     for polygon in place.land_polygons:
         ax.fill(*np.asarray(polygon.exterior.coords).T, color=LAND, lw=0, zorder=2)
         for hole in polygon.interiors:
@@ -84,6 +102,7 @@ def _draw_place(ax, place) -> None:
                 ax.plot(*np.asarray(part.exterior.coords).T, color="#202020", lw=1.2, zorder=5)
     ax.set_xlim(-e, e)
     ax.set_ylim(-e, e)
+    return notes
 
 
 def _draw_objects(ax, scenario, sim) -> None:
@@ -125,6 +144,15 @@ def _draw_traffic(ax, scenario) -> None:
 
 
 GOAL = "#e07b00"
+TRACK = "#c2185b"
+
+
+def _draw_tracks(ax, tracks) -> None:
+    """Recorded tracks (geo/track.py): a line per vessel and episode, a dot where it starts."""
+    for track in tracks:
+        xy = np.asarray(track.xy)
+        ax.plot(xy[:, 0], xy[:, 1], "-", color=TRACK, lw=1.4, zorder=6, gid="track")
+        ax.plot(xy[:1, 0], xy[:1, 1], "o", color=TRACK, ms=3, zorder=6)
 
 
 def _draw_marks(ax, marks) -> None:
