@@ -174,3 +174,29 @@ def test_track_mistakes_are_one_line(tmp_path, place, monkeypatch, extra, words)
     _place_scenario(tmp_path, place)
     result = CliRunner().invoke(app, ["map", "s.yaml", "--out", "m.png", *extra])
     assert result.exit_code == 2 and words in result.output and "Traceback" not in result.output
+
+
+def test_tracks_split_at_resets_and_notes_name_a_missing_tf_static_or_another_scenario(tmp_path):
+    from usvsim.simulation import Simulation
+
+    sim = Simulation.from_scenario("harbor")
+    boat = sim.vessels["wamv"]
+    with sim.record(tmp_path / "two.mcap"):
+        boat.command(0.5)
+        sim.run(seconds=1.0)
+        sim.reset(seed=3)
+        sim.run(seconds=0.5)
+    with sim.record(tmp_path / "odom_only.mcap", topics=["/wamv/ground_truth/odometry"]):
+        sim.run(seconds=0.5)
+    sim.close()
+    args = ["map", "harbor", "--out", str(tmp_path / "m.png"), "--track"]
+    result = CliRunner().invoke(app, [*args, str(tmp_path / "two.mcap"), "--track-out", str(tmp_path / "t.geojson")])
+    assert result.exit_code == 0 and "note" not in result.output, result.output
+    features = json.loads((tmp_path / "t.geojson").read_text())["features"]
+    assert [(f["properties"]["vessel"], f["properties"]["episode"]) for f in features] == [
+        ("wamv", 0), ("otter", 0), ("wamv", 1), ("otter", 1)]  # fmt: skip
+    assert [len(f["geometry"]["coordinates"]) for f in features] == [51, 51, 26, 26]
+    result = CliRunner().invoke(app, [*args, str(tmp_path / "odom_only.mcap")])
+    assert result.exit_code == 0 and "has no /tf_static world → wamv/odom; wamv's track starts at the scenario's" in result.output
+    result = CliRunner().invoke(app, [*args[:1], "harbor_geo", *args[2:], str(tmp_path / "two.mcap")])
+    assert result.exit_code == 0 and "wamv starts elsewhere in" in result.output and "another scenario" in result.output

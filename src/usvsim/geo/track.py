@@ -49,20 +49,23 @@ def read_tracks(path: Path, start_poses: dict[str, tuple[np.ndarray, np.ndarray]
     odometry = {f"/{v}/ground_truth/odometry": v for v in start_poses}
     origins: dict[str, tuple[np.ndarray, np.ndarray]] = {}
     tracks: dict[tuple[str, int], Track] = {}
-    fell_back, episode, store = set(), 0, typestore()
+    fell_back, moved, episode, store = set(), {}, 0, typestore()
     try:
         with path.open("rb") as f:
             for schema, channel, message in make_reader(f).iter_messages(topics=[EPISODE_TOPIC, "/tf_static", *odometry]):
+                msg = store.deserialize_cdr(message.data, schema.name if schema else "")  # usvsim writes every schema
                 if channel.topic == EPISODE_TOPIC:
-                    episode, origins = json.loads(store.deserialize_cdr(message.data, schema.name).data)["episode"], {}
+                    episode, origins = json.loads(msg.data)["episode"], {}
                 elif channel.topic == "/tf_static":
-                    origins |= _odom_origins(store.deserialize_cdr(message.data, schema.name), start_poses)
+                    found = _odom_origins(msg, start_poses)
+                    moved |= {v: p[0] for v, p in found.items() if not _same_pose(p, start_poses[v])}
+                    origins |= found
                 else:
                     vessel = odometry[channel.topic]
                     if vessel not in origins:
                         origins[vessel] = start_poses[vessel]
                         fell_back.add(vessel)
-                    _append(tracks, vessel, episode, origins[vessel], store.deserialize_cdr(message.data, schema.name))
+                    _append(tracks, vessel, episode, origins[vessel], msg)
     except UsvsimError:
         raise
     except Exception as exc:  # mcap's errors for a file that is no MCAP or is cut short
@@ -73,7 +76,16 @@ def read_tracks(path: Path, start_poses: dict[str, tuple[np.ndarray, np.ndarray]
                           "whose topics filter left the ground-truth odometry out)")  # fmt: skip
     notes = [f"--track: {path} has no /tf_static world → {v}/odom; {v}'s track starts at the scenario's start pose"
              for v in sorted(fell_back)]  # fmt: skip
+    notes += [f"--track: {v} starts elsewhere in {path} (at {p[0]:.1f}, {p[1]:.1f} m) than in the scenario (at "
+              f"{start_poses[v][0][0]:.1f}, {start_poses[v][0][1]:.1f} m, or turned by more than 5°): a recording of "
+              "another scenario or task seed?" for v, p in sorted(moved.items())]  # fmt: skip
     return list(tracks.values()), notes
+
+
+def _same_pose(a, b) -> bool:
+    """Within 1 m and 5° (a recording of the scenario: its odom frames are the scenario's start poses)."""
+    turn = 2.0 * math.degrees(math.acos(min(1.0, abs(float(np.dot(a[1], b[1]))))))
+    return bool(np.hypot(*(a[0] - b[0])[:2]) <= 1.0 and turn <= 5.0)
 
 
 def _odom_origins(msg, vessels) -> dict[str, tuple[np.ndarray, np.ndarray]]:
