@@ -472,6 +472,17 @@ def test_a_scene_draw_out_of_bounds_stops_the_run_naming_it(tmp_path):
         generate(DatasetSpec("buoy_field", 3, tmp_path / "set", randomize=str(tmp_path / "r.yaml"), resolution=(64, 48)))
 
 
+def test_an_environment_range_reaching_past_a_bound_is_refused_whatever_the_seed(tmp_path):
+    """`wind.speed_mps: {uniform: [-5, 3]}` ran with seeds 4 and 5 (their draws were positive) and stopped with
+    seeds 1-3: every end of an environment range is checked now, as the look's are (qa20)."""
+    (tmp_path / "r.yaml").write_text("version: 1\nenvironment:\n  wind.speed_mps: {uniform: [-5, 3]}\n")
+    for seed, words in ((1, "the drawn values make"), (4, r"wind.speed_mps: -5.0 \(an end of its range\) makes")):
+        with pytest.raises(UsvsimError, match=rf"environment: {words} the scenario's environment.wind.speed_mps invalid"):
+            generate(DatasetSpec("buoy_field", 1, tmp_path / "s", seed=seed, randomize=str(tmp_path / "r.yaml"),
+                                 resolution=(64, 48)))  # fmt: skip
+        assert not (tmp_path / "s").exists()
+
+
 def test_generate_refuses_a_folder_holding_a_set_unless_forced(tmp_path):
     """generate() wrote a 2-frame set over a 4-frame one without a word: frames 2 and 3 stayed in images/ and
     labels/ beside annotations listing 2 images (QA; the CLI refused, and the detection-robustness experiment,

@@ -110,8 +110,9 @@ class DatasetSpec:
             raise UsvsimError(f"--min-visible-pixels must be >= 0, got {self.min_visible_pixels}")
 
 
-def _scenario(spec: DatasetSpec, environment: dict):
-    """The scenario with the drawn environment merged in, sensors removed; and its camera configs."""
+def _scenario(spec: DatasetSpec, environment: dict, drawn: str = "the drawn values make"):
+    """The scenario with the drawn environment merged in, sensors removed; and its camera configs. `drawn` names
+    the environment values in an error they cause."""
     text, base = resolve(spec.scenario)
     data = yaml.safe_load(text)
     env = data.setdefault("environment", {})
@@ -139,7 +140,7 @@ def _scenario(spec: DatasetSpec, environment: dict):
         return parse_scenario(data, spec.scenario, base), cameras
     except ScenarioError as exc:  # blamed the scenario file for a key the randomization's environment set
         if environment and exc.key_path.startswith("environment"):
-            raise UsvsimError(f"randomization {spec.randomize}: environment: the drawn values make the scenario's "
+            raise UsvsimError(f"randomization {spec.randomize}: environment: {drawn} the scenario's "
                               f"{exc.key_path} invalid: {exc.message}") from None  # fmt: skip
         raise
 
@@ -207,6 +208,10 @@ class DatasetGenerator:
         self.rng = np.random.default_rng(spec.seed)
         self.environment = draw_all(self.rnd.environment, self.rng) if environment is None else environment
         scenario, camera_cfgs = _scenario(spec, self.environment)
+        if environment is None:  # every end of a range too: whether a run started depended on its seed (qa20)
+            for key, value in self.rnd.environment.items():
+                for end in support_ends(value):
+                    _scenario(spec, {**self.environment, key: end}, f"{key}: {end!r} (an end of its range) makes")
         # a wrong key path in `look`, or a range reaching past a key's bounds, fails here, before any frame
         for key, value in self.rnd.look.items():
             for end in support_ends(value):
