@@ -69,7 +69,7 @@ class Simulation:
         self._reset_seeds = "next"
         self.episode = 0  # index of the current episode: 0 at construction, +1 at every reset
         self._subscribers: list[Callable[[Envelope], None]] = []
-        self._announced = False  # the episode marker, /tf_static and the t = 0 messages go before the first step
+        self._announced = False  # the latched messages and the t = 0 ones go before the first step (_announce)
         self._closed = False
 
     @classmethod
@@ -235,9 +235,9 @@ class Simulation:
             self._emit(list(envelopes))
 
     def _announce(self) -> None:
-        """The episode marker, /tf_static and the t = 0 messages, once per episode before anything else. A first
-        subscriber after steps without one gets the latched messages only (the t = 0 ones were then the current
-        state stamped 0, and /clock went back to 0 before jumping ahead)."""
+        """The latched messages (episode marker, /tf_static, scene markers) and the t = 0 ones, once per episode
+        before anything else. A first subscriber after steps without one gets the latched messages only (the t = 0
+        ones were then the current state stamped 0, and /clock went back to 0 before jumping ahead)."""
         if not self._announced and self._subscribers:
             self._announced = True
             clock = self.world.clock
@@ -264,8 +264,8 @@ class Simulation:
         matched no message is a warning at exit); `topics` and `compression` default to the scenario's
         `outputs.recording` (all topics, zstd). Log times are `epoch_ns` + simulation time (default: the wall
         clock at the start; 0 or a fixed epoch for byte-identical files; see io/mcap_recorder.py). Started after
-        the first step, it first writes the latched messages (episode marker, /tf_static). Yields the
-        `McapRecorder`; the file is complete at exit."""
+        the first step, it first writes the latched messages (episode marker, /tf_static, scene markers). Yields
+        the `McapRecorder`; the file is complete at exit."""
         import warnings
 
         from usvsim.io.mcap_recorder import McapRecorder
