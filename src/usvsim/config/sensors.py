@@ -113,20 +113,45 @@ class Imu(SensorBase):
 
 
 class Odometry(SensorBase):
-    """nav_msgs/Odometry of base_link in `<vessel>/odom` with Gaussian noise and its covariance."""
+    """nav_msgs/Odometry of base_link in `<vessel>/odom` with noise and its covariance.
+
+    `mode: noise` (default): the pose is the true pose plus white noise (`position_stddev_m`,
+    `orientation_stddev_rad`), the twist the true twist plus white noise. `mode: dead_reckoning`: the pose is
+    integrated from the measured motion, as a DVL, wheel or visual odometry's is, so its error grows without bound:
+    each sample adds the true displacement since the last one, measured in the body frame (times 1 +
+    `velocity_scale_error`) and turned by the odometry's own heading, plus the twist's velocity noise over the
+    sample period; the heading integrates the yaw-rate error (`yaw_rate_bias_radps` plus the twist's z rate
+    noise); roll and pitch are true (as from an AHRS). The pose covariance grows with the integrated white noise."""
 
     type: Literal["odometry"]
     rate_hz: PositiveFloat = 50.0
-    position_stddev_m: NonNegativeFloat = 0.0
-    orientation_stddev_rad: NonNegativeFloat = 0.0
-    linear_velocity_stddev_mps: NonNegativeFloat = 0.0
-    angular_velocity_stddev_radps: NonNegativeFloat = 0.0
+    mode: Literal["noise", "dead_reckoning"] = "noise"
+    position_stddev_m: NonNegativeFloat = Field(default=0.0, description="mode noise: white noise per axis, m")
+    orientation_stddev_rad: NonNegativeFloat = Field(default=0.0, description="mode noise: white noise per axis, rad")
+    linear_velocity_stddev_mps: NonNegativeFloat = Field(
+        default=0.0, description="white noise per axis of the reported linear velocity, m/s (dead_reckoning "
+        "integrates it)")  # fmt: skip
+    angular_velocity_stddev_radps: NonNegativeFloat = Field(
+        default=0.0, description="white noise per axis of the reported angular velocity, rad/s (dead_reckoning "
+        "integrates its z part into the heading)")  # fmt: skip
+    velocity_scale_error: float = Field(
+        default=0.0, ge=-0.5, le=0.5, description="dead_reckoning: the fraction by which distances over-read (0.01: "
+        "1 %; a DVL's or wheel's calibration error)")  # fmt: skip
+    yaw_rate_bias_radps: float = Field(default=0.0, ge=-0.1, le=0.1, description="dead_reckoning: constant yaw-rate "
+                                       "error integrated into the heading, rad/s")  # fmt: skip
 
     @model_validator(mode="after")
     def _no_mount(self):
         if "mount" in self.model_fields_set and self.mount != Mount():
             raise ValueError("odometry reports base_link in <vessel>/odom: a mount does not apply (remove it; a "
                              "ground_truth sensor reports a mounted frame)")  # fmt: skip
+        if self.mode == "dead_reckoning" and (self.position_stddev_m or self.orientation_stddev_rad):
+            key = "position_stddev_m" if self.position_stddev_m else "orientation_stddev_rad"
+            raise KeyedValueError(key, f"{key} is for mode: noise; a dead-reckoning pose drifts from its integrated "
+                                  "twist noise, velocity_scale_error and yaw_rate_bias_radps")  # fmt: skip
+        if self.mode == "noise" and (self.velocity_scale_error or self.yaw_rate_bias_radps):
+            key = "velocity_scale_error" if self.velocity_scale_error else "yaw_rate_bias_radps"
+            raise KeyedValueError(key, f"{key} is for mode: dead_reckoning (a noise-mode pose does not drift)")
         return self
 
 

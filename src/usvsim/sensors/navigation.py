@@ -2,7 +2,7 @@
 
 - `Odometry`: nav_msgs/Odometry of `<vessel>/base_link` in `<vessel>/odom` (the vessel's initial pose,
   the same frame `GroundTruth` publishes as `world → <vessel>/odom`), twist in base_link, Gaussian noise
-  with its covariance filled in (6x6 over x, y, z, rotX, rotY, rotZ).
+  with its covariance filled in (6x6 over x, y, z, rotX, rotY, rotZ); or a dead-reckoned pose that drifts.
 - `Gnss`: sensor_msgs/NavSatFix of the antenna (mount point) from ENU through the scenario's geodetic
   origin (pymap3d, WGS-84; altitude = the origin's + world z, the sea being level), with a Gauss–Markov position error (white when the correlation time is 0); optional ENU velocity (TwistWithCovarianceStamped, frame `world`) on the sibling topic `.../vel`.
 - `GroundTruthPose`: exact nav_msgs/Odometry of the sensor frame in `world`, twist in the sensor frame.
@@ -52,15 +52,25 @@ class Odometry(Sensor):
     def reset(self, sim: World) -> None:
         super().reset(sim)
         self.origin_pos, self.origin_quat = sim.odom_origin[self.vessel]
+        self.period_s = self.every * sim.clock.dt
+        # dead reckoning: the true position in odom at the last sample, the estimate, its heading error (rad), the
+        # white-noise variances integrated so far (position per axis m², heading rad²) and the teleport count
+        pos, _ = self._true_pose(sim)
+        self.dead_reckoning = [pos, pos.copy(), 0.0, 0.0, 0.0, int(sim.body_teleports[self.body])]
 
     def static_transforms(self) -> list:
         return []  # odometry refers to base_link itself; GroundTruth owns world → odom and odom → base_link
 
+    def _true_pose(self, sim: World) -> tuple[np.ndarray, np.ndarray]:
+        v, inv = sim.vessels[self.vessel], quat_conjugate(self.origin_quat)
+        return matrix_from_quat(inv) @ (v.position - self.origin_pos), quat_multiply(inv, v.quat)
+
     def sample(self, sim: World, stamp_ns: int) -> list[Envelope]:
         c, v = self.cfg, sim.vessels[self.vessel]
-        inv = quat_conjugate(self.origin_quat)
-        pos = matrix_from_quat(inv) @ (v.position - self.origin_pos) + gaussian(self.rng, c.position_stddev_m)
-        quat = quat_multiply(inv, v.quat)
+        if c.mode == "dead_reckoning":
+            return self._dead_reckoning(sim, stamp_ns)
+        pos, quat = self._true_pose(sim)
+        pos = pos + gaussian(self.rng, c.position_stddev_m)
         if c.orientation_stddev_rad > 0:
             quat = quat_multiply(quat, quat_from_rpy(*self.rng.normal(0.0, c.orientation_stddev_rad, 3)))
         lin = v.velocity_body + gaussian(self.rng, c.linear_velocity_stddev_mps)
@@ -68,6 +78,37 @@ class Odometry(Sensor):
         pose_cov = _cov6(c.position_stddev_m**2, c.orientation_stddev_rad**2)
         twist_cov = _cov6(c.linear_velocity_stddev_mps**2, c.angular_velocity_stddev_radps**2)
         msg = ros.odometry_msg(stamp_ns, self.odom_frame, self.child_frame, pos, quat, lin, ang, pose_cov, twist_cov)
+        return [Envelope(self.topic, stamp_ns, msg)]
+
+    def _dead_reckoning(self, sim: World, stamp_ns: int) -> list[Envelope]:
+        """The pose integrated from the measured motion (config/sensors.py `Odometry`): the true displacement since
+        the last sample in the odometry's heading, scaled, plus the velocity noise over the period; the heading
+        error grows by the yaw-rate error. A teleport moves the estimate with the boat (its error kept)."""
+        c, v, dt = self.cfg, sim.vessels[self.vessel], self.period_s
+        pos, quat = self._true_pose(sim)
+        lin_noise = gaussian(self.rng, c.linear_velocity_stddev_mps)
+        ang_noise = gaussian(self.rng, c.angular_velocity_stddev_radps)
+        last, est, dpsi, var_pos, var_yaw, teleports = self.dead_reckoning
+        step = pos - last
+        if sim.body_teleports[self.body] != teleports:  # not sailed: no measurement error
+            est = est + step
+        else:
+            cos_e, sin_e = math.cos(dpsi), math.sin(dpsi)
+            step = step * (1.0 + c.velocity_scale_error)
+            turned = np.array([cos_e * step[0] - sin_e * step[1], sin_e * step[0] + cos_e * step[1], step[2]])
+            est_quat = quat_multiply(quat_from_rpy(0.0, 0.0, dpsi), quat)
+            est = est + turned + matrix_from_quat(est_quat) @ lin_noise * dt
+            dpsi += (c.yaw_rate_bias_radps + ang_noise[2]) * dt
+            var_pos += (c.linear_velocity_stddev_mps * dt) ** 2
+            var_yaw += (c.angular_velocity_stddev_radps * dt) ** 2
+        self.dead_reckoning = [pos, est, dpsi, var_pos, var_yaw, int(sim.body_teleports[self.body])]
+        est_quat = quat_multiply(quat_from_rpy(0.0, 0.0, dpsi), quat)
+        lin = v.velocity_body * (1.0 + c.velocity_scale_error) + lin_noise
+        ang = v.angular_velocity_body + ang_noise + np.array([0.0, 0.0, c.yaw_rate_bias_radps])
+        pose_cov = np.diag([var_pos] * 3 + [0.0, 0.0, var_yaw])  # the white noise's share (biases are unknown)
+        twist_cov = _cov6(c.linear_velocity_stddev_mps**2, c.angular_velocity_stddev_radps**2)
+        msg = ros.odometry_msg(stamp_ns, self.odom_frame, self.child_frame, est, est_quat, lin, ang, pose_cov,
+                               twist_cov)  # fmt: skip
         return [Envelope(self.topic, stamp_ns, msg)]
 
 
