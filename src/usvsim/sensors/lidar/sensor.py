@@ -137,8 +137,9 @@ class Lidar(Sensor):
         sunk = sunk_hits(sim.ocean, origins, dirs, dist, sim.time)
         dist[sunk], geom[sunk] = np.inf, NO_HIT
         if cfg.water_returns:
-            w_dist, w_cos = surface_hits(sim.ocean, origins, dirs, sim.time)
-            ret = (w_dist < dist) & (w_dist <= p.range_max_m) & (self.rng.random(len(dist)) < w_cos**2)
+            draws = self.rng.random(len(dist))
+            w_dist, w_cos = surface_hits(sim.ocean, origins, dirs, sim.time, p.range_max_m, draws)
+            ret = (w_dist < dist) & (draws < w_cos**2)
             dist[ret], geom[ret], cos_inc[ret] = w_dist[ret], WATER, w_cos[ret]
         drops = self.rng.random(len(dist)) if cfg.dropout > 0 else _NO_DRAWS
         count = kernels.drop_invalid(dist, p.range_min_m, drops, cfg.dropout)  # the cast stops at range_max_m
