@@ -75,7 +75,8 @@ class SensorBase(Section):
 
 # -- navigation ------------------------------------------------------------------------------------
 class AxisNoise(Section):
-    """Gazebo-style noise of one triad (per axis, sensor units): white noise per sample, a turn-on bias
+    """Gazebo-style noise of one triad (per axis, sensor units): white noise per sample (`stddev`; from a data sheet's
+    noise density N per √Hz, `stddev` = N·√rate_hz: docs/sensor-realism.md), a turn-on bias
     drawn once as ±N(bias_mean, bias_stddev), and a first-order Gauss–Markov bias with correlation time
     `dynamic_bias_correlation_time_s` (τ) driven as in gz-sensors: `dynamic_bias_stddev` (σ_b) is the density of its
     driving noise (sensor units per √s), not the bias's own spread, which settles at σ_b·√(τ/2) (VRX's gyro: 2e-5 ·
