@@ -57,6 +57,22 @@ def test_self_return_crop_removes_only_the_own_hull():
     assert (rng(crop) > 6.0).sum() == (rng(full) > 6.0).sum() > 100  # the wall is untouched
 
 
+@pytest.mark.parametrize(("height_m", "range_min_m", "fraction", "farthest_m"),
+                         [(1.2, 0.5, 0.28, 1.9), (1.031, 0.0, 0.57, 0.8), (1.031, 0.5, 0.09, 0.8)])  # fmt: skip
+def test_self_returns_are_the_share_of_the_scan_the_docs_state(height_m, range_min_m, fraction, farthest_m):
+    """docs/sensor-realism.md: the share of an OS1-64's beams that return from the WAM-V itself, and how far."""
+    sim = make_sim()
+    cfg = {"type": "lidar", "preset": "os1_64", "range_stddev_m": 0.0, "range_min_m": range_min_m, "organized": True,
+           "mount": {"position": [0.701, 0.0, height_m]}}  # fmt: skip
+    suite = SensorSuite(sim, {"wamv": sensor_configs({**cfg, "name": "full"}, {**cfg, "name": "crop", "self_returns": False})})
+    sim.step()
+    full, crop = (points_from_cloud(suite[f"wamv/{n}"].sample(sim, 0)[0].msg) for n in ("full", "crop"))
+    own = np.isfinite(full["x"]) & ~np.isfinite(crop["x"])  # nothing else is in range: open water
+    dist = np.sqrt(full["x"][own] ** 2 + full["y"][own] ** 2 + full["z"][own] ** 2)
+    assert own.mean() == pytest.approx(fraction, abs=0.01)
+    assert np.percentile(dist, 99) == pytest.approx(farthest_m, abs=0.1)
+
+
 def test_gnss_gauss_markov_error_has_its_stddev_and_correlation_time(rig):
     tau, rate = 5.0, 10.0
     sim, suite, col = rig({"type": "gnss", "name": "gps", "rate_hz": rate, "horizontal_stddev_m": 1.5,
