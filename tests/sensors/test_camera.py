@@ -285,3 +285,33 @@ def test_plain_look_cameras_are_lit_by_the_sun_and_cast_shadows():
         np.testing.assert_allclose(head.dir, (rot @ OPTICAL_ROT)[:, 2], atol=1e-6)
     finally:
         suite.close()
+
+
+def test_segmentation_ids_are_named_in_a_label_info_a_ros_reader_decodes(scene, tmp_path):
+    """With every segmentation image, `segmentation/label_info` (vision_msgs/LabelInfo, same stamp and frame) maps
+    each pixel value to "<class>:<object>", as `segmentation_ids` does in Python; read back from an MCAP by the
+    independent mcap + mcap-ros2 reader (the ids were opaque geom numbers to every ROS or bag user)."""
+    from mcap.reader import make_reader
+    from mcap_ros2.decoder import DecoderFactory
+
+    from usvsim.io.mcap_recorder import McapRecorder
+
+    sim, suite = scene
+    cam = suite["wamv/pin"]
+    path = tmp_path / "labels.mcap"
+    with McapRecorder(path) as rec:
+        for env in cam.sample(sim, sim.clock_ns):
+            env.publish_ns = sim.clock_ns
+            rec.write(env)
+    with path.open("rb") as f:
+        got = {ch.topic: (schema.name, msg) for schema, ch, _, msg in
+               make_reader(f, decoder_factories=[DecoderFactory()]).iter_decoded_messages()}  # fmt: skip
+    schema, info = got["/wamv/pin/segmentation/label_info"]
+    seg = got["/wamv/pin/segmentation/image_raw"][1]
+    assert schema == "vision_msgs/msg/LabelInfo" and info.header.frame_id == seg.header.frame_id == "wamv/pin_optical"
+    assert (info.header.stamp.sec, info.header.stamp.nanosec) == (seg.header.stamp.sec, seg.header.stamp.nanosec)
+    names = {c.class_id: c.class_name for c in info.class_map}
+    assert names == {k: f"{cls}:{name}" for k, (name, cls) in cam.segmentation_ids.items()}
+    pixels = set(np.unique(np.frombuffer(bytes(seg.data), np.uint16)).tolist()) - {0}
+    assert pixels and pixels <= set(names)  # every labelled pixel is named
+    assert names[_box_geom(sim)] == "box:crate" and "vessel:wamv" in names.values()

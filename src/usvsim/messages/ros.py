@@ -6,7 +6,7 @@ Conventions (see docs in `design.md`):
 - `nav_msgs/Odometry` twist is expressed in the child frame (REP 105), the pose in the parent frame.
 
 All builders are pure functions; the only shared object is the typestore, built once per process on
-first use and never mutated afterwards. The Jazzy store lacks vision_msgs, so its ten message types
+first use and never mutated afterwards. The Jazzy store lacks vision_msgs, so its twelve message types
 (vision_msgs 4.1, ROS 2 Jazzy) are registered when the store is built: CDR, MCAP schemas and DDS types
 then work for them like for any other type, in every part of the process.
 """
@@ -50,6 +50,8 @@ VISION_MSGS = {
     "Detection3D": "std_msgs/Header header\nvision_msgs/ObjectHypothesisWithPose[] results\n"
                    "vision_msgs/BoundingBox3D bbox\nstring id\n",
     "Detection3DArray": "std_msgs/Header header\nvision_msgs/Detection3D[] detections\n",
+    "VisionClass": "uint16 class_id\nstring class_name\n",
+    "LabelInfo": "std_msgs/Header header\nvision_msgs/VisionClass[] class_map\nfloat32 threshold\n",
 }  # fmt: skip
 
 # ros_gz_interfaces (gazebosim/ros_gz, Jazzy): the two types VRX's task topics use

@@ -131,3 +131,11 @@ def detection2d_msg(stamp_ns: int, frame_id: str, object_id: str, label: str, bo
 def detection_array_msg(stamp_ns: int, frame_id: str, detections: list, dims: int) -> Any:
     """vision_msgs/Detection2DArray (dims 2) or Detection3DArray (dims 3)."""
     return msg_class(f"vision_msgs/msg/Detection{dims}DArray")(header=header(stamp_ns, frame_id), detections=detections)
+
+
+def label_info_msg(stamp_ns: int, frame_id: str, labels: dict[int, tuple[str, str]]) -> Any:
+    """vision_msgs/LabelInfo of a segmentation image: class_id = the pixel value, class_name = "<class>:<object>"
+    (e.g. "buoy:red_1"; 0, the background, is not listed); threshold 0 (ground truth)."""
+    vision_class = msg_class("vision_msgs/msg/VisionClass")
+    class_map = [vision_class(class_id=int(k), class_name=f"{cls}:{name}") for k, (name, cls) in sorted(labels.items())]
+    return msg_class("vision_msgs/msg/LabelInfo")(header=header(stamp_ns, frame_id), class_map=class_map, threshold=0.0)

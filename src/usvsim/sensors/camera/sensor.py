@@ -2,8 +2,9 @@
 
 Frames: mounted at `<vessel>/<name>` (FLU, looking along +x); images and CameraInfo are in
 `<vessel>/<name>_optical` (z forward, x right, y down). Topics under `/<vessel>/<name>/`:
-`image_raw` + `camera_info`, `depth/image_raw` + `depth/camera_info`, `segmentation/image_raw`; all
-share one stamp. Depth is metres along the optical z axis; NaN = no surface within `far_m` (sky, REP 117),
+`image_raw` + `camera_info`, `depth/image_raw` + `depth/camera_info`, `segmentation/image_raw` +
+`segmentation/label_info` (vision_msgs/LabelInfo: each id's "<class>:<object>", with every frame); all share one
+stamp. Depth is metres along the optical z axis; NaN = no surface within `far_m` (sky),
 and depth noise is added per pixel as N(0, depth_noise_stddev_m²). RGB noise is multiplicative:
 out = clip(in·(1 + σ n)), n ~ N(0, 1) per pixel and channel. Segmentation holds MuJoCo geom id + 1 (0 =
 background); no noise, no blending. With `detections`, `<topic>/detections` carries ground-truth 2D boxes
@@ -28,7 +29,7 @@ from usvsim.sensors.camera.intrinsics import Intrinsics, Remap
 from usvsim.sensors.camera.kernels import apply_factors, rgb_gain_noise, vignette_factors
 from usvsim.sensors.camera.render import PinholeRenderer, RenderContext
 from usvsim.sensors.detections import selected, shared_objects
-from usvsim.sensors.messages import camera_info_msg, detection_array_msg
+from usvsim.sensors.messages import camera_info_msg, detection_array_msg, label_info_msg
 
 if TYPE_CHECKING:
     from usvsim.config.sensors import Camera as CameraConfig
@@ -186,7 +187,9 @@ class Camera(Sensor):
                     Envelope(f"{base}/depth/camera_info", stamp_ns, info)]  # fmt: skip
         if "segmentation" in self.streams:
             seg = image_msg(stamp_ns, frame, images["segmentation"], "16UC1")
-            out.append(Envelope(f"{base}/segmentation/image_raw", stamp_ns, seg))
+            out += [Envelope(f"{base}/segmentation/image_raw", stamp_ns, seg),
+                    Envelope(f"{base}/segmentation/label_info", stamp_ns,
+                             label_info_msg(stamp_ns, frame, self.segmentation_ids))]  # fmt: skip
         if self.boxes is not None:
             out.append(Envelope(f"{base}/detections", stamp_ns, self._detections(sim, images["segmentation"], stamp_ns)))
         return out
