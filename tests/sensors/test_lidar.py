@@ -283,3 +283,27 @@ def test_reflectivity_of_a_body_that_is_not_there_is_an_error(scenario_of):
     assert {float(refl[g]) for g, o in enumerate(owners) if o == "buoy_1"} == {0.5}
     assert {float(refl[g]) for g, o in enumerate(owners) if o == "world"} == {0.75}
     sim.close()
+
+
+def test_a_clockwise_spin_fires_the_same_beams_in_the_opposite_order():
+    """`spin: clockwise` (Velodyne, Ouster): columns fire from the highest azimuth to the lowest. On a still boat the
+    same beams hit the same points; a point's time is the column's firing time, so for a full sweep of N columns
+    t_cw(azimuth) + t_ccw(azimuth) = (N - 1)·Δt, and time falls as the azimuth rises (LOAM's assumption)."""
+    base = {"type": "lidar", "preset": "vlp16", "columns": 360, "rate_hz": 10, "range_stddev_m": 0.0,
+            "organized": True, "motion_distortion": True, "mount": MOUNT}  # fmt: skip
+    sim, suite = _suite({**base, "name": "ccw"}, {**base, "name": "cw", "spin": "clockwise"})
+    clouds = {}
+    for name in ("ccw", "cw"):
+        pts = points_from_cloud(suite[f"wamv/{name}"].sample(sim, 10)[0].msg)
+        pts = pts.ravel()[np.isfinite(pts["x"].ravel())]
+        column = np.round((np.arctan2(pts["y"], pts["x"]) + math.pi) / (2 * math.pi / 360)).astype(int) % 360
+        clouds[name] = {(r, c): (x, y, z, t) for r, c, x, y, z, t in zip(pts["ring"], column, pts["x"], pts["y"],
+                                                                          pts["z"], pts["time"])}  # fmt: skip
+    assert len(clouds["cw"]) == len(clouds["ccw"]) > 500 and clouds["cw"].keys() == clouds["ccw"].keys()
+    for key, (x, y, z, t) in clouds["ccw"].items():
+        cx, cy, cz, ct = clouds["cw"][key]
+        assert (cx, cy, cz) == pytest.approx((x, y, z), abs=2e-3)  # the boat barely moves within a sweep
+        assert ct + t == pytest.approx(0.1 * 359 / 360, abs=1e-6)
+    cfg = LidarConfig(type="lidar", name="s", preset="seed_2d", spin="clockwise")
+    az, inc = patterns.azimuths(patterns.resolve(cfg))
+    assert inc == pytest.approx(-2 * math.pi / 8000) and az[0] == pytest.approx(math.pi - 2 * math.pi / 8000)

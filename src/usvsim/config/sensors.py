@@ -219,6 +219,10 @@ class Lidar(SensorBase):
     organized: bool = False
     motion_distortion: bool = False
     water_returns: bool = Field(default=False, description="incidence-dependent returns from the ocean surface")
+    spin: Literal["counter_clockwise", "clockwise"] = Field(
+        default="counter_clockwise", description="the sweep's direction seen from above: columns fire in order of "
+        "rising azimuth (counter_clockwise, REP 103) or falling (clockwise, as Velodyne and Ouster sensors turn; "
+        "LOAM-family tools that infer a point's time from its azimuth expect it)")  # fmt: skip
     water_reflectivity: Annotated[float, Field(ge=0, le=1)] = 0.02
     self_returns: bool = Field(default=True, description="false: beams that hit the own vessel give no return (crop)")
     geometry: Literal["visual", "collision"] = "visual"

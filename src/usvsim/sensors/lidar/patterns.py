@@ -2,7 +2,8 @@
 
 Azimuth 0 is +x (forward), counter-clockwise positive (REP 103); elevation is positive up. For a full
 360° sweep the N columns are spaced fov/N (no duplicate beam at ±180°); for a partial sweep fov/(N-1),
-so the first and last beams sit on the edges. The sweep runs from the lowest azimuth to the highest.
+so the first and last beams sit on the edges. The sweep runs from the lowest azimuth to the highest
+(`spin: counter_clockwise`), or from the highest to the lowest (`clockwise`: the increment is negative).
 Ring 0 is the lowest channel (Velodyne convention).
 """
 
@@ -24,6 +25,7 @@ class Pattern:
     range_max_m: float
     output: str = "points"
     range_stddev_m: float = 0.0
+    clockwise: bool = False
 
 
 def _even(lo: float, hi: float, n: int) -> tuple[float, ...]:
@@ -61,15 +63,17 @@ def resolve(cfg: LidarConfig) -> Pattern:
         raise ValueError(f"range_min_m ({range_min} m) must be less than range_max_m ({range_max} m)")
     return Pattern(tuple(sorted(elevations)), cfg.columns or p.columns, cfg.horizontal_fov_deg or p.horizontal_fov_deg,
                    range_min, range_max, output,
-                   p.range_stddev_m if cfg.range_stddev_m is None else cfg.range_stddev_m)  # fmt: skip
+                   p.range_stddev_m if cfg.range_stddev_m is None else cfg.range_stddev_m,
+                   cfg.spin == "clockwise")  # fmt: skip
 
 
 def azimuths(p: Pattern) -> tuple[np.ndarray, float]:
-    """Column azimuths (rad) and the increment between them."""
+    """Column azimuths (rad) in firing order and the increment between them (negative for a clockwise spin)."""
     fov = np.radians(p.horizontal_fov_deg)
     full = p.horizontal_fov_deg >= 360.0
     inc = fov / p.columns if full or p.columns == 1 else fov / (p.columns - 1)
-    return -0.5 * fov + inc * np.arange(p.columns), float(inc)
+    az = -0.5 * fov + inc * np.arange(p.columns)
+    return (az[::-1].copy(), -float(inc)) if p.clockwise else (az, float(inc))
 
 
 def directions(p: Pattern) -> np.ndarray:
