@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+from types import SimpleNamespace
 
 import numpy as np
 import pytest
@@ -126,3 +127,67 @@ def test_scripted_harbor_lap_closes(harbor):
     assert path >= 60.0
     assert closest < 3.0
     assert not hits
+
+
+def _thrust(value):
+    return SimpleNamespace(data=value)
+
+
+def test_untouched_keys_leave_the_thrusters_to_bridge_commands(harbor):
+    """`usvsim run --view --ros2`: the viewer zeroed every thruster at every step, so thrust commands from ROS
+    lasted one step (u 0.18 m/s after 5 s of 0.6 thrust, against 1.5 m/s)."""
+    harbor.reset()
+    driver = ManualDriver(harbor, "wamv")
+    boat = harbor.vessels["wamv"]
+    for k in range(500):
+        if k % 20 == 0:  # 5 Hz, inside the thrusters' watchdog
+            for name in boat.thrusters:
+                assert harbor.commands.post(f"/wamv/thrusters/{name}/thrust", _thrust(0.6))
+        driver.step()
+    assert all(t.thrust_n > 100.0 for t in boat.thrusters.values())
+    assert boat.velocity_body[0] > 1.0
+    driver.key("s", "press")  # the keys take over once touched
+    for _ in range(100):
+        driver.step()
+    assert all(t.thrust_n < 0.0 for t in boat.thrusters.values())
+
+
+def harbor_with_controller():
+    from importlib import resources
+
+    import yaml
+
+    from usvsim.config.loader import parse_scenario
+
+    data = yaml.safe_load((resources.files("usvsim.scenarios") / "harbor.yaml").read_text())
+    data["vessels"][0]["controller"] = {"type": "velocity", "rate_hz": 20}
+    return Simulation(parse_scenario(data, "harbor+controller"), 0)
+
+
+def test_keys_drive_a_vessel_under_a_controller_through_its_reference():
+    """The controller overwrote the keys' thruster commands at its rate; now the keys set its velocity reference
+    (throttle → surge up to its top speed, steering → yaw rate), and a reference set before is kept until then."""
+    sim = harbor_with_controller()
+    loop, boat = sim.controllers["wamv"], sim.vessels["wamv"]
+    top = loop.controller.velocity.max_velocity
+    loop.reference = (1.0, 0.0, 0.0)  # e.g. a cmd_vel: not the viewer's until a key is pressed
+    driver = ManualDriver(sim, "wamv")
+    for _ in range(300):
+        driver.step()
+    assert loop.reference == (1.0, 0.0, 0.0)
+    driver.key("d", "press")  # turn to starboard at speed
+    for _ in range(300):
+        driver.step()
+    assert loop.reference[0] == pytest.approx(0.0) and loop.reference[2] == pytest.approx(-top[2])
+    assert boat.angular_velocity_body[2] < -0.2
+    driver.key("d", "release")
+    driver.key("w", "press")
+    for _ in range(300):
+        driver.step()
+    assert loop.reference == pytest.approx((top[0], 0.0, 0.0))
+    assert boat.velocity_body[0] > 0.7 * top[0]
+    driver.key("w", "release")
+    for _ in range(30):  # the axes return to zero: the reference follows, then the viewer lets go
+        driver.step()
+    assert loop.reference == pytest.approx((0.0, 0.0, 0.0))
+    sim.close()

@@ -5,7 +5,11 @@ Keys arrive as (name, action) with lower-case names ("w", "space", "right", "esc
 (sim_time_s, key, action) replayed through the same path just before the first physics step at or after
 that simulation time, so a scripted drive is deterministic whatever the frame rate. Axes are ramped per
 physics step by `control.manual.keyboard_axes` (or taken from a gamepad when one is active) and mixed into
-thruster commands by `control.manual.manual_commands` (differential, or azimuth with bow counter-steer).
+thruster commands by `control.manual.manual_commands` (differential, or azimuth with bow counter-steer), or, for a
+vessel under a velocity controller (the scenario's, or one a `cmd_vel` created), into its velocity reference by
+`control.manual.axes_to_velocity` (the controller would otherwise overwrite the thrusters at its rate). The driver
+commands only while the axes are off zero (and at the step they return to it): until a key or the gamepad is
+touched, a station-keeping hold, a `cmd_vel` or thruster commands from a bridge drive the vessel.
 """
 
 from __future__ import annotations
@@ -13,7 +17,14 @@ from __future__ import annotations
 import time
 from collections.abc import Callable, Iterable
 
-from usvsim.control.manual import KEYS, DriveAxes, keyboard_axes, manual_commands, should_reset
+from usvsim.control.manual import (
+    KEYS,
+    DriveAxes,
+    axes_to_velocity,
+    keyboard_axes,
+    manual_commands,
+    should_reset,
+)
 
 DRIVE_KEYS = frozenset(KEYS.values())
 PAUSE, STEP_KEYS, QUIT_KEYS, FOLLOW, SCREENSHOT = "space", ("n", "right"), ("escape",), "c", "p"
@@ -49,6 +60,7 @@ class ManualDriver:
         self._pending_steps = 0
         self._budget_s = 0.0
         self._reset_held = False
+        self._driving = False  # the axes were off zero at the last step
         self._start = (self.vessel.position, float(self.vessel.rpy[2]))
 
     # -- keys ----------------------------------------------------------------------------------
@@ -123,12 +135,26 @@ class ManualDriver:
         if axes.reset and not self._reset_held:
             self.reset()
         self._reset_held = axes.reset
+        moving = bool(axes.throttle or axes.steering)
+        if moving or self._driving:  # until touched, others drive (a hold, cmd_vel, bridges' thrust)
+            self._command(axes)
+        self._driving = moving
+        self.sim.step()
+        self.steps_taken += 1
+
+    def _command(self, axes: DriveAxes) -> None:
+        """Axes → the vessel's velocity reference when a controller drives it (it overwrote direct thruster
+        commands at its rate, so the vessel obeyed a mix of both), else → its thruster commands."""
+        loop = self.sim.controllers.get(self.vessel_name)
+        if loop is not None:
+            # the surge, sway and yaw rate the controller was designed for
+            top = loop.controller.velocity.max_velocity
+            loop.reference, loop.force = axes_to_velocity(axes, float(top[0]), float(top[2])), None
+            return
         for name, (u, angle) in manual_commands(
             axes, self.vessel.model.thrusters, self.vessel.model.com
         ).items():
             self.vessel.thrusters[name].command(u, angle)
-        self.sim.step()
-        self.steps_taken += 1
 
     def reset(self, force: bool = False) -> bool:
         """The seed's reset: back to the start if the vessel moved > 2 m or turned > 10° (or `force`)."""
@@ -138,5 +164,5 @@ class ManualDriver:
         ):
             return False
         self.sim.reset(seed=self.sim.next_reset_seed())  # as a /reset does (Simulation.reset_seeds)
-        self.axes, self.was_reset = DriveAxes(reset=self.axes.reset), True
+        self.axes, self.was_reset, self._driving = DriveAxes(reset=self.axes.reset), True, False
         return True
