@@ -5,6 +5,7 @@ from __future__ import annotations
 import subprocess
 import sys
 
+import numpy as np
 import pytest
 
 
@@ -63,3 +64,25 @@ def test_no_cloud_in_the_time_given_is_one_line(tmp_path):
     lines = [ln for ln in done.stderr.splitlines() if ln.strip()]
     assert done.returncode == 2 and len(lines) == 1 and "Traceback" not in done.stderr, done.stderr
     assert "no point cloud reached the stack from /wamv/lidar/points in 1.5 s" in lines[0]
+
+
+def test_the_map_covers_whole_objects_and_the_vessels_start(tmp_path):
+    """The map spanned the objects' centres + 10 m: BASIN's 40 m wall centred at x = 10 ended the map at x = 20, and a
+    goal by its east end (x 25) was refused as 'outside the map'; a vessel starting 30 m off was off the map too."""
+    import json
+
+    from usvsim.autonomy.demo import check_demo
+    from usvsim.autonomy.run import map_bounds
+    from usvsim.config.loader import parse_scenario
+
+    basin = parse_scenario(BASIN)
+    lo, hi = map_bounds(basin)
+    np.testing.assert_allclose(lo, [-20.0, -10.0])  # the wall's west end, the vessel at the origin; + 10 m
+    np.testing.assert_allclose(hi, [40.0, 25.5])  # the wall's east end and north face; + 10 m
+    (tmp_path / "basin.yaml").write_text(json.dumps(BASIN))
+    assert check_demo(str(tmp_path / "basin.yaml"), [(25.0, 5.0)]) == [(25.0, 5.0)]
+    pier = {"type": "pier", "name": "pier", "position": [0.0, 0.0, 0.8], "length_m": 16.0, "width_m": 3.0,
+            "yaw_deg": 90.0}  # fmt: skip
+    start = {**BASIN["vessels"][0], "pose": {"position": [-30.0, 0.0, 0.0]}}
+    lo, hi = map_bounds(parse_scenario({**BASIN, "objects": [pier], "vessels": [start]}))
+    np.testing.assert_allclose([lo, hi], [[-40.0, -18.0], [11.5, 18.0]])  # the start; the yawed pier ±1.5, ±8

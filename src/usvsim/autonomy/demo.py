@@ -65,7 +65,7 @@ def check_demo(scenario: str, goals=None) -> list[tuple[float, float]]:
     for x, y in goals:  # a goal off the map was never planned to: the boat stayed put until --max-time
         if not (lo[0] <= x <= hi[0] and lo[1] <= y <= hi[1]):
             raise UsvsimError(f"goal {x:g},{y:g} is outside the map (x {lo[0]:g} to {hi[0]:g} m, y {lo[1]:g} to "
-                              f"{hi[1]:g} m: the scenario's objects + {MAP_MARGIN_M:g} m)")  # fmt: skip
+                              f"{hi[1]:g} m: the vessels' starts and the objects + {MAP_MARGIN_M:g} m)")  # fmt: skip
     return goals
 
 

@@ -47,11 +47,34 @@ def pose_matrix(vessel) -> np.ndarray:
 MAP_MARGIN_M = 10.0
 
 
+def half_extent_xy(obj) -> np.ndarray:
+    """Half sides (x, y, m) of the world-aligned box around an object's footprint, about its `position`: boxes,
+    walls and docks by `size`, piers by length and width, berths with their walls, buoys by radius (yawed); a mesh
+    obstacle counts as its position (its extent is known only once the file is read)."""
+    t = obj.type
+    if t in ("box", "wall", "dock"):
+        hx, hy = obj.size[0] / 2, obj.size[1] / 2
+    elif t == "pier":
+        hx, hy = obj.length_m / 2, obj.width_m / 2
+    elif t == "berth":  # the slot with its side walls and its back wall, about the slot's centre
+        hx, hy = obj.inner_length_m / 2 + obj.wall_thickness_m, obj.inner_width_m / 2 + obj.wall_thickness_m
+    elif t == "buoy":
+        return np.full(2, obj.radius_m)
+    else:
+        return np.zeros(2)
+    c, s = abs(math.cos(math.radians(obj.yaw_deg))), abs(math.sin(math.radians(obj.yaw_deg)))
+    return np.array([c * hx + s * hy, s * hx + c * hy])
+
+
 def map_bounds(scenario) -> tuple[np.ndarray, np.ndarray]:
-    """The mapped area (x, y world ENU m, low and high corners): the scenario's objects + MAP_MARGIN_M."""
+    """The mapped area (x, y world ENU m, low and high corners): the scenario's objects (their whole footprints:
+    with centres only, a quay 80 m long ended 10 m past its middle) and its vessels' starts, + MAP_MARGIN_M."""
     lo, hi = np.full(2, math.inf), np.full(2, -math.inf)
     for obj in scenario.objects:
-        lo, hi = np.minimum(lo, obj.position[:2]), np.maximum(hi, obj.position[:2])
+        centre, half = np.asarray(obj.position[:2]), half_extent_xy(obj)
+        lo, hi = np.minimum(lo, centre - half), np.maximum(hi, centre + half)
+    for vessel in scenario.vessels:
+        lo, hi = np.minimum(lo, vessel.pose.position[:2]), np.maximum(hi, vessel.pose.position[:2])
     return lo - MAP_MARGIN_M, hi + MAP_MARGIN_M
 
 
