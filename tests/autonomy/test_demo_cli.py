@@ -86,3 +86,23 @@ def test_the_map_covers_whole_objects_and_the_vessels_start(tmp_path):
     start = {**BASIN["vessels"][0], "pose": {"position": [-30.0, 0.0, 0.0]}}
     lo, hi = map_bounds(parse_scenario({**BASIN, "objects": [pier], "vessels": [start]}))
     np.testing.assert_allclose([lo, hi], [[-40.0, -18.0], [11.5, 18.0]])  # the start; the yawed pier ±1.5, ±8
+
+
+@pytest.mark.parametrize(
+    ("args", "words"),
+    [
+        (["--goals", "x"], ["--goals 'x'", "wamv/odom"]),
+        (["--goals", "1,2", "--bounds", "1,2"], ["--bounds '1,2'", "4 numbers"]),
+        (["--goals", "1,2", "--bounds=5,0,1,9"], ["xmin must be below xmax"]),
+        (["--goals", "1,2", "--lidar-xyz", "nan,0,1"], ["--lidar-xyz", "3 numbers"]),
+        (["--goals", "100,2"], ["goal 100,2 is outside the map", "-60,-40,60,40"]),
+    ],
+)
+def test_the_ros2_node_checks_its_options_before_rclpy(args, words):
+    """`usvsim-autonomy --ros2` with a bad --goals, --bounds or --lidar-xyz was a traceback from inside the node's
+    constructor (ValueError: not enough values to unpack), after rclpy had started; a goal off the map sat still."""
+    done = subprocess.run([sys.executable, "-m", "usvsim.autonomy.ros2_node", "--ros2", *args], capture_output=True,
+                          text=True, timeout=120)  # fmt: skip
+    last = done.stderr.strip().splitlines()[-1]
+    assert done.returncode == 2 and "Traceback" not in done.stderr, done.stderr
+    assert last.startswith("usvsim-autonomy: error:") and all(w in last for w in words), last

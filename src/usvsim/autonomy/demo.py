@@ -20,16 +20,14 @@ DEFAULT_GOALS = {
 }
 
 
-def parse_goals(text: str) -> list[tuple[float, float]]:
-    """'x,y;x,y;...' (map ENU metres) → [(x, y), ...]."""
+def parse_goals(text: str, frame: str = "map = world ENU") -> list[tuple[float, float]]:
+    """'x,y;x,y;...' (metres in `frame`, named in the error) → [(x, y), ...]."""
     try:
         goals = [tuple(float(v) for v in item.split(",")) for item in text.split(";") if item.strip()]
     except ValueError:
         goals = []
     if not goals or any(len(g) != 2 or not all(math.isfinite(v) for v in g) for g in goals):
-        raise UsvsimError(
-            f"--goals {text!r}: give 'x,y;x,y;...' in metres (map = world ENU), e.g. '10,0;20,5'"
-        )
+        raise UsvsimError(f"--goals {text!r}: give 'x,y;x,y;...' in metres ({frame}), e.g. '10,0;20,5'")
     return [(g[0], g[1]) for g in goals]
 
 

@@ -23,6 +23,7 @@ from usvsim.autonomy.grid import OccupancyGrid
 from usvsim.autonomy.navigator import Navigator, NavigatorConfig
 from usvsim.autonomy.odometry import KissIcpOdometry, TrackedOdometry
 from usvsim.autonomy.sensing import cloud_arrays, odometry_pose, sweep_end_s, twist_vector
+from usvsim.core.errors import UsvsimError
 
 
 def _args(argv):
@@ -37,18 +38,41 @@ def _args(argv):
     )
     p.add_argument("--odometry", choices=("kiss_icp", "sensor"), default="kiss_icp")
     p.add_argument("--exit-when-done", action="store_true")
-    return p.parse_args(argv)
+    args = p.parse_args(argv)
+    try:  # before rclpy starts: a bad value was a traceback from inside the node's constructor
+        args.goal_list = parse_goals(args.goals, f"the map frame {args.vessel}/odom")
+    except UsvsimError as exc:
+        p.error(str(exc))
+    args.xyz = _numbers(p, "--lidar-xyz", args.lidar_xyz, 3, "x,y,z")
+    args.box = xmin, ymin, xmax, ymax = _numbers(p, "--bounds", args.bounds, 4, "xmin,ymin,xmax,ymax")
+    if not (xmin < xmax and ymin < ymax):
+        p.error(f"--bounds {args.bounds!r}: xmin must be below xmax and ymin below ymax")
+    for x, y in args.goal_list:  # never planned to: the boat stayed put
+        if not (xmin <= x <= xmax and ymin <= y <= ymax):
+            p.error(f"goal {x:g},{y:g} is outside the map (--bounds {args.bounds})")
+    return args
+
+
+def _numbers(parser, option: str, text: str, count: int, form: str) -> list[float]:
+    """`count` finite comma-separated numbers, or the parser's error (one line, exit 2)."""
+    try:
+        values = [float(v) for v in text.split(",")]
+    except ValueError:
+        values = []
+    if len(values) != count or not all(math.isfinite(v) for v in values):
+        parser.error(f"{option} {text!r}: give {form} in metres ({count} numbers)")
+    return values
 
 
 def build(args):
     base_from_lidar = np.eye(4)
-    base_from_lidar[:3, 3] = [float(v) for v in args.lidar_xyz.split(",")]
-    xmin, ymin, xmax, ymax = (float(v) for v in args.bounds.split(","))
+    base_from_lidar[:3, 3] = args.xyz
+    xmin, ymin, xmax, ymax = args.box  # checked in _args
     grid = OccupancyGrid.around(xmin, ymin, xmax, ymax, 0.25)
     latest = {}
     odo = KissIcpOdometry(base_from_lidar) if args.odometry == "kiss_icp" else \
         TrackedOdometry(base_from_lidar, lambda: latest.get("odom"))  # fmt: skip
-    return Navigator(grid, odo, parse_goals(args.goals), NavigatorConfig()), latest
+    return Navigator(grid, odo, args.goal_list, NavigatorConfig()), latest
 
 
 def main(argv=None) -> int:
