@@ -249,3 +249,22 @@ def test_los_parameters_are_checked(field, value):
 
     with pytest.raises(InputError, match=f"LosGuidance.{field} must be a finite number"):
         LosGuidance(**{field: value})
+
+
+def test_integral_los_integrates_over_the_time_between_updates():
+    """The Navigator passed dt = 0.1 s to the guidance whatever the update period (0.3 s in the demo: every third
+    10 Hz cloud), so integral LOS integrated the cross-track error 3x too slowly. Børhaug's law over 0.3 s steps:
+    y_int += dt·Δ·e / (Δ² + (e + σ·y_int)²)."""
+    from usvsim.autonomy.navigator import Navigator, NavigatorConfig
+
+    sigma, delta = 0.5, 6.0
+    config = NavigatorConfig(guidance=LosGuidance(lookahead_m=delta, integral_gain=sigma), replan_s=100.0)
+    grid = OccupancyGrid.around(-5.0, -10.0, 30.0, 10.0, 0.25)
+    nav = Navigator(grid, None, [(25.0, 0.0)], config)
+    nav.decide(0.0)  # plans the straight path along y = 0 from the origin
+    nav.pose[:2, 3] = (1.0, 1.0)  # 1 m left of it
+    expected = 0.0
+    for k in range(1, 6):
+        nav.decide(0.3 * k)
+        expected += 0.3 * delta * 1.0 / (delta**2 + (1.0 + sigma * expected) ** 2)
+    assert config.guidance.y_int == pytest.approx(expected, rel=1e-9)

@@ -94,6 +94,7 @@ class Navigator:
 
     def decide(self, t: float) -> tuple[float, float]:
         """Goal logic, planning, guidance and avoidance at the current pose: (surge m/s, yaw rate rad/s)."""
+        dt = t - self._prev[0] if self._prev is not None and t > self._prev[0] else 0.1  # the update period
         nu = self._velocity(t)
         p, yaw = self.pose[:2, 3], math.atan2(self.pose[1, 0], self.pose[0, 0])
         goal = self.goal
@@ -114,7 +115,7 @@ class Navigator:
             return 0.0, 0.0
         if self.path is None:
             return 0.0, 0.3  # no way yet: turn on the spot to see more
-        u, r = self.config.guidance.command(p, yaw, nu, 0.1)
+        u, r = self.config.guidance.command(p, yaw, nu, dt)  # it was 0.1 s, whatever the period
         u = min(u, max(0.0, 0.5 * (ahead - self.config.stop_distance_m)))  # stop before what is in the way
         return u, r
 
