@@ -100,7 +100,8 @@ def _astar(cost, start, goal, moves):  # pragma: no cover - numba
 
 
 class GridPlanner:
-    """Plans on an `OccupancyGrid`; `clearance_m` from the hull to obstacles, fillets of `turn_radius_m`."""
+    """Plans on an `OccupancyGrid`; `clearance_m` from the path (the vessel's reference point, not its hull: the
+    WAM-V's half beam is 1.2 m) to occupied cells, fillets of `turn_radius_m`."""
 
     def __init__(self, clearance_m: float = 2.0, comfort_m: float = 2.0, turn_radius_m: float = 3.0):
         self.clearance_m, self.comfort_m, self.turn_radius_m = clearance_m, comfort_m, turn_radius_m
