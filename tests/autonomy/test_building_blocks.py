@@ -268,3 +268,23 @@ def test_integral_los_integrates_over_the_time_between_updates():
         nav.decide(0.3 * k)
         expected += 0.3 * delta * 1.0 / (delta**2 + (1.0 + sigma * expected) ** 2)
     assert config.guidance.y_int == pytest.approx(expected, rel=1e-9)
+
+
+def test_clearance_box_is_the_vessels_own_hull():
+    """The clearance took the WAM-V's 4.9 m x 2.4 m box for every vessel: an Otter (2.0 m x 1.04 m) 3 m from a wall
+    was reported 0.62 m from it instead of 1.88 m (2 m to the cells; wall at x = 10, hull centre at x = 7, bow at 8)."""
+    from usvsim.autonomy import report
+    from usvsim.simulation import Simulation
+
+    sim = Simulation.from_scenario("harbor")
+    length, beam, cx, cy = report.footprint(sim.vessels["otter"])
+    assert (length, beam) == pytest.approx((2.0, 1.04)) and (cx, cy) == pytest.approx((0.0, 0.0), abs=1e-9)
+    assert report.footprint(sim.vessels["wamv"])[:2] == pytest.approx((4.9, 2.486), abs=1e-3)
+    grid = OccupancyGrid.around(0.0, -10.0, 20.0, 10.0, 0.25)
+    xs, _ = grid.centres()
+    truth = np.zeros(grid.shape, bool)
+    truth[:, xs > 10.0] = True  # a wall face at x = 10 m
+    pose = np.array([[7.0, 0.0, 0.0]])
+    assert metrics.min_clearance(grid, truth, pose, length, beam, cx, cy) == pytest.approx(2.0, abs=0.13)
+    assert metrics.min_clearance(grid, truth, pose, length, beam, 1.0, 0.0) == pytest.approx(1.0, abs=0.13)
+    sim.close()

@@ -83,7 +83,8 @@ def run_demo(scenario: str, goals=None, out: Path = Path("navigate_out"), max_ti
             raise UsvsimError(f"no point cloud reached the stack from /{vessel}/{lidar}/points in {sim.time:g} s "
                               "(give --max-time at least a few LiDAR periods)")  # fmt: skip
         truth = true_occupancy(sim, nav.grid, vessel, nav.config.slice_m)
-        summary = report.summarize(nav, trace, nav.grid, truth, sim.time, wall)
+        hull = report.footprint(sim.vessels[vessel])
+        summary = report.summarize(nav, trace, nav.grid, truth, sim.time, wall, hull)
         summary["files"] = [str(p) for p in report.write(Path(out), nav, trace, nav.grid, truth, summary)]
         return summary
     finally:

@@ -64,12 +64,13 @@ def ate(t_est: np.ndarray, est_xy: np.ndarray, truth: np.ndarray) -> dict:
             "raw_rmse_m": float(np.sqrt(np.mean(raw**2))), "drift_m": float(raw[-1])}  # fmt: skip
 
 
-def min_clearance(
-    grid: OccupancyGrid, truth: np.ndarray, poses: np.ndarray, length_m: float, beam_m: float
-) -> float:
-    """Smallest distance (m) from the hull box at each true pose (x, y, yaw) to a true occupied cell."""
+def min_clearance(grid: OccupancyGrid, truth: np.ndarray, poses: np.ndarray, length_m: float, beam_m: float,
+                  centre_x_m: float = 0.0, centre_y_m: float = 0.0) -> float:  # fmt: skip
+    """Smallest distance (m) from the hull box (centred at (centre_x_m, centre_y_m) in base_link) at each true
+    pose (x, y, yaw) to a true occupied cell."""
     dist = edt(~truth) * grid.resolution_m
-    u, v = np.meshgrid(np.linspace(-0.5, 0.5, 9) * length_m, np.linspace(-0.5, 0.5, 5) * beam_m)
+    u = np.linspace(-0.5, 0.5, 9) * length_m + centre_x_m
+    u, v = np.meshgrid(u, np.linspace(-0.5, 0.5, 5) * beam_m + centre_y_m)
     box = np.column_stack([u.ravel(), v.ravel()])
     best = math.inf
     for x, y, yaw in poses[:: max(1, len(poses) // 2000)]:

@@ -10,12 +10,20 @@ import numpy as np
 from usvsim.autonomy import metrics
 from usvsim.autonomy.grid import OccupancyGrid
 
-HULL_LENGTH_M, HULL_BEAM_M = 4.9, 2.4  # WAM-V footprint for the clearance
+HULL_LENGTH_M, HULL_BEAM_M = 4.9, 2.4  # WAM-V footprint: the clearance's default
 
 
-def summarize(
-    nav, trace, grid: OccupancyGrid, truth_occ: np.ndarray, sim_time_s: float, wall_s: float
-) -> dict:
+def footprint(vessel) -> tuple[float, float, float, float]:
+    """Length and beam (m) of the box around a vessel's hull mesh and its centre (x, y m in base_link, FLU): the
+    clearance took the WAM-V's 4.9 m × 2.4 m for every vessel (an Otter is 2.0 m × 1.04 m)."""
+    v = np.asarray(vessel.model.hull.vertices)
+    lo, hi = v[:, :2].min(axis=0), v[:, :2].max(axis=0)
+    return float(hi[0] - lo[0]), float(hi[1] - lo[1]), float(lo[0] + hi[0]) / 2, float(lo[1] + hi[1]) / 2
+
+
+def summarize(nav, trace, grid: OccupancyGrid, truth_occ: np.ndarray, sim_time_s: float, wall_s: float,
+              hull: tuple[float, float, float, float] = (HULL_LENGTH_M, HULL_BEAM_M, 0.0, 0.0)) -> dict:  # fmt: skip
+    """The metrics of a run; `hull`: length, beam, centre x, y (m, base_link) of the footprint for the clearance."""
     rows, truth = trace.array(), np.array(trace.truth)
     odo = metrics.ate(rows[:, 0], rows[:, 4:6], truth)
     xte = rows[:, 7][np.isfinite(rows[:, 7]) & (rows[:, 8] > 1.0)]  # while cruising (commanded surge > 1 m/s)
@@ -31,7 +39,7 @@ def summarize(
         **{k: round(v, 4) for k, v in odo.items()},
         "cross_track_rms_m": round(float(np.sqrt(np.mean(xte**2))), 4) if len(xte) else None,
         "cross_track_max_m": round(float(np.abs(xte).max()), 4) if len(xte) else None,
-        "min_clearance_m": round(metrics.min_clearance(grid, truth_occ, truth[:, 1:4], HULL_LENGTH_M, HULL_BEAM_M), 3),
+        "min_clearance_m": round(metrics.min_clearance(grid, truth_occ, truth[:, 1:4], *hull), 3),
         "sim_time_s": round(sim_time_s, 2), "wall_time_s": round(wall_s, 2),
         "real_time_factor": round(sim_time_s / wall_s, 3),
         "wall_share": {k: round(v / max(sum(parts.values()), 1e-9), 3) for k, v in parts.items()}, "wall_s": parts,
