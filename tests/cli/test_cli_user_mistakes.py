@@ -685,3 +685,25 @@ def test_view_without_a_display_fails_before_building_the_world(monkeypatch, tmp
     monkeypatch.setattr(usvsim.simulation.Simulation, "from_scenario", never)
     one_line_error(invoke("run", "harbor", "--view", "--record", tmp_path / "r.mcap"), "no display")
     assert not (tmp_path / "r.mcap").exists()
+
+
+def test_the_viewer_runs_until_closed_unless_a_duration_is_given(monkeypatch):
+    """`usvsim run harbor --view` ('drive it yourself') closed the window after the headless default of 60 simulated
+    seconds; now it runs until the window is closed, and --duration still stops it. Headless runs keep 60 s."""
+    import usvsim.viewer
+    import usvsim.viewer.display
+
+    asked = []
+
+    def fake_viewer(sim, max_seconds=None, **kwargs):
+        asked.append(max_seconds)
+        return {"steps": 0}
+
+    monkeypatch.setenv("MUJOCO_GL", "egl")  # run --view sets glfw: restored after the test
+    monkeypatch.setattr(usvsim.viewer.display, "display_missing", lambda: False)
+    monkeypatch.setattr(usvsim.viewer, "run_viewer", fake_viewer)
+    assert invoke("run", "harbor", "--view").exit_code == 0
+    assert invoke("run", "harbor", "--view", "--duration", "5").exit_code == 0
+    assert asked == [None, 5.0]
+    headless = invoke("run", "harbor")
+    assert headless.exit_code == 0 and "simulated 60.00 s" in headless.output

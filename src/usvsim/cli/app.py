@@ -60,12 +60,14 @@ EXPERIMENT_HELP = "\n".join(f"{name}: {text} (about {took})" for name, (_, text,
 def run(
     scenario: Annotated[str, typer.Argument(help="built-in scenario name or YAML file")] = "harbor",
     duration: Annotated[
-        float,
+        float | None,
         typer.Option(
             help="simulated seconds in all: a /reset (ROS 2, ROS-TCP, Foxglove) or R in the viewer starts a new "
-            "episode at t = 0 but does not lengthen the run (0 to 1e7)",
+            "episode at t = 0 but does not lengthen the run (0 to 1e7; default 60, with --view until the window "
+            "closes)",
+            show_default=False,
         ),
-    ] = 60.0,
+    ] = None,
     realtime: Annotated[bool, typer.Option(help="pace to the wall clock")] = False,
     record: Annotated[Path | None, typer.Option(help="write an MCAP file (rosbag2 layout)")] = None,
     record_topics: Annotated[
@@ -134,7 +136,7 @@ def run(
         fail(UsvsimError(f"--reset-seed must be next or same, got {reset_seed!r}"))
     if reset_seed != "next" and not (view or ros2 or ros_tcp or foxglove):  # else ignored in silence
         fail(UsvsimError("--reset-seed applies to resets from /reset (--ros2, --ros-tcp, --foxglove) or R (--view)"))
-    if not 0 <= duration <= 1e7:
+    if duration is not None and not 0 <= duration <= 1e7:
         fail(UsvsimError(f"--duration must be a finite number of seconds in [0, 1e7], got {duration}"))
     if (screenshot or video) and not view:
         fail(UsvsimError("--screenshot and --video record the viewer's window: add --view"))
@@ -173,7 +175,7 @@ def run(
             if view:
                 _run_viewer(sim, duration, screenshot, video, steps)
             else:
-                _run_with_progress(sim, duration, realtime, steps)
+                _run_with_progress(sim, 60.0 if duration is None else duration, realtime, steps)
         except KeyboardInterrupt as exc:
             interrupted = getattr(exc, "signum", signal.SIGINT)
         except (UsvsimError, OSError) as exc:
@@ -350,7 +352,8 @@ def _progress_loop(sim, duration: float, realtime: bool, on_step, steps: _StepCo
                               f"{wall:.1f} s wall ({done / wall:.2f}x real time)", highlight=False, soft_wrap=True)  # fmt: skip
 
 
-def _run_viewer(sim, duration: float, screenshot: Path | None, video: Path | None, steps: _StepCount) -> None:
+def _run_viewer(sim, duration: float | None, screenshot: Path | None, video: Path | None,
+                steps: _StepCount) -> None:  # fmt: skip
     import warnings
 
     from usvsim.cli.stopping import Stopped, StopSignals
