@@ -288,3 +288,26 @@ def test_clearance_box_is_the_vessels_own_hull():
     assert metrics.min_clearance(grid, truth, pose, length, beam, cx, cy) == pytest.approx(2.0, abs=0.13)
     assert metrics.min_clearance(grid, truth, pose, length, beam, 1.0, 0.0) == pytest.approx(1.0, abs=0.13)
     sim.close()
+
+
+def test_guidance_stays_within_what_the_vessel_can_turn():
+    """The stack asked every vessel for the WAM-V's 0.5 rad/s: an Otter tops out at 0.42, its thrusters saturated
+    and the zero surge asked at the goal came out as 0.64 m/s, so it circled the goal (1.3-2.2 m off) for good. The
+    guidance now keeps within 70 % of the vessel's controller; the WAM-V's 1.5 m/s and 0.5 rad/s stay."""
+    from usvsim.autonomy.run import guidance_for
+    from usvsim.config.loader import parse_scenario
+    from usvsim.simulation import Simulation
+
+    sims = {name: Simulation(parse_scenario({"version": 1, "name": name, "vessels": [
+        {"name": name, "model": name, "controller": {"type": "velocity"}}]}), 0) for name in ("wamv", "otter")}  # fmt: skip
+    wamv = guidance_for(sims["wamv"].controllers["wamv"])
+    assert (wamv.speed_mps, wamv.max_yaw_rate_radps) == (1.5, 0.5)
+    sim = sims["otter"]
+    loop, boat = sim.controllers["otter"], sim.vessels["otter"]
+    r_max = guidance_for(loop).max_yaw_rate_radps
+    assert r_max == pytest.approx(0.7 * loop.controller.velocity.max_velocity[2])
+    loop.reference = (0.0, 0.0, r_max)  # turn on the spot as the guidance may ask, next to a goal
+    sim.run(seconds=20.0)
+    assert abs(boat.velocity_body[0]) < 0.1 and boat.angular_velocity_body[2] == pytest.approx(r_max, rel=0.1)
+    for s in sims.values():
+        s.close()

@@ -16,9 +16,11 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from usvsim.autonomy.grid import OccupancyGrid
+from usvsim.autonomy.guidance import LosGuidance
 from usvsim.autonomy.hybrid import HybridAStarPlanner
 from usvsim.autonomy.navigator import Navigator, NavigatorConfig
 from usvsim.autonomy.odometry import KissIcpOdometry, TrackedOdometry, kiss_icp_available
+from usvsim.autonomy.planner import GridPlanner
 from usvsim.autonomy.sensing import Tap, cloud_arrays, sweep_end_s
 from usvsim.core.transforms import matrix_from_quat
 
@@ -93,12 +95,24 @@ def build_navigator(sim, vessel: str, lidar: str, goals, resolution_m: float = 0
         if use_icp
         else TrackedOdometry(base_from_lidar, lambda: tap.latest_odometry)
     )
+    guidance = guidance_for(sim.controllers[vessel])
+    radius = guidance.speed_mps / guidance.max_yaw_rate_radps  # the turning radius at cruise
     config = (
-        NavigatorConfig(planner=HybridAStarPlanner(), replan_s=5.0)
+        NavigatorConfig(guidance=guidance, planner=HybridAStarPlanner(turn_radius_m=radius), replan_s=5.0)
         if planner == "hybrid"
-        else NavigatorConfig()
+        else NavigatorConfig(guidance=guidance, planner=GridPlanner(turn_radius_m=radius))
     )
     return Navigator(grid, odo, goals, config), tap
+
+
+def guidance_for(loop, share: float = 0.7) -> LosGuidance:
+    """LOS guidance within `share` of what the vessel's velocity controller can reach (its top surge speed and yaw
+    rate), at most the WAM-V's 1.5 m/s and 0.5 rad/s. An Otter tops out at 0.42 rad/s (at speed): asked for 0.5, its two
+    thrusters saturated, the surge it was told to drop stayed at 0.64 m/s, and it circled a goal for good."""
+    top = loop.controller.velocity.max_velocity
+    default = LosGuidance()
+    return LosGuidance(speed_mps=min(default.speed_mps, share * float(top[0])),
+                       max_yaw_rate_radps=min(default.max_yaw_rate_radps, share * float(top[2])))  # fmt: skip
 
 
 def navigate(sim, nav: Navigator, tap: Tap, vessel: str, lidar: str, max_time_s: float, cloud_every: int = 3):
