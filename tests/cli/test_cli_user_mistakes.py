@@ -707,3 +707,26 @@ def test_the_viewer_runs_until_closed_unless_a_duration_is_given(monkeypatch):
     assert asked == [None, 5.0]
     headless = invoke("run", "harbor")
     assert headless.exit_code == 0 and "simulated 60.00 s" in headless.output
+
+
+def test_the_viewer_follows_the_vessel_asked_for(monkeypatch):
+    """`--vessel otter` drives and follows the Otter (the viewer always took the first vessel); without --view, or a
+    vessel the scenario lacks, is one line."""
+    import usvsim.viewer
+    import usvsim.viewer.display
+
+    asked = []
+
+    def fake_viewer(sim, vessel=None, **kwargs):
+        asked.append(vessel)
+        return {"steps": 0}
+
+    one_line_error(invoke("run", "harbor", "--vessel", "otter"), "--vessel", "--view")
+    monkeypatch.setenv("MUJOCO_GL", "egl")
+    monkeypatch.setattr(usvsim.viewer.display, "display_missing", lambda: False)
+    real = usvsim.viewer.run_viewer
+    monkeypatch.setattr(usvsim.viewer, "run_viewer", fake_viewer)
+    assert invoke("run", "harbor", "--view", "--vessel", "otter").exit_code == 0
+    assert asked == ["otter"]
+    monkeypatch.setattr(usvsim.viewer, "run_viewer", real)  # the real one refuses before opening a window
+    one_line_error(invoke("run", "harbor", "--view", "--vessel", "oter"), "no vessel 'oter'", "otter")

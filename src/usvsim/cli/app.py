@@ -118,6 +118,8 @@ def run(
         int, typer.Option(help="Foxglove connections at once", min=1, max=1024)
     ] = 16,
     force: Annotated[bool, typer.Option("--force", help="overwrite an existing recording")] = False,
+    vessel: Annotated[str | None, typer.Option(help="with --view: the vessel to follow and drive (default: the "
+                                               "scenario's first)")] = None,  # fmt: skip
     screenshot: Annotated[Path | None, typer.Option(help="with --view: save the last frame as PNG")] = None,
     video: Annotated[Path | None, typer.Option(help="with --view: record the window to a video (.mp4, .avi) at 30 frames per simulated second")] = None,
 ) -> None:
@@ -140,6 +142,8 @@ def run(
         fail(UsvsimError(f"--duration must be a finite number of seconds in [0, 1e7], got {duration}"))
     if (screenshot or video) and not view:
         fail(UsvsimError("--screenshot and --video record the viewer's window: add --view"))
+    if vessel is not None and not view:
+        fail(UsvsimError("--vessel chooses the vessel the viewer follows and drives: add --view"))
     if screenshot or video:
         from usvsim.viewer.capture import check_outputs
 
@@ -173,7 +177,7 @@ def run(
         try:
             setup.check()
             if view:
-                _run_viewer(sim, duration, screenshot, video, steps)
+                _run_viewer(sim, duration, screenshot, video, steps, vessel)
             else:
                 _run_with_progress(sim, 60.0 if duration is None else duration, realtime, steps)
         except KeyboardInterrupt as exc:
@@ -353,7 +357,7 @@ def _progress_loop(sim, duration: float, realtime: bool, on_step, steps: _StepCo
 
 
 def _run_viewer(sim, duration: float | None, screenshot: Path | None, video: Path | None,
-                steps: _StepCount) -> None:  # fmt: skip
+                steps: _StepCount, vessel: str | None = None) -> None:  # fmt: skip
     import warnings
 
     from usvsim.cli.stopping import Stopped, StopSignals
@@ -364,7 +368,7 @@ def _run_viewer(sim, duration: float | None, screenshot: Path | None, video: Pat
         # a physics step or a recorder's write included, and the steps taken were not counted; SIGTERM killed it)
         with warnings.catch_warnings(), StopSignals() as stop:
             warnings.simplefilter("ignore")  # GLFW repeats its own error as a warning
-            stats = run_viewer(sim, max_seconds=duration, screenshot=screenshot, video=video,
+            stats = run_viewer(sim, vessel=vessel, max_seconds=duration, screenshot=screenshot, video=video,
                                stop=lambda: bool(stop.signum))  # fmt: skip
         steps.n = stats["steps"]
     except RuntimeError as exc:  # no display, no OpenGL
