@@ -23,25 +23,31 @@ def blocks(lang: str) -> list[str]:
 
 
 def test_yaml_blocks_validate():
-    scenario, radar = blocks("yaml")
+    scenario, avoidance, radar = blocks("yaml")
     parse_scenario(yaml.safe_load(scenario), "docs/traffic.md")
+    vessels = [{"name": "own", "model": "wamv", "controller": {"type": "velocity"}}]
+    parse_scenario({"version": 1, "vessels": vessels, **yaml.safe_load(avoidance)}, "docs/traffic.md")
     TypeAdapter(Sensor).validate_python(yaml.safe_load(radar)["sensors"][0])
 
 
-def test_python_block_runs(capsys):
-    (code,) = blocks("python")
-    exec(compile(code, "docs/traffic.md", "exec"), {})
+def test_python_blocks_run(capsys):
+    report, avoidance = blocks("python")
+    exec(compile(report, "docs/traffic.md", "exec"), {})
     assert capsys.readouterr().out.startswith("[2]")
+    exec(compile(avoidance, "docs/traffic.md", "exec"), {})
+    first = capsys.readouterr().out.splitlines()[0]
+    assert first == "target_1 127 None crossing_give_way 30 True"  # the line the page shows
 
 
 def test_shell_lines_run(tmp_path):
     env = dict(os.environ, PYTHONPATH=str(ROOT / "src"))
-    for line in blocks("bash")[0].strip().splitlines():
+    for line in "".join(blocks("bash")).strip().splitlines():
         args = line.split()
         assert args[0] == "usvsim"
         subprocess.run([sys.executable, "-m", "usvsim.cli", *args[1:]], cwd=tmp_path, env=env, check=True,
                        capture_output=True)  # fmt: skip
     assert (tmp_path / "imazu14_otter.yaml").is_file()
+    assert "avoidance: {type: velocity_obstacle}" in (tmp_path / "imazu01_avoid.yaml").read_text()
 
 
 @pytest.mark.slow  # renders a camera and runs an encounter: about a minute on a loaded machine

@@ -14,6 +14,7 @@ def imazu(
     speed: Annotated[float, typer.Option(help="own ship speed, m/s", min=0.1, max=50.0)] = 2.0,
     encounter: Annotated[float, typer.Option(help="seconds until the encounter", min=10.0, max=1e6)] = 300.0,
     out: Annotated[Path | None, typer.Option(help="write the scenario here (default: print it)")] = None,
+    avoid: Annotated[bool, typer.Option(help="the own ship avoids (COLREG velocity obstacles, docs/traffic.md)")] = False,
 ) -> None:
     """Write Imazu encounter CASE (own ship heading north, 1-3 targets) as a scenario YAML."""
     from usvsim.cli.errors import fail
@@ -24,7 +25,7 @@ def imazu(
 
     if model not in LIBRARY:
         fail(f"--model {model!r}: choose a library vessel ({', '.join(LIBRARY)})")
-    text = imazu_yaml(case, model=model, speed_mps=speed, encounter_s=encounter)
+    text = imazu_yaml(case, model=model, speed_mps=speed, encounter_s=encounter, avoid=avoid)
     try:  # the file must run: fast and long encounters start the ships beyond the 100 km limit of positions
         from usvsim.config import safe_yaml
         from usvsim.config.loader import parse_scenario
@@ -85,3 +86,22 @@ def print_report(sim, console) -> None:
     console.print(f"min CPA: the least CPA predicted while 0 <= TCPA <= {limit:g} s (traffic.awareness.tcpa_limit_s), "
                   "at that TCPA; '-': none was. range, TCPA: at the end of the run ('opening': the closest point is "
                   "past; 'steady': no relative motion).")  # fmt: skip
+    _print_avoidance(report, console)
+
+
+def _print_avoidance(report: dict, console) -> None:
+    """When the own ship avoids: per target its COLREG role when it first acted, its alteration then and whether it
+    kept to starboard."""
+    if not any("encounter" in r for r in report.values()):
+        return
+    from rich.table import Column, Table
+
+    columns = ("target", "COLREG role", "turn (deg)", "starboard")
+    table = Table(*(Column(c, no_wrap=True) for c in columns), box=None, pad_edge=False)
+    for name, r in report.items():
+        starboard = {True: "yes", False: "NO", None: "-"}[r["starboard"]]
+        table.add_row(name, r["encounter"] or "-", _num(r["turn_deg"]), starboard)
+    console.print(table)
+    console.print("COLREG role, turn: the own ship's role when it first acted for the target and its alteration then "
+                  "(deg, starboard +); starboard: no port turn where rules 14, 15 and 17(c) forbid one ('-': no such "
+                  "rule, or it never acted).")  # fmt: skip

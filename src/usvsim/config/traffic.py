@@ -85,6 +85,28 @@ class ShipAis(Section):
     callsign: str = Field(default="", max_length=7)
 
 
+class Avoidance(Section):
+    """Collision avoidance of a physics ship (`vessel`) against every other ship: velocity obstacles with COLREG
+    rules 13-17 (docs/traffic.md, usvsim.traffic.colav). Distances between ship reference points, m."""
+
+    type: Literal["velocity_obstacle"] = "velocity_obstacle"
+    safety_m: PositiveFloat = Field(default=50.0, description="least distance to keep to any ship, m")
+    close_quarters_m: PositiveFloat = Field(default=150.0, description="a stand-on ship acts (rule 17) once a "
+                                            "give-way ship that has not acted comes this close, m")  # fmt: skip
+    horizon_s: PositiveFloat = Field(default=150.0, le=3600.0, description="look-ahead of the velocity obstacles, s")
+    min_turn_deg: float = Field(default=30.0, ge=0.0, le=90.0, description="least alteration (rule 8: substantial), deg")
+    max_turn_deg: float = Field(default=90.0, gt=0.0, le=180.0, description="largest alteration from the course, deg")
+    rate_hz: PositiveFloat = Field(default=1.0, le=100.0, description="decisions per second")
+
+    @model_validator(mode="after")
+    def _turns(self):
+        if self.min_turn_deg > self.max_turn_deg:
+            raise ValueError(f"min_turn_deg ({self.min_turn_deg:g}) must not exceed max_turn_deg ({self.max_turn_deg:g})")
+        if self.close_quarters_m < self.safety_m:
+            raise ValueError(f"close_quarters_m ({self.close_quarters_m:g}) must be at least safety_m ({self.safety_m:g})")
+        return self
+
+
 class Ship(Section):
     """A traffic ship: a kinematic body on a scripted track (seen by sensors, solid to vessels, not pushed by them),
     or, with `vessel`, the track a scenario vessel's velocity controller follows."""
@@ -100,6 +122,14 @@ class Ship(Section):
     draft_m: float = Field(default=1.5, ge=0, le=MAX_SHIP_DRAFT_M)
     vessel: Name | None = Field(default=None, description="a scenario vessel (with a velocity controller) to drive")
     ais: ShipAis = ShipAis()
+    avoidance: Avoidance | None = Field(default=None, description="collision avoidance (a ship with `vessel` only)")
+
+    @model_validator(mode="after")
+    def _avoiding_vessel(self):
+        if self.avoidance is not None and self.vessel is None:
+            raise KeyedValueError("avoidance", "only a physics ship (one with `vessel`) can avoid; a kinematic ship "
+                                  "keeps its track")  # fmt: skip
+        return self
 
 
 class OwnShipAis(Section):

@@ -23,6 +23,7 @@ from usvsim.config.loader import base_dir, source_of
 from usvsim.config.traffic import Route
 from usvsim.core.errors import ScenarioError
 from usvsim.traffic import kernels as K
+from usvsim.traffic.colav import AvoidingPilot
 from usvsim.traffic.kernels import TrackTable, fleet_placer
 from usvsim.traffic.motion import make_track
 from usvsim.traffic.pilot import LosPilot, TrackPilot
@@ -178,6 +179,12 @@ class Fleet:
         self.pos_enu, self.vel_enu, self.yaw_rad = np.zeros((n, 2)), np.zeros((n, 2)), np.zeros(n)
         self.pilots = {k: (s.vessel, _pilot(world, self.controllers, s, f"traffic.ships[{k}]"))
                        for k, s in enumerate(ships) if s.vessel is not None}  # fmt: skip
+        for k, (name, pilot) in self.pilots.items():
+            if ships[k].avoidance is not None:
+                if not isinstance(pilot, LosPilot):
+                    raise ScenarioError(source_of(world.scenario), f"traffic.ships[{k}].avoidance", "a ship replaying "
+                                        "a recorded track cannot avoid (give it a route or a constant course)")  # fmt: skip
+                self.pilots[k] = (name, AvoidingPilot(pilot, ships[k].avoidance, self, k))
         if self.pilots:
             self._kpos, self._kvel, self._kyaw = np.zeros((nk, 2)), np.zeros((nk, 2)), np.zeros(nk)
         else:  # all kinematic: the kernel fills the public arrays directly

@@ -47,9 +47,10 @@ OWN_MMSI, FIRST_TARGET_MMSI = 257999000, 257999001
 
 
 def imazu_scenario(case: int, model: str = "wamv", speed_mps: float = 2.0, encounter_s: float = 300.0,
-                   target_length_m: float = 25.0) -> dict:  # fmt: skip
+                   target_length_m: float = 25.0, avoid: bool = False) -> dict:  # fmt: skip
     """Scenario dict of Imazu case `case` (1-22): own ship `model` heading north from the origin at `speed_mps`
-    (full physics, LOS pilot + velocity controller), targets kinematic at constant course and speed."""
+    (full physics, LOS pilot + velocity controller; with `avoid`, COLREG collision avoidance with its defaults:
+    usvsim.traffic.colav), targets kinematic at constant course and speed."""
     if case not in IMAZU:
         raise ValueError(f"Imazu cases are 1-22, got {case}")
     k = speed_mps / REFERENCE_SPEED_MPS
@@ -58,6 +59,8 @@ def imazu_scenario(case: int, model: str = "wamv", speed_mps: float = 2.0, encou
     own = {"name": "own_ship", "mmsi": OWN_MMSI, "vessel": "own", "ship_type": "other", "length_m": length,
            "beam_m": beam, "ais": {"enabled": False},
            "motion": {"type": "constant", "position": [0.0, 0.0], "course_deg": 0.0, "speed_mps": speed_mps}}  # fmt: skip
+    if avoid:
+        own["avoidance"] = {"type": "velocity_obstacle"}
     ships = [own]
     for j, (east, north, course, speed) in enumerate(IMAZU[case]):
         ships.append({"name": f"target_{j + 1}", "mmsi": FIRST_TARGET_MMSI + j, "ship_type": "cargo",

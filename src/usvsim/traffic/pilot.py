@@ -33,8 +33,8 @@ class LosPilot:
     def reset(self) -> None:
         self.leg = 0
 
-    def reference(self, pos_enu, yaw_rad: float, t_s: float = 0.0) -> tuple[float, float, float]:
-        """(surge m/s, sway m/s, yaw rate rad/s) for a vessel at pos_enu (x, y) heading yaw_rad (any time t_s)."""
+    def course(self, pos_enu) -> tuple[float, float] | None:
+        """(course as ENU yaw rad, speed m/s) the LOS law asks of a vessel at pos_enu (x, y); None past the end."""
         while self.leg < len(self.points) - 1:
             a, b = self.points[self.leg], self.points[self.leg + 1]
             leg = b - a
@@ -44,14 +44,27 @@ class LosPilot:
                 break
             self.leg += 1
         if self.leg >= len(self.points) - 1:
-            return 0.0, 0.0, 0.0
+            return None
         a, b = self.points[self.leg], self.points[self.leg + 1]
         d = (b - a) / max(float(np.hypot(*(b - a))), 1e-9)
         rel = np.asarray(pos_enu[:2]) - a
         cross = d[0] * rel[1] - d[1] * rel[0]  # left of the leg: positive
-        course = math.atan2(d[1], d[0]) + math.atan2(-cross, self.lookahead_m)
+        return math.atan2(d[1], d[0]) + math.atan2(-cross, self.lookahead_m), float(self.speeds[self.leg])
+
+    def leg_course(self) -> float:
+        """Direction of the current leg (ENU yaw, rad): the course along the track, without the return to it."""
+        leg = self.points[min(self.leg + 1, len(self.points) - 1)] - self.points[min(self.leg, len(self.points) - 2)]
+        return math.atan2(leg[1], leg[0])
+
+    def steer(self, course: float, speed: float, yaw_rad: float) -> tuple[float, float, float]:
+        """(surge m/s, sway m/s, yaw rate rad/s) that turn a vessel heading yaw_rad towards `course` at `speed`."""
         rate = float(np.clip(self.yaw_gain * wrap_angle(course - yaw_rad), -self.max_yaw_rate, self.max_yaw_rate))
-        return float(self.speeds[self.leg]), 0.0, rate
+        return speed, 0.0, rate
+
+    def reference(self, pos_enu, yaw_rad: float, t_s: float = 0.0) -> tuple[float, float, float]:
+        """(surge m/s, sway m/s, yaw rate rad/s) for a vessel at pos_enu (x, y) heading yaw_rad (any time t_s)."""
+        wanted = self.course(pos_enu)
+        return (0.0, 0.0, 0.0) if wanted is None else self.steer(*wanted, yaw_rad)
 
 
 class TrackPilot:

@@ -8,6 +8,7 @@ import math
 from typing import TYPE_CHECKING
 
 from usvsim.messages.envelope import Envelope
+from usvsim.traffic.colav import AvoidingPilot
 from usvsim.traffic.fleet import Fleet
 from usvsim.traffic.situation import SituationPublisher
 
@@ -59,8 +60,18 @@ class Traffic:
 
     def report(self) -> dict:
         """Run report: per target the least distance to the own ship, when, the least CPA predicted within the
-        TCPA limit and its TCPA, the range and TCPA at the end (SituationPublisher.report)."""
-        return self.situation.report() if self.situation is not None else {}
+        TCPA limit and its TCPA, the range and TCPA at the end, the first hull contact (SituationPublisher.report);
+        when the own ship avoids (`traffic.ships[].avoidance`), its COLREG role, alteration and whether it kept
+        to starboard per target (AvoidingPilot.report)."""
+        if self.situation is None:
+            return {}
+        out = self.situation.report()
+        for name, pilot in self.fleet.pilots.values():
+            if name == self.situation.own.name and isinstance(pilot, AvoidingPilot):
+                for target, score in pilot.report().items():
+                    if target in out:
+                        out[target].update(score)
+        return out
 
     def reset(self, world: World) -> None:
         self._quiet_until = 0 if self._active else math.inf
