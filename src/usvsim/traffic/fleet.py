@@ -177,8 +177,9 @@ class Fleet:
         self.table = TrackTable.of(_tracks(world.scenario))
         n, nk = len(ships), len(self.kinematic)
         self.pos_enu, self.vel_enu, self.yaw_rad = np.zeros((n, 2)), np.zeros((n, 2)), np.zeros(n)
-        self.pilots = {k: (s.vessel, _pilot(world, self.controllers, s, f"traffic.ships[{k}]"))
-                       for k, s in enumerate(ships) if s.vessel is not None}  # fmt: skip
+        self.pilots: dict[int, tuple[str, LosPilot | TrackPilot | AvoidingPilot]] = {
+            k: (s.vessel, _pilot(world, self.controllers, s, f"traffic.ships[{k}]"))
+            for k, s in enumerate(ships) if s.vessel is not None}  # fmt: skip
         for k, (name, pilot) in self.pilots.items():
             if ships[k].avoidance is not None:
                 if not isinstance(pilot, LosPilot):
