@@ -567,3 +567,90 @@ def test_a_polygon_coco_set_reads_back_with_pycocotools(tmp_path):
     assert json.loads((root / "dataset.json").read_text())["coco_segmentation"] == "polygon"
     result = CliRunner().invoke(app, ["dataset", "buoy_field", "--out", str(tmp_path / "z"), "--coco-segmentation", "poly"])
     assert result.exit_code == 2 and "--coco-segmentation: 'poly' is not one of rle, compressed_rle, polygon" in result.output
+
+
+# Ultralytics' segment label line (docs.ultralytics.com/datasets/segment): `<class-index> <x1> <y1> ... <xn> <yn>`,
+# at least 3 points, coordinates normalized to [0, 1] by the image's width and height, space-separated
+_UNIT = r"(?:0(?:\.\d+)?|1(?:\.0+)?)"
+_SEGMENT_LINE = rf"(\d+)((?: {_UNIT} {_UNIT}){{3,}})"
+
+
+def _segment_points(line: str, w: int, h: int) -> tuple[int, np.ndarray]:
+    """(class, pixel-edge points (N, 2)) of a label line that must follow Ultralytics' segment grammar."""
+    import re
+
+    match = re.fullmatch(_SEGMENT_LINE, line)
+    assert match, f"not an Ultralytics segment line: {line[:80]!r}"
+    return int(match[1]), np.array(match[2].split(), float).reshape(-1, 2) * (w, h)
+
+
+def _fill(points: np.ndarray, h: int, w: int) -> tuple[np.ndarray, np.ndarray]:
+    """The polygon drawn back (pycocotools, exact even-odd area; OpenCV's fillPoly on int32 pixel coordinates,
+    as Ultralytics' polygon2mask draws it, edges included)."""
+    import cv2
+    from pycocotools import mask as mask_utils
+
+    coco = mask_utils.decode(mask_utils.frPyObjects([points.ravel().tolist()], h, w))[:, :, 0].astype(bool)
+    cv = np.zeros((h, w), np.uint8)
+    cv2.fillPoly(cv, [points.astype(np.int32)], 1)
+    return coco, cv.astype(bool)
+
+
+def test_yolo_segment_lines_follow_ultralytics_grammar_and_draw_the_masks_back():
+    """YOLO labels were boxes only: Ultralytics' segmentation models need `class x1 y1 ...` polygon lines (qa24).
+    One line per object, holes and separate parts joined into one polygon by bridges walked there and back:
+    pycocotools draws exactly the object's pixels from it; OpenCV's fillPoly (Ultralytics) draws them all and,
+    for a mask of one part without holes, nothing else (a bridge's own pixels are the only extra ones)."""
+    import cv2
+
+    from usvsim.datasets.writers import yolo_line
+
+    rng = np.random.default_rng(11)
+    checked = simple = 0
+    for _ in range(30):
+        h, w = (int(v) for v in rng.integers(8, 90, 2))
+        instance, labels = _random_instances(rng, h, w, int(rng.integers(1, 6)))
+        for lab in labels:
+            line = yolo_line("segment", instance, lab, (h, w))
+            cls, points = _segment_points(line, w, h)
+            mask = instance == lab.instance
+            coco, cv = _fill(points, h, w)
+            assert cls == DETECTABLE.index(lab.category) and np.array_equal(coco, mask) and not (mask & ~cv).any()
+            x0, y0, x1, y1 = lab.visible_box  # the outline runs a quarter pixel inside the box's edges
+            assert np.allclose(points.min(0), (x0 + 0.25, y0 + 0.25), atol=5e-4 * max(w, h))
+            assert np.allclose(points.max(0), (x1 - 0.25, y1 - 0.25), atol=5e-4 * max(w, h))
+            _, hierarchy = cv2.findContours(mask.astype(np.uint8), cv2.RETR_CCOMP, cv2.CHAIN_APPROX_SIMPLE)
+            if len(hierarchy[0]) == 1:
+                assert np.array_equal(cv, mask)
+                simple += 1
+            checked += 1
+    assert checked > 60 and simple > 5
+    box = yolo_line("box", instance, labels[0], (h, w)).split()
+    assert len(box) == 5
+
+
+def test_a_yolo_segment_set(tmp_path):
+    root = generate(DatasetSpec("buoy_field", 2, tmp_path / "s", ("yolo", "masks"), resolution=(160, 120),
+                                splits=(1.0, 0.0, 0.0), min_visible_pixels=4, yolo_labels="segment"))  # fmt: skip
+    data_yaml = (root / "data.yaml").read_text()
+    assert data_yaml.startswith("# labels: segment") and yaml.safe_load(data_yaml)["names"][0] == DETECTABLE[0]
+    lines = 0
+    for label in sorted((root / "labels" / "train").glob("*.txt")):
+        inst = np.array(Image.open(root / "masks" / "instance" / "train" / f"{label.stem}.png"))
+        objects = json.loads((root / "meta" / f"{label.stem}.json").read_text())["objects"]
+        rows = label.read_text().splitlines()
+        assert len(rows) == len(objects)
+        for row, obj in zip(rows, objects, strict=True):
+            cls, points = _segment_points(row, 160, 120)
+            coco, cv = _fill(points, 120, 160)
+            mask = inst == obj["instance"]
+            assert cls == DETECTABLE.index(obj["category"]) and np.array_equal(coco, mask) and not (mask & ~cv).any()
+            lines += 1
+    assert lines >= 4 and json.loads((root / "dataset.json").read_text())["yolo_labels"] == "segment"
+    runner = CliRunner()
+    result = runner.invoke(app, ["dataset", "buoy_field", "--out", str(tmp_path / "z"), "--yolo-labels", "polygon"])
+    assert result.exit_code == 2 and "--yolo-labels: 'polygon' is not one of box, segment" in result.output
+    result = runner.invoke(app, ["dataset", "buoy_field", "--out", str(tmp_path / "z"), "--format", "coco",
+                                 "--yolo-labels", "segment"])  # fmt: skip
+    assert result.exit_code == 2 and "--yolo-labels segment needs yolo in --format (got coco)" in result.output
+    assert not (tmp_path / "z").exists()

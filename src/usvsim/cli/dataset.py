@@ -40,6 +40,10 @@ def dataset_command(
         str, typer.Option(help="COCO segmentation: rle (uncompressed), compressed_rle or polygon (Detectron2's "
                                "default, Ultralytics' converter); all exact")
     ] = "rle",
+    yolo_labels: Annotated[
+        str, typer.Option(help="YOLO label lines: box (class cx cy w h) or segment (class and the object's polygon, "
+                               "Ultralytics' segmentation format)")
+    ] = "box",
     force: Annotated[
         bool, typer.Option("--force", help="replace the data set already in --out (its files only)")
     ] = False,
@@ -79,7 +83,7 @@ def dataset_command(
     try:
         spec = DatasetSpec(scenario, frames, folder, tuple(f.strip() for f in format.split(",")), seed, randomize,
                            size, fractions, min_visible_pixels, min_visible_fraction, renderer=renderer,
-                           coco_segmentation=coco_segmentation)  # fmt: skip
+                           coco_segmentation=coco_segmentation, yolo_labels=yolo_labels)  # fmt: skip
         load_scenario(scenario), load_randomization(randomize)  # bad input fails before the folder is made
         columns = (TextColumn("dataset"), BarColumn(), MofNCompleteColumn(), TimeRemainingColumn())
         written = [0]

@@ -42,7 +42,14 @@ from usvsim.datasets.randomization import (
     nested,
     support_ends,
 )
-from usvsim.datasets.writers import COCO_SEGMENTATIONS, FORMATS, SPLITS, DatasetWriter, WriteError
+from usvsim.datasets.writers import (
+    COCO_SEGMENTATIONS,
+    FORMATS,
+    SPLITS,
+    YOLO_LABELS,
+    DatasetWriter,
+    WriteError,
+)
 from usvsim.sensors.base import OPTICAL_ROT
 from usvsim.sensors.camera.clip import camera_planes
 from usvsim.sensors.camera.sensor import Camera
@@ -72,6 +79,7 @@ class DatasetSpec:
     amodal_masks: bool = True  # visible_fraction from amodal masks (extra passes); False: box area ratio
     renderer: str | None = None  # "shader" (the marine look) or "mujoco" for every camera; None: the scenario's
     coco_segmentation: str = "rle"  # COCO `segmentation`: "rle" (uncompressed), "compressed_rle" or "polygon"
+    yolo_labels: str = "box"  # YOLO label lines: "box" (class cx cy w h) or "segment" (class and the polygon)
 
     def __post_init__(self):
         if isinstance(self.formats, str):  # "yolo,coco" was taken letter by letter
@@ -104,6 +112,10 @@ class DatasetSpec:
         if self.coco_segmentation not in COCO_SEGMENTATIONS:
             raise UsvsimError(f"--coco-segmentation: {self.coco_segmentation!r} is not one of "
                               f"{', '.join(COCO_SEGMENTATIONS)}")  # fmt: skip
+        if self.yolo_labels not in YOLO_LABELS:
+            raise UsvsimError(f"--yolo-labels: {self.yolo_labels!r} is not one of {', '.join(YOLO_LABELS)}")
+        if self.yolo_labels != "box" and "yolo" not in self.formats:  # it would write nothing
+            raise UsvsimError(f"--yolo-labels {self.yolo_labels} needs yolo in --format (got {','.join(self.formats)})")
         if self.renderer not in (None, "shader", "mujoco"):
             raise UsvsimError(f"--renderer: {self.renderer!r} is not one of shader, mujoco")
         if self.min_visible_pixels < 0:
@@ -233,7 +245,7 @@ class DatasetGenerator:
             self.looks.append(LookAdapter(self.sim.world, cam.renderer, cam.intrinsics))
             self.amodals.append(AmodalCounter(self.sim.model, mine, self.labellers[-1].owner))
             self.fogs.append(FogSight(cam.intrinsics))
-        self.writer = DatasetWriter(spec.out, spec.formats, spec.coco_segmentation)
+        self.writer = DatasetWriter(spec.out, spec.formats, spec.coco_segmentation, spec.yolo_labels)
         self.frames_written = 0
 
     def run(self, progress: Callable[[int], None] | None = None, stop: Callable[[], str | None] | None = None) -> Path:

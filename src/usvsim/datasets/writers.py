@@ -2,7 +2,8 @@
 
 Layout under the output folder (`<split>`: train, val, test; `<stem>`: frame number and camera):
   images/<split>/<stem>.png              RGB
-  labels/<split>/<stem>.txt              YOLO: `class cx cy w h` per object, normalized to 0–1 (visible box)
+  labels/<split>/<stem>.txt              YOLO: `class cx cy w h` per object, normalized to 0–1 (visible box), or
+                                         `class x1 y1 x2 y2 ...` (its polygon, `YOLO_LABELS`: segment)
   masks/instance/<split>/<stem>.png      uint16: object index + 1 (0: none); ids as in the COCO file
   masks/semantic/<split>/<stem>.png      uint8: class id (classes.json)
   annotations/<split>.json               COCO: bbox = visible box, segmentation = RLE (uncompressed, or
@@ -31,6 +32,7 @@ from usvsim.datasets.labels import CLASSES, DETECTABLE, GROUPS, ObjectLabel
 
 FORMATS = ("yolo", "coco", "masks")
 COCO_SEGMENTATIONS = ("rle", "compressed_rle", "polygon")  # how COCO `segmentation` is written; see coco_segmentation
+YOLO_LABELS = ("box", "segment")  # what a YOLO label line holds: the visible box, or the polygon (Ultralytics' segment)
 SPLITS = ("train", "val", "test")
 
 
@@ -203,13 +205,42 @@ def coco_segmentation(kind: str, instance: np.ndarray, lab: ObjectLabel, shape) 
     return counts if kind == "rle" else {**counts, "counts": rle_string(counts["counts"])}
 
 
+def yolo_polygon(mask: np.ndarray, x0: int, y0: int) -> np.ndarray:
+    """An object's Ultralytics segment polygon (N, 2) in pixel-edge coordinates: polygons()' parts (holes already
+    bridged) in one ring, each part joined at its vertex nearest to the ring so far by a bridge walked there and
+    back, which adds nothing under an even-odd fill (Ultralytics' COCO converter also joins an object's parts into
+    one line, at their nearest points); nearest, because rasterizers that draw the edges (OpenCV's fillPoly, which
+    Ultralytics uses) paint a bridge's pixels. At least 4 points: every part is at least a pixel's square."""
+    parts = [np.asarray(p, float).reshape(-1, 2) for p in polygons(mask, x0, y0)]
+    path = parts[0]
+    for part in parts[1:]:  # both closed walks: the last point is the first
+        d = np.linalg.norm(path[:, None, :] - part[None, :-1, :], axis=2)
+        i, j = np.unravel_index(int(np.argmin(d)), d.shape)
+        ring = np.concatenate([part[j:-1], part[: j + 1]])  # the part, from vertex j back to it
+        path = np.concatenate([path[: i + 1], ring, path[i:]])
+    return path
+
+
+def yolo_line(kind: str, instance: np.ndarray, lab: ObjectLabel, shape) -> str:
+    """An object's YOLO label line: `class cx cy w h` (`box`: the visible box) or `class x1 y1 ... xn yn`
+    (`segment`: yolo_polygon), normalized by the image's width and height to [0, 1]."""
+    h, w = shape[:2]
+    x0, y0, x1, y1 = lab.visible_box
+    cls = DETECTABLE.index(lab.category)
+    if kind == "box":
+        return f"{cls} {(x0 + x1) / 2 / w:.6f} {(y0 + y1) / 2 / h:.6f} {(x1 - x0) / w:.6f} {(y1 - y0) / h:.6f}"
+    ix0, iy0, ix1, iy1 = (int(v) for v in lab.visible_box)
+    ring = yolo_polygon(instance[iy0:iy1, ix0:ix1] == lab.instance, ix0, iy0) / (w, h)
+    return f"{cls} " + " ".join(f"{v:.6f}" for v in ring.ravel())
+
+
 def _round(box) -> list[float]:
     return [round(float(v), 3) for v in box]
 
 
 class DatasetWriter:
-    def __init__(self, out: Path, formats: tuple[str, ...], segmentation: str = "rle"):
-        self.out, self.formats, self.segmentation = Path(out), formats, segmentation
+    def __init__(self, out: Path, formats: tuple[str, ...], segmentation: str = "rle", yolo_labels: str = "box"):
+        self.out, self.formats, self.segmentation, self.yolo_labels = Path(out), formats, segmentation, yolo_labels
         self.coco: dict[str, dict] = {s: {"images": [], "annotations": []} for s in SPLITS}
         self.next_ann = 1
 
@@ -222,12 +253,7 @@ class DatasetWriter:
             write_png(self.out / "masks" / "instance" / split / f"{stem}.png", instance)
             write_png(self.out / "masks" / "semantic" / split / f"{stem}.png", semantic)
         if "yolo" in self.formats:
-            h, w = rgb.shape[:2]
-            lines = []
-            for lab in labels:
-                x0, y0, x1, y1 = lab.visible_box
-                lines.append(f"{DETECTABLE.index(lab.category)} {(x0 + x1) / 2 / w:.6f} {(y0 + y1) / 2 / h:.6f} "
-                             f"{(x1 - x0) / w:.6f} {(y1 - y0) / h:.6f}")  # fmt: skip
+            lines = [yolo_line(self.yolo_labels, instance, lab, rgb.shape) for lab in labels]
             write_atomic(self.out / "labels" / split / f"{stem}.txt", "".join(line + "\n" for line in lines).encode())
         dump_json(self.out / "meta" / f"{stem}.json", meta)
 
@@ -277,8 +303,11 @@ class DatasetWriter:
                     except OSError as exc:
                         raise WriteError(f"cannot create {self.out / folder / split}: {exc.strerror or exc}") from None
             names = "".join(f"  {i}: {c}\n" for i, c in enumerate(DETECTABLE))
-            write_atomic(self.out / "data.yaml", f"path: {self.out.resolve()}\ntrain: images/train\nval: images/val\n"
-                                                 f"test: images/test\nnames:\n{names}".encode())  # fmt: skip
+            task = ("# labels: segment polygons (class x1 y1 x2 y2 ...): train a segmentation model (yolov8n-seg.yaml, "
+                    "task=segment)\n" if self.yolo_labels == "segment" else "")  # Ultralytics' -seg data files
+            # have the detection ones' keys; the model names the task
+            write_atomic(self.out / "data.yaml", f"{task}path: {self.out.resolve()}\ntrain: images/train\n"
+                                                 f"val: images/val\ntest: images/test\nnames:\n{names}".encode())  # fmt: skip
         dump_json(
             self.out / "classes.json",
             [{"id": i, "name": c, "group": GROUPS[c]} for i, c in enumerate(CLASSES)],
