@@ -104,3 +104,23 @@ def test_settings_of_the_other_mode_are_refused(scenario_of, extra, key):
     sensor = {"type": "odometry", "name": "dr", **extra}
     with pytest.raises(ScenarioError, match=rf"sensors\[0\]\.{key}"):
         scenario_of({"vessels": [{"name": "wamv", "model": "wamv", "sensors": [sensor]}]})
+
+
+def test_the_heading_noise_spreads_a_run_across_its_track_and_the_covariance_says_so(scenario_of):
+    """Yaw-rate noise alone on a straight run: the heading error δψ (variance σ_r² Δt t) turns every later step, so
+    the cross-track error is Σ Δx_k δψ_k, of variance Σ_j (σ_r Δt)² (Σ_{k>j} Δx_k)² (V² σ_r² Δt t³/3 at a constant
+    speed). The reported y variance is that sum (it was 0: the pose claimed to be exact across the track), with the
+    y-yaw covariance Σ_j (σ_r Δt)² Σ_{k>j} Δx_k; the spread over seeds matches it (measured by hand, 40 seeds x 40 s:
+    0.177 m² against 0.219 m², ±23 % 1σ)."""
+    sr = 0.01
+    _, est, true = _run(scenario_of, 20.0, thrust=(1.0,), angular_velocity_stddev_radps=sr)
+    p = _xyz(true)
+    assert abs(p[-1, 1]) < 0.05 * p[-1, 0] and p[-1, 0] > 20.0  # straight along odom x
+    along = np.diff(p[:, 0], prepend=0.0)
+    after = np.cumsum(along[::-1])[::-1][1:]  # Σ_{k>j} Δx_k for j = 0 .. n-2
+    q = (sr / RATE) ** 2
+    cov = np.array(est[-1].pose.covariance).reshape(6, 6)
+    assert cov[1, 1] == pytest.approx(q * np.sum(after**2), rel=0.02)
+    assert cov[1, 5] == pytest.approx(q * np.sum(after), rel=0.02) and cov[5, 1] == cov[1, 5]
+    assert cov[5, 5] == pytest.approx(len(est) * q)
+    assert cov[0, 0] < 1e-3 * cov[1, 1]  # no error along the track without velocity noise

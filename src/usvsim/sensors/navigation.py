@@ -54,9 +54,9 @@ class Odometry(Sensor):
         self.origin_pos, self.origin_quat = sim.odom_origin[self.vessel]
         self.period_s = self.every * sim.clock.dt
         # dead reckoning: the true position in odom at the last sample, the estimate, its heading error (rad), the
-        # white-noise variances integrated so far (position per axis m², heading rad²) and the teleport count
+        # white noise's covariance so far (x, y, yaw in odom: m², m rad, rad²; z m²) and the teleport count
         pos, _ = self._true_pose(sim)
-        self.dead_reckoning = [pos, pos.copy(), 0.0, 0.0, 0.0, int(sim.body_teleports[self.body])]
+        self.dead_reckoning = [pos, pos.copy(), 0.0, np.zeros((3, 3)), 0.0, int(sim.body_teleports[self.body])]
 
     def static_transforms(self) -> list:
         return []  # odometry refers to base_link itself; GroundTruth owns world → odom and odom → base_link
@@ -88,7 +88,7 @@ class Odometry(Sensor):
         pos, quat = self._true_pose(sim)
         lin_noise = gaussian(self.rng, c.linear_velocity_stddev_mps)
         ang_noise = gaussian(self.rng, c.angular_velocity_stddev_radps)
-        last, est, dpsi, var_pos, var_yaw, teleports = self.dead_reckoning
+        last, est, dpsi, cov, var_z, teleports = self.dead_reckoning
         step = pos - last
         if sim.body_teleports[self.body] != teleports:  # not sailed: no measurement error
             est = est + step
@@ -99,13 +99,19 @@ class Odometry(Sensor):
             est_quat = quat_multiply(quat_from_rpy(0.0, 0.0, dpsi), quat)
             est = est + turned + matrix_from_quat(est_quat) @ lin_noise * dt
             dpsi += (c.yaw_rate_bias_radps + ang_noise[2]) * dt
-            var_pos += (c.linear_velocity_stddev_mps * dt) ** 2
-            var_yaw += (c.angular_velocity_stddev_radps * dt) ** 2
-        self.dead_reckoning = [pos, est, dpsi, var_pos, var_yaw, int(sim.body_teleports[self.body])]
+            # the heading's error turns this step: x, y gain -Δy δψ, Δx δψ (first order), so a run at speed V
+            # adds V² σ_r² Δt t³/3 across its track to the velocity noise's σ_v² Δt t
+            jac = np.array([[1.0, 0.0, -turned[1]], [0.0, 1.0, turned[0]], [0.0, 0.0, 1.0]])
+            white = np.array([c.linear_velocity_stddev_mps, c.linear_velocity_stddev_mps,
+                              c.angular_velocity_stddev_radps]) * dt  # fmt: skip
+            cov = jac @ cov @ jac.T + np.diag(white**2)
+            var_z += (c.linear_velocity_stddev_mps * dt) ** 2
+        self.dead_reckoning = [pos, est, dpsi, cov, var_z, int(sim.body_teleports[self.body])]
         est_quat = quat_multiply(quat_from_rpy(0.0, 0.0, dpsi), quat)
         lin = v.velocity_body * (1.0 + c.velocity_scale_error) + lin_noise
         ang = v.angular_velocity_body + ang_noise + np.array([0.0, 0.0, c.yaw_rate_bias_radps])
-        pose_cov = np.diag([var_pos] * 3 + [0.0, 0.0, var_yaw])  # the white noise's share (biases are unknown)
+        pose_cov = np.zeros((6, 6))  # the white noise's share (biases are unknown); roll and pitch are true
+        pose_cov[np.ix_((0, 1, 5), (0, 1, 5))], pose_cov[2, 2] = cov, var_z
         twist_cov = _cov6(c.linear_velocity_stddev_mps**2, c.angular_velocity_stddev_radps**2)
         msg = ros.odometry_msg(stamp_ns, self.odom_frame, self.child_frame, est, est_quat, lin, ang, pose_cov,
                                twist_cov)  # fmt: skip
