@@ -6,7 +6,8 @@ ROS 2 topics and from recordings (messages/markers.py says how a part becomes a 
   `<v>/base_link`, frame-locked, so `/tf` moves them (namespace `vessel/<v>`), and the static obstacles (docks,
   piers, berths, walls, mesh obstacles, anchors) in `world` (namespace `obstacles`).
 - `/usvsim/markers/bodies` every `outputs.markers.bodies_rate_hz` of simulation time: the floating bodies that
-  are not vessels (buoys: they have no TF frame) at their current poses in `world` (namespace `body/<b>`).
+  are not vessels (buoys: they have no TF frame) at their current poses in `world` (namespace `body/<b>`), and
+  the kinematic traffic ships (`traffic.ships` without `vessel`: hull and superstructure, namespace `ship/<s>`).
 
 Set in `outputs.markers` (`scene: false` or `bodies_rate_hz: null` turns either off).
 """
@@ -21,7 +22,7 @@ from numba import njit
 from usvsim.core.clock import steps_per_period
 from usvsim.messages.envelope import MARKERS_TOPIC, Envelope
 from usvsim.messages.markers import MovingMarkers, marker_array, part_marker
-from usvsim.world.shapes import drawn_parts, static_parts
+from usvsim.world.shapes import drawn_parts, kinematic_parts, static_parts
 
 if TYPE_CHECKING:
     from usvsim.world.world import World
@@ -38,7 +39,10 @@ class SceneMarkers:
         self.world = world
         self.scene = scene
         self.bodies = [b for name, b in world.bodies.items() if name not in world.vessels]
-        self.every = steps_per_period(bodies_rate_hz, world.clock.step_ns) if bodies_rate_hz and self.bodies else 0
+        self.ships = kinematic_parts(world.model)  # (geom id, ship, part): traffic ships moved by the kernel
+        moving = self.bodies or self.ships
+        self.every = steps_per_period(bodies_rate_hz, world.clock.step_ns) if bodies_rate_hz and moving else 0
+        self._ship_geoms = np.zeros(0, np.intp)  # the ship markers' geom ids (they follow the bodies' markers)
         self._static: tuple[Any, bytes] | None = None  # the /usvsim/markers message and its CDR (never change)
         self._moving: MovingMarkers | None = None  # the bodies' array, made on first use
         self._parts: tuple[np.ndarray, np.ndarray, np.ndarray] = (np.zeros(0, np.intp), np.zeros((0, 3)), np.zeros((0, 4)))
@@ -68,6 +72,10 @@ class SceneMarkers:
         moving = self._moving if self._moving is not None else self._build_moving()
         world = self.world
         _place_parts(world.state.pos, world.state.rot, world.data.qpos, world.qpos_adr, *self._parts, self._poses)
+        if len(self._ship_geoms):  # world-body geoms: their model pose is their world pose (w, x, y, z)
+            n, geoms = len(self._parts[0]), self._ship_geoms
+            self._poses[n:, :3] = world.model.geom_pos[geoms]
+            self._poses[n:, 3:6], self._poses[n:, 6] = world.model.geom_quat[geoms, 1:], world.model.geom_quat[geoms, 0]
         return [Envelope(BODIES_TOPIC, stamp_ns, msgtype=MARKER_ARRAY, cdr=moving.cdr(stamp_ns, self._poses))]
 
     def _build_moving(self) -> MovingMarkers:
@@ -82,6 +90,15 @@ class SceneMarkers:
                     quat.append(part.quat)
         self._parts = (np.array(index, dtype=np.intp), np.array(pos, float).reshape(-1, 3),
                        np.array(quat, float).reshape(-1, 4))  # fmt: skip
+        ship_ids: dict[str, int] = {}
+        geoms = []
+        for g, ship, part in self.ships:
+            marker = part_marker(part, 0, WORLD_FRAME, f"ship/{ship}", ship_ids.setdefault(ship, 0))
+            if marker is not None:
+                markers.append(marker)
+                geoms.append(g)
+                ship_ids[ship] += 1
+        self._ship_geoms = np.array(geoms, dtype=np.intp)
         self._poses = np.zeros((len(markers), 7))
         self._moving = MovingMarkers(markers)
         return self._moving

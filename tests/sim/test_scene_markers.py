@@ -119,3 +119,26 @@ def test_a_recording_holds_the_scene_for_foxglove_and_ros2_bag(scenario_of, tmp_
     assert len(seen["/usvsim/markers"]) == 1 and len(seen["/usvsim/markers/bodies"]) == 6
     namespaces = {k.ns for k in seen["/usvsim/markers"][0].markers}
     assert namespaces == {"vessel/wamv", "obstacles"}
+
+
+def test_kinematic_traffic_ships_are_drawn_where_they_sail(scenario_of):
+    """A traffic ship without `vessel` is world geoms moved by the traffic kernel: no body, no TF frame. It was in
+    neither array (an Imazu recording drew only the own ship); now its hull and superstructure are in
+    /usvsim/markers/bodies at its pose: the hull's world bounds are the ship's 25 m x 6.25 m about its track
+    point, which sails the closed form position + speed t (sin course, cos course)."""
+    from scipy.spatial.transform import Rotation
+
+    ship = {"name": "cargo", "mmsi": 257000001, "length_m": 25.0, "beam_m": 6.25,
+            "motion": {"type": "constant", "position": [100.0, 20.0], "course_deg": 270.0, "speed_mps": 2.0}}  # fmt: skip
+    sim = Simulation(scenario_of({"vessels": [{"name": "wamv", "model": "wamv"}], "traffic": {"ships": [ship]}}))
+    got = [e for e in _collect(sim, 3.0) if e.topic == "/usvsim/markers/bodies"]
+    assert got and got[-1].stamp_ns == 3_000_000_000
+    markers = [m for m in got[-1].msg.markers if m.ns == "ship/cargo"]
+    hull = next(m for m in markers if m.type == m.TRIANGLE_LIST)
+    assert len(markers) >= 2 and hull.header.frame_id == "world" and not hull.frame_locked
+    q, p = hull.pose.orientation, hull.pose.position
+    local = np.array([[v.x, v.y, v.z] for v in hull.points])
+    world = Rotation.from_quat([q.x, q.y, q.z, q.w]).apply(local) + [p.x, p.y, p.z]
+    low, high = world.min(axis=0), world.max(axis=0)
+    assert (low[:2] + high[:2]) / 2 == pytest.approx([100.0 - 2.0 * 3.0, 20.0], abs=0.05)
+    assert high[:2] - low[:2] == pytest.approx([25.0, 6.25], abs=0.1)

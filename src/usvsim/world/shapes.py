@@ -30,8 +30,21 @@ def static_parts(model: mujoco.MjModel) -> list[Part]:
     moving = kinematic_geoms(model)[1]  # traffic ships: world-body geoms that move, not obstacles
     static = (model.geom_bodyid == 0) & (model.geom_group == VISUAL_GROUP)
     static[moving] = False
+    return [part for _, part in _geom_parts(model, np.flatnonzero(static))]
+
+
+def kinematic_parts(model: mujoco.MjModel) -> list[tuple[int, str, Part]]:
+    """The kinematic traffic ships' visual geoms: (geom id, ship name, part at the geom's current world pose);
+    the traffic kernel moves them by writing `model.geom_pos` / `geom_quat` (traffic/kernels.py)."""
+    names, geoms, owner = kinematic_geoms(model)
+    ship = dict(zip(geoms.tolist(), (names[k] for k in owner), strict=True))
+    drawn = [g for g in geoms.tolist() if model.geom_group[g] == VISUAL_GROUP]
+    return [(g, ship[g], part) for g, part in _geom_parts(model, drawn)]
+
+
+def _geom_parts(model: mujoco.MjModel, geoms) -> list[tuple[int, Part]]:
     parts = []
-    for g in np.flatnonzero(static):
+    for g in geoms:
         kind = _KINDS.get(int(model.geom_type[g]))
         if kind is None:
             continue
@@ -44,7 +57,7 @@ def static_parts(model: mujoco.MjModel) -> list[Part]:
         name = mujoco.mj_id2name(model, mujoco.mjtObj.mjOBJ_GEOM, g) or ""
         size, pos, quat, rgba = (tuple(float(x) for x in a[g]) for a in
                                  (model.geom_size, model.geom_pos, model.geom_quat, model.geom_rgba))  # fmt: skip
-        parts.append(Part(kind, size, pos, quat, mesh, rgba, name))  # type: ignore[arg-type]
+        parts.append((int(g), Part(kind, size, pos, quat, mesh, rgba, name)))  # type: ignore[arg-type]
     return parts
 
 
