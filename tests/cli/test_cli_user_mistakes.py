@@ -730,3 +730,22 @@ def test_the_viewer_follows_the_vessel_asked_for(monkeypatch):
     assert asked == ["otter"]
     monkeypatch.setattr(usvsim.viewer, "run_viewer", real)  # the real one refuses before opening a window
     one_line_error(invoke("run", "harbor", "--view", "--vessel", "oter"), "no vessel 'oter'", "otter")
+
+
+def test_task_record_epoch_as_usvsim_run(tmp_path):
+    """`usvsim run` has --record-epoch, `usvsim task --record` had none: its log times were always the wall
+    clock. Now the same option: epoch 0 makes log time = simulation time; a bad value or one without --record
+    is one line."""
+    from mcap.reader import make_reader
+
+    record, report = tmp_path / "r.mcap", tmp_path / "r.json"
+    result = invoke("task", "station_keeping", "--time-limit", "1", "--record", record, "--record-epoch", "0",
+                    "--report", report)  # fmt: skip
+    assert result.exit_code == 0, result.output
+    with record.open("rb") as f:
+        times = [m.log_time for _, _, m in make_reader(f).iter_messages(topics=["/clock"])]
+    assert times[0] == 0 and times[-1] == 1_000_000_000  # simulation time from 0, not the wall clock
+    one_line_error(invoke("task", "station_keeping", "--record", tmp_path / "b.mcap", "--record-epoch", "soon",
+                          "--report", report), "--record-epoch")  # fmt: skip
+    one_line_error(invoke("task", "station_keeping", "--record-epoch", "0", "--report", report),
+                   "--record-epoch", "--record FILE.mcap")  # fmt: skip

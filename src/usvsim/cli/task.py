@@ -33,12 +33,17 @@ def task(
     ready_s: Annotated[float, typer.Option(help="seconds before the task starts running (VRX: 20)", min=0.0, max=1e6)] = 0.0,
     record: Annotated[Path | None, typer.Option(help="MCAP recording of the (last) trial, task topics included")] = None,
     force: Annotated[bool, typer.Option("--force", help="overwrite an existing --record file")] = False,
+    record_epoch: Annotated[str, typer.Option(help="the recording's log times are this epoch + simulation time, as "
+                                              "`usvsim run --record-epoch`: now (the wall clock), seconds since "
+                                              "1970 (0: log time = simulation time) or an ISO 8601 date such as "
+                                              "2026-01-01T00:00:00Z (byte-identical files)")] = "now",
 ) -> None:
     """Run a task with the reference solution (our station-keeping controller) or live over ROS 2; prints the
     score per trial. Ctrl-C or SIGTERM stops it between two steps: the --record file is closed complete and the
     report holds the finished trials (exit status 130 or 143)."""
     from usvsim.cli.outputs import check_output, prepare_file
     from usvsim.cli.stopping import Stopped, StopSignals
+    from usvsim.io.mcap_recorder import parse_epoch
     from usvsim.tasks import TASKS, TaskTiming
     from usvsim.tasks.solutions import run_trial
 
@@ -52,6 +57,9 @@ def task(
             raise UsvsimError("--external needs --ros2 (the boat's commands come over ROS 2)")
         if landmark_type not in ("pose", "geopose"):
             raise UsvsimError(f"--landmark-type must be pose or geopose, got {landmark_type!r}")
+        epoch_ns = parse_epoch(record_epoch)  # `usvsim run` had --record-epoch, `usvsim task` did not (qa25)
+        if record is None and record_epoch != "now":
+            raise UsvsimError("--record-epoch applies to a recording: add --record FILE.mcap")
         prepare_file(report)  # a bad --report path fails now, not after the trials
         records = trial_recordings(record, trials)  # one file per trial: each trial overwrote the one before
         for path in records:
@@ -64,7 +72,7 @@ def task(
                     try:
                         if ros2 or record is not None:
                             results.append(_live(name, difficulty, seed + k, timing, ros2, external, domain_id,
-                                                 ros2_interface, landmark_type, records[k], stop.check))  # fmt: skip
+                                                 ros2_interface, landmark_type, records[k], stop.check, epoch_ns))  # fmt: skip
                             if records[k] is not None:
                                 results[-1]["recording"] = str(records[k])
                         else:
@@ -131,11 +139,12 @@ def _print_table(results: list[dict]) -> None:
 
 
 def _live(name, difficulty, seed, timing, ros2, external, domain_id, interface, landmark_type, record,
-          after_step=None) -> dict:  # fmt: skip
+          after_step=None, epoch_ns=None) -> dict:  # fmt: skip
     from usvsim.cli.bridges import BridgeOptions, open_bridges
     from usvsim.tasks.live import run_live
 
     options = BridgeOptions(ros2=ros2, domain_id=domain_id, ros2_interface=interface, ros_tcp=None,
                             ros_tcp_profile="", ros_tcp_vessel=None, foxglove=False, foxglove_host="", foxglove_port=0)  # fmt: skip
     return run_live(name, difficulty, seed, timing, bridges=lambda sim: open_bridges(sim, options),
-                    external=external, landmark_type=landmark_type, record=record, after_step=after_step)  # fmt: skip
+                    external=external, landmark_type=landmark_type, record=record, after_step=after_step,
+                    record_epoch_ns=epoch_ns)  # fmt: skip

@@ -42,12 +42,14 @@ class TaskPublisher:
 
 def run_live(name: str | Task, difficulty: int = 0, seed: int = 0, timing: TaskTiming | None = None, *, bridges=None,
              external: bool = False, landmark_type: str = "pose", record: Path | None = None,
-             realtime: bool | None = None, on_ready=None, after_step=None) -> dict:  # fmt: skip
+             realtime: bool | None = None, on_ready=None, after_step=None,
+             record_epoch_ns: int | None = None) -> dict:  # fmt: skip
     """One trial with its topics live (`name`: a task name, or a `Task` made by the caller, whose difficulty,
     seed and timing then count). `bridges(sim)` opens the bridges (each with `close()` and `stats`; None:
     none, e.g. only `record`); `realtime` defaults to `external`; `on_ready(sim)` runs once they are open,
     before the first step; `after_step()` after every step (an exception from it, e.g. the CLI's stop on SIGTERM,
-    ends the trial between two steps: the recording is closed complete, the bridges and the simulation closed).
+    ends the trial between two steps: the recording is closed complete, the bridges and the simulation closed);
+    `record_epoch_ns`: the recording's log-time epoch (`Simulation.record`'s `epoch_ns`; None: the wall clock).
     Returns `run_trial`'s report plus the bridges' and the command inbox's counters."""
     task = TASKS[name](difficulty, seed, timing) if isinstance(name, str) else name
     sim = Simulation(task.scenario(), seed=task.seed)
@@ -60,7 +62,7 @@ def run_live(name: str | Task, difficulty: int = 0, seed: int = 0, timing: TaskT
             opened = list(bridges(sim))
         with ExitStack() as stack:
             if record is not None:
-                stack.enter_context(sim.record(record))
+                stack.enter_context(sim.record(record, epoch_ns=record_epoch_ns))
             if on_ready is not None:
                 on_ready(sim)
             controller = None if external else reference_controller(sim)
