@@ -208,6 +208,23 @@ def test_client_publishes_cmd_vel_cdr_json_and_garbage(served, client):
     assert "wamv" in sim.controllers  # cmd_vel created the velocity loop
 
 
+def test_invalid_operations_and_unknown_opcodes_are_counted_as_refused(served, client):
+    """A text frame that is no valid JSON operation (bad JSON, no "op", an unknown "op") and a binary frame with an
+    unknown opcode are refused by the SDK, which only logs them ("Invalid message from ..."): they went uncounted,
+    unlike messages on unknown channels. Now both count into client_messages and client_refused (qa25)."""
+    sim, bridge, _ = served
+    before = dict(bridge.stats)
+    for text in ("garbage{", "{}", '{"op": "frobnicate"}'):
+        client.ws.send(text)
+    client.ws.send(b"\x05abc")  # binary opcode 5: none in foxglove.sdk.v1's client messages
+    client.ws.send(b"\xff\xff")
+    assert client.wait_for(lambda: bridge.stats["client_refused"] - before["client_refused"] == 5)
+    client.pump(0.2)  # nothing more arrives
+    assert bridge.stats["client_messages"] - before["client_messages"] == 5
+    assert bridge.stats["client_refused"] - before["client_refused"] == 5
+    assert bridge.stats["client_accepted"] == before["client_accepted"]
+
+
 def test_client_json_may_leave_out_fields_as_with_foxglove_bridge(served, client):
     """`{"linear": {"x": 0.5}}` from Foxglove's Publish panel was refused as malformed (every field was required);
     rosbridge and foxglove_bridge fill the missing fields with their defaults (QA). NaN and strings still fail."""

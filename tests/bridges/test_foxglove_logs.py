@@ -37,8 +37,10 @@ def test_messages_on_unknown_channels_count_into_the_only_open_bridge():
     counter, one, two = UnknownChannels(), _Bridge(), _Bridge()
     counter.bridges.add(one)
     assert counter.filter(record("Received message for unknown channel: 9"))  # still logged (and limited)
-    counter.filter(record("Invalid message from 127.0.0.1:40000: ..."))  # not a message on an unknown channel
+    counter.filter(record("Client 127.0.0.1:40000 attempted to subscribe to unknown channel: 9"))  # not a message
     assert one.stats == {"client_messages": 1, "client_refused": 1}
+    counter.filter(record("Invalid message from 127.0.0.1:40000: Unknown binary opcode 5"))  # refused: counted
+    assert one.stats == {"client_messages": 2, "client_refused": 2}
     counter.bridges.add(two)
     counter.filter(record("Received message for unknown channel: 3"))
-    assert one.stats["client_refused"] == 1 and two.stats["client_refused"] == 0
+    assert one.stats["client_refused"] == 2 and two.stats["client_refused"] == 0

@@ -16,8 +16,8 @@ Channels:
 - server time (`time` capability) = simulation time, so Foxglove's clock follows the simulation.
 - `clientPublish`: clients may publish to the command topics of `sim.commands.topics` (e.g. the Teleop panel
   on `/<vessel>/cmd_vel`), as `cdr` or `json`; everything is validated and counted by the command inbox. A
-  message on a channel the client never advertised is refused by the SDK and counted here too
-  (`client_refused`, foxglove_logs.py).
+  message on a channel the client never advertised, a text frame that is no valid JSON operation and a binary
+  frame with an unknown opcode are refused by the SDK and counted here too (`client_refused`, foxglove_logs.py).
 
 Non-blocking: `channel.log` only queues; the SDK's server threads send. Each client has a bounded queue
 (`backlog` messages): the oldest data message is dropped when it is full. The SDK server listens on an

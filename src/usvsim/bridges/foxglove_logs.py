@@ -2,7 +2,9 @@
 and at most a few lines per client and minute (a client flooding invalid frames cannot flood the log).
 
 The SDK drops a client's message on a channel the client never advertised before any listener sees it, and says
-so only in this log ("Received message for unknown channel: 9"); `UnknownChannels` counts those records into the
+so only in this log ("Received message for unknown channel: 9"), and so it does with a text frame that is not a
+valid JSON operation or a binary frame with an unknown opcode ("Invalid message from 127.0.0.1:40000: unknown
+variant `frobnicate`...", "... Unknown binary opcode 5"); `UnknownChannels` counts those records into the
 bridge's `client_messages` and `client_refused`, as every other refused client message is counted. The record
 does not say which server it came from: with one Foxglove bridge in the process (`usvsim run`, `usvsim task`) it is
 that bridge's; with several open at once it cannot be told whose, and none counts it."""
@@ -51,17 +53,20 @@ class ClientLogLimiter(logging.Filter):
 
 
 UNKNOWN_CHANNEL = "Received message for unknown channel"
+INVALID_MESSAGE = "Invalid message from "  # bad JSON, a missing or unknown "op", an unknown binary opcode
+REFUSED_BY_SDK = (UNKNOWN_CHANNEL, INVALID_MESSAGE)
 
 
 class UnknownChannels(logging.Filter):
-    """Counts the SDK's "Received message for unknown channel" records into the one open bridge (see above)."""
+    """Counts the SDK's records of client messages it refused (on an unknown channel, invalid) into the one open
+    bridge (see above)."""
 
     def __init__(self) -> None:
         super().__init__()
         self.bridges: weakref.WeakSet[Any] = weakref.WeakSet()
 
     def filter(self, record: logging.LogRecord) -> bool:
-        if record.getMessage().startswith(UNKNOWN_CHANNEL) and len(self.bridges) == 1:
+        if record.getMessage().startswith(REFUSED_BY_SDK) and len(self.bridges) == 1:
             bridge = next(iter(self.bridges))
             bridge._count("client_messages")
             bridge._count("client_refused")
@@ -69,8 +74,8 @@ class UnknownChannels(logging.Filter):
 
 
 def install(bridge: Any = None) -> Callable[[], None]:
-    """Limit the SDK's records about clients; with `bridge`, count its messages on unknown channels until the
-    returned function is called (at the bridge's close)."""
+    """Limit the SDK's records about clients; with `bridge`, count the client messages the SDK refused (unknown
+    channel, invalid) until the returned function is called (at the bridge's close)."""
     logger = logging.getLogger(CLIENT_LOGGER)
     counter = next((f for f in logger.filters if isinstance(f, UnknownChannels)), None)
     if counter is None:  # first: a record the limiter drops is still counted
