@@ -43,6 +43,9 @@ def test_a_realization_error_has_no_branch_name_in_its_path(realization, path):
     ({"traffic": {"ships": [{**_ship("s"), "motion": {"type": "route", "waypoints": [
         {"position": [0, 0], "speed_mps": 1}]}}]}}, "traffic.ships[0].motion.waypoints",
      "should have at least 2 items, got 1"),  # was "Tuple should have at least 2 items after validation, not 1"
+    ({"vessels": [{"name": "a", "model": "wamv", "sensors": [{"type": "lidar", "name": "l",
+                                                              "elevations_deg": [-5, 0, 0, 5, -5]}]}]},
+     "vessels[0].sensors[0]", "elevations_deg holds -5, 0 more than once"),  # was two identical rings, silently
 ])  # fmt: skip
 def test_a_bad_value_is_shown_in_plain_words(data, path, words):
     err = _error(data)

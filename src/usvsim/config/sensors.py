@@ -234,6 +234,10 @@ class Lidar(SensorBase):
     def _bounded_rays(self):
         if self.elevations_deg is not None and any(not -90.0 <= e <= 90.0 for e in self.elevations_deg):
             raise ValueError("elevations_deg must lie within -90..90 degrees")
+        if self.elevations_deg is not None and len(set(self.elevations_deg)) < len(self.elevations_deg):
+            twice = sorted({e for e in self.elevations_deg if self.elevations_deg.count(e) > 1})
+            raise ValueError(f"elevations_deg holds {', '.join(f'{e:g}' for e in twice)} more than once: two rings "
+                             f"would be one (the same rays twice); give each ring its own elevation")  # fmt: skip
         if self.vertical_fov_deg is not None:
             low, high = self.vertical_fov_deg
             if not -90.0 <= low <= high <= 90.0:
