@@ -133,6 +133,23 @@ def test_imazu_refuses_options_that_make_a_scenario_that_cannot_run(tmp_path):
     assert result.exit_code == 0 and out.exists()
 
 
+@pytest.mark.parametrize("option", ["--speed", "--encounter"])
+def test_imazu_nan_is_one_clear_line(option):
+    """`usvsim imazu 1 --speed nan` said "Input should be less than or equal to 50" (NaN is no number at all)."""
+    one_line_error(invoke("imazu", "1", option, "nan"), option, "finite number", "got nan")
+
+
+def test_imazu_warns_of_a_speed_above_the_vessels_top_speed(tmp_path):
+    """An Otter asked for 5 m/s (its velocity controller tops out at 3.09 m/s surge, thrusters at full ahead
+    against its damping) was written without a word and then sailed slower than the encounter assumed."""
+    result = invoke("imazu", "1", "--model", "otter", "--speed", "5", "--out", tmp_path / "fast.yaml")
+    assert result.exit_code == 0 and (tmp_path / "fast.yaml").exists()
+    lines = [ln for ln in result.stderr.splitlines() if ln.strip()]
+    assert len(lines) == 1 and "warning" in lines[0] and "otter's top speed, 3.09 m/s" in lines[0], result.stderr
+    within = invoke("imazu", "1", "--model", "otter", "--speed", "3", "--out", tmp_path / "ok.yaml")
+    assert within.exit_code == 0 and "warning" not in within.stderr
+
+
 def test_map_prints_the_file_it_writes_and_rejects_unknown_formats(tmp_path):
     scenario = tmp_path / "tiny.yaml"
     scenario.write_text(TINY)

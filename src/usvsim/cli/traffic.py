@@ -11,8 +11,9 @@ import typer
 def imazu(
     case: Annotated[int, typer.Argument(help="Imazu encounter 1-22", min=1, max=22)],
     model: Annotated[str, typer.Option(help="own ship: a library vessel (wamv, otter, otter_pvs)")] = "wamv",
-    speed: Annotated[float, typer.Option(help="own ship speed, m/s", min=0.1, max=50.0)] = 2.0,
-    encounter: Annotated[float, typer.Option(help="seconds until the encounter", min=10.0, max=1e6)] = 300.0,
+    speed: Annotated[float, typer.Option(help="own ship speed, m/s (0.1 to 50; above the vessel's top speed: a "
+                                         "warning)")] = 2.0,
+    encounter: Annotated[float, typer.Option(help="seconds until the encounter (10 to 1e6)")] = 300.0,
     out: Annotated[Path | None, typer.Option(help="write the scenario here (default: print it)")] = None,
     avoid: Annotated[bool, typer.Option(help="the own ship avoids (COLREG velocity obstacles, docs/traffic.md)")] = False,
 ) -> None:
@@ -23,6 +24,10 @@ def imazu(
     from usvsim.traffic.imazu import imazu_yaml
     from usvsim.vessels.library import LIBRARY
 
+    for option, value, low, high in (("--speed", speed, 0.1, 50.0), ("--encounter", encounter, 10.0, 1e6)):
+        if not low <= value <= high:  # NaN too: typer's range check said "should be less than or equal to 50"
+            unit, span = ("m/s", "0.1 to 50") if option == "--speed" else ("s", "10 to 1e6")
+            fail(f"{option} must be a finite number of {unit} from {span}, got {value:g}")
     if model not in LIBRARY:
         fail(f"--model {model!r}: choose a library vessel ({', '.join(LIBRARY)})")
     text = imazu_yaml(case, model=model, speed_mps=speed, encounter_s=encounter, avoid=avoid)
@@ -34,6 +39,13 @@ def imazu(
     except UsvsimError as exc:
         fail(f"--speed {speed:g} m/s with --encounter {encounter:g} s makes a scenario that cannot run ({exc}); "
              "lower --speed or --encounter")  # fmt: skip
+    top = _top_speed_mps(model)
+    if speed > top:
+        from usvsim.cli.errors import console
+
+        console.print(f"usvsim: warning: --speed {speed:g} m/s is above the {model}'s top speed, {top:.2f} m/s (its "
+                      "velocity controller's max_velocity): it will sail slower and reach the encounter late, the "
+                      "geometry off", highlight=False, soft_wrap=True, markup=False)  # fmt: skip
     if out is None:
         typer.echo(text, nl=False)
     else:
@@ -45,6 +57,20 @@ def imazu(
         except OSError as exc:
             fail(f"cannot write {out}: {exc.strerror or exc}")
         typer.echo(f"wrote Imazu case {case} to {out}; run it with: usvsim run {out} --duration {2 * encounter:g}")
+
+
+def _top_speed_mps(model: str) -> float:
+    """The top surge speed of a library vessel: its velocity controller's max_velocity (the speed at which the
+    damping balances the thrusters' full forward thrust), from the vessel built alone."""
+    from usvsim.config.loader import parse_scenario
+    from usvsim.simulation import Simulation
+
+    data = {"version": 1, "vessels": [{"name": "own", "model": model, "controller": {"type": "velocity"}}]}
+    sim = Simulation(parse_scenario(data, "top speed"))
+    try:
+        return float(sim.controllers["own"].controller.velocity.max_velocity[0])
+    finally:
+        sim.close()
 
 
 def _num(x: float | None) -> str:
