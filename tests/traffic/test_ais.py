@@ -98,6 +98,37 @@ def test_every_sentence_decodes_to_the_truth(scenario_of):
     sim.close()
 
 
+def test_reports_alternate_between_channels_a_and_b(scenario_of):
+    """Every sentence went out on channel A; transponders alternate A and B (ITU-R M.1371). pyais reads each
+    sentence's channel field: each ship's reports (position and static, in time order) take A and B in turn, the
+    two sentences of a type 5 report share one (as do a class B static report's parts A and B), and every
+    sentence's checksum holds."""
+    from pyais import NMEAMessage
+
+    sim = Simulation(scenario(scenario_of))
+    sentences = collect(sim, 61.0)
+    sim.close()
+    per_ship: dict[int, list[str]] = {}
+    pending: list[NMEAMessage] = []
+    for _, s in sentences:
+        nmea = NMEAMessage(s.encode())
+        assert nmea.is_valid
+        pending.append(nmea)
+        if nmea.frag_cnt != nmea.frag_num:
+            continue
+        assert len({p.channel for p in pending}) == 1  # one report, one channel
+        msg = decode(*[p.raw for p in pending])
+        if msg.msg_type == 24 and msg.partno == 1:  # class B's static report: parts A and B, on part A's channel
+            assert per_ship[msg.mmsi][-1] == pending[0].channel
+        else:
+            per_ship.setdefault(msg.mmsi, []).append(pending[0].channel)
+        pending = []
+    assert set(per_ship) == set(TRUE)
+    for channels in per_ship.values():
+        assert len(channels) >= 3  # the class B yacht: two position reports (30 s) and its static report
+        assert channels == ["AB"[k % 2] for k in range(len(channels))]
+
+
 def test_dropouts_lose_reports(scenario_of):
     sim = Simulation(scenario(scenario_of, dropout=0.5))
     collect(sim, 60.0)

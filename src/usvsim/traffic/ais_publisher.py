@@ -6,6 +6,9 @@ Each transmitter keeps its next position-report and static-report times; the int
 follows its speed and rate of turn at that report (ais.py). First reports are spread at random over the
 first interval (stream `traffic/ais`), as real transponders are not synchronized. Reported positions get
 Gaussian noise (`position_noise_m` per ENU axis) and whole reports are lost with `dropout_probability`.
+Each transmitter alternates its reports between the two AIS channels, A (161.975 MHz) and B (162.025 MHz), as
+ITU-R M.1371 transponders do (the `!AIVDM` channel field; a report's sentences share one channel); they all went
+out on A.
 """
 
 from __future__ import annotations
@@ -47,6 +50,12 @@ class Transmitter:
     ship: int | None  # index into the fleet, or None for the own ship
     last_yaw: float = math.nan
     last_t: float = 0.0
+    channel: str = "A"  # of the next report: A and B in turn
+
+    def take_channel(self) -> str:
+        """The channel of this report; the next goes out on the other one."""
+        channel, self.channel = self.channel, "B" if self.channel == "A" else "A"
+        return channel
 
 
 def _transmitters(world: World, fleet: Fleet, cfg: Ais) -> list[Transmitter]:
@@ -78,7 +87,7 @@ class AisPublisher:
         for k, t in enumerate(self.tx):  # first reports spread over the first interval (at rest: 10 s / 30 s)
             first = float(self.rng.uniform(0.0, 10.0 if t.ais_class == "A" else 30.0))
             self._queue += [(first, POSITION, k), (first + float(self.rng.uniform(0.0, 5.0)), STATIC, k)]
-            t.last_yaw, t.last_t = math.nan, 0.0
+            t.last_yaw, t.last_t, t.channel = math.nan, 0.0, "A"
         heapq.heapify(self._queue)
         self._earliest = self._queue[0][0] if self._queue else math.inf
         self._episode_sent = 0  # sentences sent this episode: the multi-sentence message ids count from 0
@@ -112,7 +121,7 @@ class AisPublisher:
                 t = self.tx[k]
                 interval, out = ais.STATIC_INTERVAL_S, ais.static_sentences(
                     t.mmsi, t.name, t.ship_type, t.callsign, t.length_m, t.beam_m, t.draft_m, t.ais_class,
-                    (self._episode_sent + len(sentences)) % 10)  # fmt: skip
+                    (self._episode_sent + len(sentences)) % 10, t.take_channel())  # fmt: skip
             sentences += out
             heapq.heappush(queue, (now + interval, kind, k))
         self._earliest = queue[0][0]
@@ -130,6 +139,7 @@ class AisPublisher:
         moored = False if t.ship is None else None  # the own ship is under way, stopped or not
         interval = ais.class_a_interval(sog_kn, turning, moored) if t.ais_class == "A" else ais.class_b_interval(sog_kn)
         t.last_yaw, t.last_t = yaw, now
+        channel = t.take_channel()  # a report lost in reception was still sent: the next one uses the other channel
         if self.cfg.dropout_probability > 0 and self.rng.random() < self.cfg.dropout_probability:
             self.dropped += 1
             return interval, []
@@ -141,7 +151,7 @@ class AisPublisher:
         grid = (math.degrees(math.atan2(vx, vy)), 90.0 - math.degrees(yaw))  # course and heading, from the y axis
         cog, hdg = ais.true_bearing_deg(lat, lon, np.array(grid), o.latitude_deg, o.longitude_deg).tolist()
         report = ais.Report(t.mmsi, lat, lon, sog_kn, cog, ais.heading_deg(hdg), int(now) % 60, moored)
-        return interval, [ais.position_sentence(report, t.ais_class)]
+        return interval, [ais.position_sentence(report, t.ais_class, channel)]
 
     def _publish(self, world: World, sentences: list[str], publish: bool) -> list[Envelope]:
         self.sent += len(sentences)
