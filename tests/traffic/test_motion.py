@@ -112,6 +112,22 @@ def test_ais_csv_replay_exact_at_samples_and_smooth_between(tmp_path):
     np.testing.assert_allclose(at(track, t_mid)[0], [300 * (1 - math.cos(a)), 300 * math.sin(a)], atol=0.5)
 
 
+def test_ais_csv_course_360_is_not_available_not_north(tmp_path):
+    """ITU-R M.1371 codes "course not available" as 360.0; a replayed row with COG 360 was taken as north, so a
+    ship sailing east at 10 kn was given a northward velocity at each row (and, heading 511, a northward bow).
+    Now the course there is the track's own direction: east, and the heading follows it."""
+    origin = GeodeticOrigin()
+    v = 10.0 * KNOT_MPS
+    rows = [(t, v * t, 0.0, 10.0, 360, 511) for t in (0.0, 30.0, 60.0, 90.0)]
+    write_csv(tmp_path / "track.csv", origin, rows)
+    track = read_ais_csv(tmp_path / "track.csv", origin)
+    for t in (30.0, 45.0, 60.0):
+        p, vel, yaw = at(track, t)
+        np.testing.assert_allclose(p, [v * t, 0.0], atol=0.01)  # on the straight track between the rows too
+        np.testing.assert_allclose(vel, [v, 0.0], atol=1e-3)  # east at 10 kn (it was [0, 5.14]: north)
+        assert math.degrees(math.remainder(yaw, 2 * math.pi)) == pytest.approx(0.0, abs=0.01)  # bow east (ENU yaw 0)
+
+
 def test_ais_csv_errors_name_the_file(tmp_path):
     (tmp_path / "bad.csv").write_text("t,lat\n0,1\n")
     with pytest.raises(ScenarioError, match="header row"):

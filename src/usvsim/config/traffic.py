@@ -68,7 +68,8 @@ class Constant(Section):
 
 class AisReplay(Section):
     """A recorded AIS track: CSV with a header `time,lat,lon,sog,cog,heading` (s from the scenario start or
-    ISO 8601 UTC; WGS-84 degrees; knots; degrees clockwise from north; heading 511 = not available)."""
+    ISO 8601 UTC; WGS-84 degrees; knots; degrees clockwise from north; cog 360 and heading 511 = not available:
+    the course is then the track's own direction at that row, the heading the course)."""
 
     type: Literal["ais_replay"] = "ais_replay"
     path: str = Field(description="CSV file, relative to the scenario file")

@@ -24,6 +24,7 @@ from usvsim.traffic.ais import grid_bearing_deg
 
 KNOT_MPS = 1852.0 / 3600.0
 AIS_NO_HEADING = 511
+AIS_NO_COURSE = 360.0  # ITU-R M.1371: COG 3600 (360.0°) = not available
 
 
 def yaw_from_course(course_rad: float) -> float:
@@ -191,9 +192,12 @@ def read_ais_csv(path: Path, origin, source: str = "", key: str = "") -> Track:
     _refuse_jumps(e, n, t, lines, path, where)
     # true course and heading → bearings from the world's y axis (north at the origin only: ais.grid_bearing_deg)
     lat0, lon0 = origin.latitude_deg, origin.longitude_deg
-    course = np.radians(grid_bearing_deg(lat, lon, cog, lat0, lon0))
+    course = np.radians(grid_bearing_deg(lat, lon, np.where(cog == AIS_NO_COURSE, 0.0, cog), lat0, lon0))
+    if np.any(cog == AIS_NO_COURSE):  # not available (it was taken as north): the track's own direction there
+        course = np.where(cog == AIS_NO_COURSE, np.arctan2(np.gradient(e, t), np.gradient(n, t)), course)
     vel = (sog * KNOT_MPS)[:, None] * np.stack([np.sin(course), np.cos(course)], axis=1)
-    heading = grid_bearing_deg(lat, lon, np.where(hdg == AIS_NO_HEADING, cog, hdg), lat0, lon0)
+    heading = np.where(hdg == AIS_NO_HEADING, np.degrees(course),
+                       grid_bearing_deg(lat, lon, np.where(hdg == AIS_NO_HEADING, 0.0, hdg), lat0, lon0))  # fmt: skip
     yaw = 0.5 * np.pi - np.radians(heading)
     return hermite_track(t, np.stack([e, n], axis=1), vel, yaw)
 
