@@ -9,7 +9,8 @@ ROS 2 topics and from recordings (messages/markers.py says how a part becomes a 
   are not vessels (buoys: they have no TF frame) at their current poses in `world` (namespace `body/<b>`), and
   the kinematic traffic ships (`traffic.ships` without `vessel`: hull and superstructure, namespace `ship/<s>`).
 
-Set in `outputs.markers` (`scene: false` or `bodies_rate_hz: null` turns either off).
+Set in `outputs.markers` (`scene: false` or `bodies_rate_hz: 0` turns either off; `bodies_rate_hz: null`: 10 Hz, or
+the nearest rate below that fits the physics step).
 """
 
 from __future__ import annotations
@@ -35,7 +36,9 @@ WORLD_FRAME = "world"
 class SceneMarkers:
     """Builds the scene's marker arrays from a world (call from the simulation thread)."""
 
-    def __init__(self, world: World, scene: bool, bodies_rate_hz: float | None):
+    def __init__(self, world: World, scene: bool, bodies_rate_hz: float):
+        """`bodies_rate_hz`: the rate of `/usvsim/markers/bodies` (Hz of simulation time, a whole number of physics
+        steps; 0: off)."""
         self.world = world
         self.scene = scene
         self.bodies = [b for name, b in world.bodies.items() if name not in world.vessels]
@@ -45,7 +48,9 @@ class SceneMarkers:
         self._ship_geoms = np.zeros(0, np.intp)  # the ship markers' geom ids (they follow the bodies' markers)
         self._static: tuple[Any, bytes] | None = None  # the /usvsim/markers message and its CDR (never change)
         self._moving: MovingMarkers | None = None  # the bodies' array, made on first use
-        self._parts: tuple[np.ndarray, np.ndarray, np.ndarray] = (np.zeros(0, np.intp), np.zeros((0, 3)), np.zeros((0, 4)))
+        # the bodies' markers: their body index, pose in the body frame (position m; quaternion w, x, y, z)
+        self._parts: tuple[np.ndarray, np.ndarray, np.ndarray] = (np.zeros(0, np.intp), np.zeros((0, 3)),
+                                                                   np.zeros((0, 4)))  # fmt: skip
         self._poses = np.zeros((0, 7))  # per marker: x, y, z, qx, qy, qz, qw in world
 
     def static(self) -> list[Envelope]:
