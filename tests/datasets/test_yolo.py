@@ -55,3 +55,39 @@ def test_coco_map50_by_pycocotools(tmp_path):
     assert coco_map50(tmp_path, {"a.png": [hit, [green, 0.8, 60.0, 60.0, 80.0, 80.0]]})["map50"] == pytest.approx(1.0)
     half = coco_map50(tmp_path, {"a.png": [hit, [green, 0.8, 0.0, 60.0, 20.0, 80.0]]})  # the green box missed
     assert half["per_class"] == {"buoy_red": pytest.approx(1.0), "buoy_green": 0.0} and half["map50"] == pytest.approx(0.5)
+
+
+_READ_SEGMENTS = """
+import json, sys
+from ultralytics.data import YOLODataset
+import yaml
+data = yaml.safe_load(open(sys.argv[1]))
+data["channels"] = 3
+ds = YOLODataset(img_path=sys.argv[2], data=data, task="segment", imgsz=320, augment=False)
+print(json.dumps([{"file": l["im_file"], "cls": l["cls"].ravel().tolist(),
+                   "segments": [s.tolist() for s in l["segments"]]} for l in ds.labels]))
+"""
+
+
+@pytest.mark.skipif(not HAVE_YOLO, reason="needs USVSIM_YOLO_PYTHON or ultralytics (extra: yolo)")
+def test_ultralytics_reads_the_segment_labels(tmp_path):
+    """`--yolo-labels segment`: Ultralytics' own dataset loader (task segment) takes every line (none corrupt), with
+    the classes and polygon points as written."""
+    import json
+    import subprocess
+    import sys
+
+    root = generate(DatasetSpec("buoy_field", 3, tmp_path / "set", ("yolo",), 5, "clear_calm", (320, 240), (1.0, 0.0, 0.0),
+                                yolo_labels="segment"))  # fmt: skip
+    python = os.environ.get("USVSIM_YOLO_PYTHON") or sys.executable
+    out = subprocess.run([python, "-c", _READ_SEGMENTS, str(root / "data.yaml"), str(root / "images" / "train")],
+                         capture_output=True, text=True, check=True, cwd=tmp_path)  # fmt: skip
+    labels = json.loads(out.stdout.strip().splitlines()[-1])
+    assert len(labels) == 3 and sum(len(x["cls"]) for x in labels) > 10
+    for read in labels:
+        stem = os.path.splitext(os.path.basename(read["file"]))[0]
+        lines = (root / "labels" / "train" / f"{stem}.txt").read_text().split("\n")
+        written = [[float(v) for v in line.split()] for line in lines if line]
+        assert read["cls"] == [w[0] for w in written]
+        for points, w in zip(read["segments"], written):
+            np.testing.assert_allclose(np.ravel(points), w[1:], atol=1e-6)
