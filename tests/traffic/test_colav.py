@@ -180,3 +180,23 @@ def test_a_ship_replaying_a_recorded_track_cannot_avoid(tmp_path):
         ScenarioError, match=r"traffic.ships\[0\].avoidance: a ship replaying a recorded track"
     ):
         Simulation(load_scenario(tmp_path / "s.yaml"))
+
+
+def test_a_stand_on_ship_keeps_its_distance_from_a_fast_overtaker():
+    """An 8 m/s ship overtaking from dead astern that never gives way (rule 13): with close quarters as a distance
+    only, the own ship (2 m/s) acted ~25 s before the closest approach and passed 31.7 m off (QA); acting also once
+    the closest approach is within close_quarters_s, it keeps safety_m, turning to starboard."""
+    sc = imazu_scenario(1, avoid=True)
+    sc["world"] = {"physics_rate_hz": 20.0}
+    target = dict(sc["traffic"]["ships"][1], motion={"type": "constant", "position": [0.0, 600.0 - 8.0 * 300.0],
+                                                     "course_deg": 0.0, "speed_mps": 8.0})  # fmt: skip
+    sc["traffic"]["ships"] = [sc["traffic"]["ships"][0], target]
+    for cq_s, passes in ((0.0, False), (60.0, True)):  # 0: the distance alone
+        sc["traffic"]["ships"][0]["avoidance"]["close_quarters_s"] = cq_s
+        sim = Simulation(parse_scenario(sc, "overtaken"))
+        sim.run(450.0)
+        r = sim.traffic.report()["target_1"]
+        sim.close()
+        assert r["encounter"] == "overtaken" and (r["min_distance_m"] > Avoidance().safety_m) is passes, r
+        if passes:
+            assert r["first_contact_s"] is None and r["turn_deg"] > 0.0  # to starboard

@@ -94,6 +94,9 @@ class Avoidance(Section):
     safety_m: PositiveFloat = Field(default=50.0, description="least distance to keep to any ship, m")
     close_quarters_m: PositiveFloat = Field(default=150.0, description="a stand-on ship acts (rule 17) once a "
                                             "give-way ship that has not acted comes this close, m")  # fmt: skip
+    close_quarters_s: NonNegativeFloat = Field(
+        default=60.0, description="... or once it would reach its closest point within this time, s (a fast "
+        "overtaker crosses close_quarters_m too late to keep safety_m; 0: distance only)")  # fmt: skip
     horizon_s: PositiveFloat = Field(default=150.0, le=3600.0, description="look-ahead of the velocity obstacles, s")
     min_turn_deg: float = Field(default=30.0, ge=0.0, le=90.0, description="least alteration (rule 8: substantial), deg")
     max_turn_deg: float = Field(default=90.0, gt=0.0, le=180.0, description="largest alteration from the course, deg")

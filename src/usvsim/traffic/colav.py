@@ -10,8 +10,9 @@ ships' reference points (base_link, a kinematic ship's track point), not hull to
 Rules, at `rate_hz`, with the nominal course and speed of the ship's LOS pilot:
 - a target is engaged when the nominal velocity is in its velocity obstacle and the own ship must give way to it
   (head-on, rule 14; crossing from starboard, rule 15; overtaking, rule 13), or, when the own ship is the stand-on
-  ship (crossing from port, being overtaken), only once it has also come within `close_quarters_m` (rule 17:
-  keep course and speed until the give-way ship's action alone cannot avoid a close-quarters situation);
+  ship (crossing from port, being overtaken), only once it has also come within `close_quarters_m` or within
+  `close_quarters_s` of its closest approach (rule 17: keep course and speed until the give-way ship's action alone
+  cannot avoid a close-quarters situation; a distance alone left 25-32 s against an 8 m/s overtaker: 31.7 m);
 - while any target is engaged, the ship takes the cheapest velocity outside every ship's obstacle among course
   alterations of `min_turn_deg`..`max_turn_deg` (5° steps) and speeds 1, 0.5, 0 times the nominal; cost: the
   alteration / max_turn_deg + 2 (1 - speed fraction) + 1 - min(1, |v_t - v| / nominal speed) per engaged ship
@@ -121,7 +122,8 @@ class AvoidingPilot:
         _, tcpa = aw.cpa_tcpa(rel, tgt_vel - own_vel)
         enc = aw.encounters(rel, own_vel, yaw_rad, tgt_vel, f.yaw_rad[self.others], tcpa)
         rng, clear = np.hypot(rel[:, 0], rel[:, 1]), RELEASE * cfg.safety_m
-        acts = np.isin(enc, GIVE_WAY) | np.isin(enc, STAND_ON) & (rng < cfg.close_quarters_m)  # rules 13-15, 17
+        close = (rng < cfg.close_quarters_m) | ((tcpa >= 0.0) & (tcpa < cfg.close_quarters_s))  # rule 17
+        acts = np.isin(enc, GIVE_WAY) | np.isin(enc, STAND_ON) & close  # rules 13-15, 17
         new = ~self.engaged & (nominal < cfg.safety_m) & acts
         self.role[new], self.yaw_engaged[new] = enc[new], yaw_rad
         past = (nominal >= rng - 1e-6) & (rng >= clear)  # opening on the nominal velocity, beyond the release distance
