@@ -35,7 +35,6 @@ from foxglove.messages import (
     Vector3,
 )
 
-from usvsim.core.transforms import matrix_from_quat, quat_multiply
 from usvsim.world.shapes import drawn_parts, static_parts
 
 if TYPE_CHECKING:
@@ -89,10 +88,7 @@ class Primitives:
 
     def add_part(self, part: Part, base_pos=(0.0, 0.0, 0.0), base_quat=(1.0, 0.0, 0.0, 0.0)) -> None:
         """A body part (pose in the body frame) placed by the body pose `base_pos`, `base_quat`."""
-        pos = np.asarray(base_pos, float) + matrix_from_quat(np.asarray(base_quat, float)) @ np.asarray(
-            part.pos
-        )
-        quat = quat_multiply(np.asarray(base_quat, float), np.asarray(part.quat, float))
+        pos, quat = part.placed(base_pos, base_quat)
         mesh = part.mesh
         self.add(part.kind, part.size, pos, quat, part.rgba,
                  mesh.vertices if mesh is not None else None, mesh.faces if mesh is not None else None)  # fmt: skip

@@ -17,7 +17,6 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from usvsim.core.transforms import matrix_from_quat, quat_multiply
 from usvsim.messages.ros import header, msg_class, point, quaternion, typestore, vector3
 
 if TYPE_CHECKING:
@@ -31,11 +30,7 @@ def part_marker(part: Part, stamp_ns: int, frame_id: str, ns: str, marker_id: in
     """The marker of `part` (body frame) in `frame_id`, placed by the body pose `base_pos` (m), `base_quat`
     (w, x, y, z) when given; None for a part with nothing to draw (a height field, a mesh-less mesh part)."""
     m = msg_class(MARKER)
-    pos, quat = np.asarray(part.pos, float), np.asarray(part.quat, float)
-    if base_pos is not None and base_quat is not None:
-        base_quat = np.asarray(base_quat, float)
-        pos = np.asarray(base_pos, float) + matrix_from_quat(base_quat) @ pos
-        quat = quat_multiply(base_quat, quat)
+    pos, quat = part.placed(base_pos, base_quat)
     size, points = np.asarray(part.size, float), []
     if part.kind == "box":
         kind, scale = m.CUBE, 2.0 * size[:3]

@@ -68,8 +68,10 @@ class Imu(Sensor):
         if sim.body_teleports[self.body] != self._teleports:  # moved by `teleport` before this step: the
             self._teleports, self._v_now = int(sim.body_teleports[self.body]), v  # jump is not its motion
         self._v_prev, self._v_now = self._v_now, v
-        if self._sampled:
-            self._dv_sum, self._rate_sum, self._steps, self._sampled = np.zeros(3), np.zeros(3), 0, False
+        if self._sampled:  # a new sample period (the sums are reused: no allocation on this every-step path)
+            self._dv_sum.fill(0.0)
+            self._rate_sum.fill(0.0)
+            self._steps, self._sampled = 0, False
         self._dv_sum += self._v_now - self._v_prev
         self._rate_sum += sim.state.omega_body[self.body]
         self._steps += 1

@@ -133,9 +133,13 @@ def detection_array_msg(stamp_ns: int, frame_id: str, detections: list, dims: in
     return msg_class(f"vision_msgs/msg/Detection{dims}DArray")(header=header(stamp_ns, frame_id), detections=detections)
 
 
-def label_info_msg(stamp_ns: int, frame_id: str, labels: dict[int, tuple[str, str]]) -> Any:
-    """vision_msgs/LabelInfo of a segmentation image: class_id = the pixel value, class_name = "<class>:<object>"
-    (e.g. "buoy:red_1"; 0, the background, is not listed); threshold 0 (ground truth)."""
+def label_classes(labels: dict[int, tuple[str, str]]) -> list:
+    """vision_msgs/VisionClass per segmentation id: class_id = the pixel value, class_name = "<class>:<object>"
+    (e.g. "buoy:red_1"; 0, the background, is not listed). Made once per camera (the ids never change)."""
     vision_class = msg_class("vision_msgs/msg/VisionClass")
-    class_map = [vision_class(class_id=int(k), class_name=f"{cls}:{name}") for k, (name, cls) in sorted(labels.items())]
-    return msg_class("vision_msgs/msg/LabelInfo")(header=header(stamp_ns, frame_id), class_map=class_map, threshold=0.0)
+    return [vision_class(class_id=int(k), class_name=f"{cls}:{name}") for k, (name, cls) in sorted(labels.items())]
+
+
+def label_info_msg(stamp_ns: int, frame_id: str, classes: list) -> Any:
+    """vision_msgs/LabelInfo of a segmentation image from `label_classes`; threshold 0 (ground truth)."""
+    return msg_class("vision_msgs/msg/LabelInfo")(header=header(stamp_ns, frame_id), class_map=classes, threshold=0.0)

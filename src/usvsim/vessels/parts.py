@@ -6,6 +6,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from usvsim.core.transforms import matrix_from_quat, quat_multiply
+
 
 @dataclass(frozen=True)
 class Mesh:
@@ -57,3 +59,12 @@ class Part:
     name: str = field(default="")
     heights: np.ndarray | None = None
     texture: np.ndarray | None = None  # (rows, cols, 3) uint8 stretched over a height field, row 0 at +y
+
+    def placed(self, base_pos=None, base_quat=None) -> tuple[np.ndarray, np.ndarray]:
+        """Its pose (position m, quaternion w, x, y, z) in the frame where its body sits at `base_pos`, `base_quat`
+        (none given: the body frame)."""
+        pos, quat = np.asarray(self.pos, float), np.asarray(self.quat, float)
+        if base_pos is None or base_quat is None:
+            return pos, quat
+        base_quat = np.asarray(base_quat, float)
+        return np.asarray(base_pos, float) + matrix_from_quat(base_quat) @ pos, quat_multiply(base_quat, quat)

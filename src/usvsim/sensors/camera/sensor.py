@@ -29,7 +29,7 @@ from usvsim.sensors.camera.intrinsics import Intrinsics, Remap
 from usvsim.sensors.camera.kernels import apply_factors, rgb_gain_noise, vignette_factors
 from usvsim.sensors.camera.render import PinholeRenderer, RenderContext
 from usvsim.sensors.detections import selected, shared_objects
-from usvsim.sensors.messages import camera_info_msg, detection_array_msg, label_info_msg
+from usvsim.sensors.messages import camera_info_msg, detection_array_msg, label_classes, label_info_msg
 
 if TYPE_CHECKING:
     from usvsim.config.sensors import Camera as CameraConfig
@@ -78,6 +78,7 @@ class Camera(Sensor):
                 geom = mujoco.mj_name2id(sim.model, mujoco.mjtObj.mjOBJ_GEOM, name)
                 if geom >= 0:
                     self.segmentation_ids[geom + 1] = (name, "water")
+        self._label_classes = label_classes(self.segmentation_ids)  # segmentation/label_info's class map
         self.boxes = None
         if cfg.detections is not None:  # 2D ground truth needs the segmentation pass, published or not
             objects = selected(shared_objects(sim, shared), cfg.detections, vessel)
@@ -189,7 +190,7 @@ class Camera(Sensor):
             seg = image_msg(stamp_ns, frame, images["segmentation"], "16UC1")
             out += [Envelope(f"{base}/segmentation/image_raw", stamp_ns, seg),
                     Envelope(f"{base}/segmentation/label_info", stamp_ns,
-                             label_info_msg(stamp_ns, frame, self.segmentation_ids))]  # fmt: skip
+                             label_info_msg(stamp_ns, frame, self._label_classes))]  # fmt: skip
         if self.boxes is not None:
             out.append(Envelope(f"{base}/detections", stamp_ns, self._detections(sim, images["segmentation"], stamp_ns)))
         return out
